@@ -1,0 +1,1 @@
+"""Generated code: see derivation/ and manifest.json. Do not edit."""

@@ -1,0 +1,102 @@
+"""Emit derived matrices as readable Python: a NumPy module and a CasADi module.
+
+Both modules are printed from the same common-subexpression elimination of the same SymPy
+expressions, so they compute the same thing by construction; tests cross-check them anyway.
+"""
+
+from __future__ import annotations
+
+import sympy as sm
+from sympy.printing.numpy import NumPyPrinter
+from sympy.printing.pycode import PythonCodePrinter
+
+from .models import DerivedModel
+from .symbols import ALL_DESCRIPTIONS
+
+
+class _CasadiPrinter(PythonCodePrinter):
+    """Print elementary functions as CasADi calls (they accept SX, MX and numbers)."""
+
+    def _print_Function(self, expr):  # noqa: N802 (SymPy printer protocol)
+        name = type(expr).__name__
+        if name in {"sin", "cos", "tan", "sqrt", "exp", "log"}:
+            return f"casadi.{name}({', '.join(self._print(a) for a in expr.args)})"
+        return super()._print_Function(expr)
+
+    def _print_Pow(self, expr, rational=False):  # noqa: N802
+        if expr.exp == sm.S.Half:
+            return f"casadi.sqrt({self._print(expr.base)})"
+        return super()._print_Pow(expr, rational=rational)
+
+
+def _header(model: DerivedModel, backend: str, source_hash: str) -> str:
+    return (
+        f'"""{model.description}: linearized equation matrices ({backend}).\n\n'
+        "GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy\n"
+        f"derivation in derivation/ (model ``{model.name}``).\n\n"
+        f"Derivation sources sha256: {source_hash}\n"
+        f"SymPy version: {sm.__version__}\n\n"
+        "Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],\n"
+        "f = [roll torque, steer torque]; K0 includes gravity. D is present only in models\n"
+        "with damping.\n\n"
+        "Parameters (SI units):\n"
+        + "".join(f"    {name}: {ALL_DESCRIPTIONS[name]}\n" for name in model.parameters)
+        + '"""\n'
+    )
+
+
+def _cse(model: DerivedModel):
+    matrices = [getattr(model.equations, name) for name in model.outputs]
+    entries = [entry for matrix in matrices for entry in matrix]
+    replacements, reduced = sm.cse(entries, symbols=sm.numbered_symbols("x"), order="canonical")
+    return replacements, reduced
+
+
+def emit_numpy(model: DerivedModel, source_hash: str) -> str:
+    """Module text with ``matrices(**parameters)`` broadcasting over arrays of parameters."""
+    printer = NumPyPrinter({"fully_qualified_modules": True})
+    replacements, reduced = _cse(model)
+    arguments = ", ".join(model.parameters)
+    lines = [_header(model, "NumPy", source_hash), "import numpy", "",
+             f"PARAMETERS = {model.parameters!r}", f"OUTPUTS = {model.outputs!r}", "", "",
+             f"def matrices({arguments}):",
+             '    """Evaluate the matrices; parameters are arrays broadcast against each other.',
+             "",
+             "    Returns a tuple " + ", ".join(model.outputs)
+             + " of arrays of shape broadcast_shape + (2, 2).",
+             '    """',
+             f"    {arguments}, = numpy.broadcast_arrays("
+             + ", ".join(f"numpy.asarray({name}, dtype=float)" for name in model.parameters) + ")",
+             f"    shape = {model.parameters[0]}.shape"]
+    for symbol, expression in replacements:
+        lines.append(f"    {symbol} = {printer.doprint(expression)}")
+    for index, name in enumerate(model.outputs):
+        lines.append(f"    {name} = numpy.zeros(shape + (2, 2))")
+        for k in range(4):
+            value = reduced[4 * index + k]
+            if value != 0:
+                lines.append(f"    {name}[..., {k // 2}, {k % 2}] = {printer.doprint(value)}")
+    lines.append(f"    return {', '.join(model.outputs)}")
+    return "\n".join(lines) + "\n"
+
+
+def emit_casadi(model: DerivedModel, source_hash: str) -> str:
+    """Module text with ``matrices(p)`` for a CasADi vector p and ``function()``."""
+    printer = _CasadiPrinter()
+    replacements, reduced = _cse(model)
+    lines = [_header(model, "CasADi", source_hash), "import casadi", "",
+             f"PARAMETERS = {model.parameters!r}", f"OUTPUTS = {model.outputs!r}", "", "",
+             "def matrices(p):",
+             '    """The matrices as CasADi expressions of the parameter vector p (order PARAMETERS)."""',
+             f"    {', '.join(model.parameters)}, = casadi.vertsplit(p)"]
+    for symbol, expression in replacements:
+        lines.append(f"    {symbol} = {printer.doprint(expression)}")
+    for index, name in enumerate(model.outputs):
+        cells = [printer.doprint(reduced[4 * index + k]) for k in range(4)]
+        lines.append(f"    {name} = casadi.blockcat([[{cells[0]}, {cells[1]}], [{cells[2]}, {cells[3]}]])")
+    lines += [f"    return {', '.join(model.outputs)}", "", "",
+              "def function(symbol_type=casadi.SX):",
+              f'    """A casadi.Function p -> ({", ".join(model.outputs)}) with p of length {len(model.parameters)}."""',
+              f"    p = symbol_type.sym('p', {len(model.parameters)})",
+              f"    return casadi.Function({model.name!r}, [p], list(matrices(p)), ['p'], list(OUTPUTS))"]
+    return "\n".join(lines) + "\n"

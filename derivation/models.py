@@ -1,0 +1,88 @@
+"""The catalogue of derived models: what ``whipple regenerate`` emits.
+
+- ``whipple``: the benchmark Whipple bicycle in its 24 parameters that enter the linear model.
+- ``whipple_extended``: the same with a payload point mass on the rear frame, extra steer
+  inertia and viscous steer damping, derived by adding those bodies and loads to the system
+  (not by editing matrices), so that the extensions pass through the same mechanics.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import sympy as sm
+
+from .linearize import LinearEquations, linearize
+from .symbols import BENCHMARK_PARAMETERS, EXTENSION_PARAMETERS, parameter_symbols
+from .tidy import tidy
+from .whipple import add_payload, add_steer_damping, add_steer_inertia, build_bicycle
+
+# IByy and IHyy are carried through the dynamics and must drop out (checked below).
+_PITCH_INERTIAS = ("IByy", "IHyy")
+
+
+@dataclass(frozen=True)
+class DerivedModel:
+    """A model's name, description, parameter order and linear equations."""
+
+    name: str
+    description: str
+    parameters: tuple[str, ...]
+    equations: LinearEquations
+    outputs: tuple[str, ...]
+
+
+def _tidy_equations(equations: LinearEquations, lam: sm.Symbol) -> LinearEquations:
+    def clean(matrix: sm.Matrix) -> sm.Matrix:
+        return matrix.applyfunc(lambda entry: tidy(entry, lam))
+
+    return LinearEquations(
+        M=clean(equations.M), C1=clean(equations.C1), D=clean(equations.D),
+        K0=clean(equations.K0), K2=clean(equations.K2), B=clean(equations.B),
+        inputs=equations.inputs,
+    )
+
+
+def _check_free_symbols(equations: LinearEquations, allowed: tuple[str, ...], name: str) -> None:
+    used = set()
+    for matrix in (equations.M, equations.C1, equations.D, equations.K0, equations.K2):
+        used |= {str(symbol) for symbol in matrix.free_symbols}
+    unexpected = used - set(allowed)
+    if unexpected:
+        raise AssertionError(f"model {name} depends on unexpected symbols {sorted(unexpected)}")
+
+
+def derive_whipple() -> DerivedModel:
+    """The benchmark Whipple bicycle."""
+    p = parameter_symbols(list(BENCHMARK_PARAMETERS) + list(_PITCH_INERTIAS))
+    equations = _tidy_equations(linearize(build_bicycle(p), p["rR"]), p["lam"])
+    names = tuple(BENCHMARK_PARAMETERS)
+    _check_free_symbols(equations, names, "whipple")
+    if equations.B != sm.eye(2):
+        raise AssertionError("the benchmark inputs are not dual to roll and steer")
+    return DerivedModel("whipple", "Whipple bicycle, Meijaard et al. (2007) parameters",
+                        names, equations, ("M", "C1", "K0", "K2"))
+
+
+def derive_whipple_extended() -> DerivedModel:
+    """The Whipple bicycle with payload, steer inertia and steer damping."""
+    p = parameter_symbols(list(BENCHMARK_PARAMETERS) + list(_PITCH_INERTIAS)
+                          + list(EXTENSION_PARAMETERS))
+    system = build_bicycle(p)
+    add_payload(system, p)
+    add_steer_inertia(system, p)
+    add_steer_damping(system, p["steer_damping"])
+    equations = _tidy_equations(linearize(system, p["rR"]), p["lam"])
+    names = tuple(BENCHMARK_PARAMETERS) + tuple(EXTENSION_PARAMETERS)
+    _check_free_symbols(equations, names, "whipple_extended")
+    return DerivedModel(
+        "whipple_extended",
+        "Whipple bicycle with a rear-frame payload point mass, extra steer inertia and steer damping",
+        names, equations, ("M", "C1", "D", "K0", "K2"))
+
+
+MODELS: dict[str, Callable[[], DerivedModel]] = {
+    "whipple": derive_whipple,
+    "whipple_extended": derive_whipple_extended,
+}

@@ -1,0 +1,143 @@
+"""Whipple bicycle, Meijaard et al. (2007) parameters: linearized equation matrices (CasADi).
+
+GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
+derivation in derivation/ (model ``whipple``).
+
+Derivation sources sha256: a5c7243bbb6923bfab1c52a7a7f1f223e943c138d0fcea196d898363708842c3
+SymPy version: 1.14.0
+
+Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],
+f = [roll torque, steer torque]; K0 includes gravity. D is present only in models
+with damping.
+
+Parameters (SI units):
+    w: wheelbase [m]
+    c: trail [m]
+    lam: steer axis tilt from vertical [rad]
+    g: gravitational acceleration [m/s^2]
+    rR: rear wheel radius [m]
+    mR: rear wheel mass [kg]
+    IRxx: rear wheel moment of inertia about a diameter [kg m^2]
+    IRyy: rear wheel moment of inertia about its axle [kg m^2]
+    xB: rear frame mass centre, forward of the rear contact [m]
+    zB: rear frame mass centre, vertical (z down) [m]
+    mB: rear frame mass [kg]
+    IBxx: rear frame moment of inertia about x [kg m^2]
+    IBzz: rear frame moment of inertia about z [kg m^2]
+    IBxz: rear frame product of inertia xz [kg m^2]
+    xH: front frame mass centre, forward of the rear contact [m]
+    zH: front frame mass centre, vertical (z down) [m]
+    mH: front frame mass [kg]
+    IHxx: front frame moment of inertia about x [kg m^2]
+    IHzz: front frame moment of inertia about z [kg m^2]
+    IHxz: front frame product of inertia xz [kg m^2]
+    rF: front wheel radius [m]
+    mF: front wheel mass [kg]
+    IFxx: front wheel moment of inertia about a diameter [kg m^2]
+    IFyy: front wheel moment of inertia about its axle [kg m^2]
+"""
+
+import casadi
+
+PARAMETERS = ('w', 'c', 'lam', 'g', 'rR', 'mR', 'IRxx', 'IRyy', 'xB', 'zB', 'mB', 'IBxx', 'IBzz', 'IBxz', 'xH', 'zH', 'mH', 'IHxx', 'IHzz', 'IHxz', 'rF', 'mF', 'IFxx', 'IFyy')
+OUTPUTS = ('M', 'C1', 'K0', 'K2')
+
+
+def matrices(p):
+    """The matrices as CasADi expressions of the parameter vector p (order PARAMETERS)."""
+    w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, = casadi.vertsplit(p)
+    x0 = mF*rF**2
+    x1 = mH*zH**2
+    x2 = mR*rR**2
+    x3 = 1/w
+    x4 = math.cos(lam)
+    x5 = c*x4
+    x6 = math.sin(lam)
+    x7 = IFxx*w
+    x8 = w*x6
+    x9 = IHxz*x5
+    x10 = IHxz*x4
+    x11 = mH*zH
+    x12 = x0*x8
+    x13 = w**2
+    x14 = x11*x4
+    x15 = x13*x14
+    x16 = mB*zB
+    x17 = x11*x5
+    x18 = x14*xH
+    x19 = x3*(IBxz*x5 + IHxx*x8 + w*x10 + w*x11*x5 - w*x18 + x1*x8 + x12 + x15 - x16*x5*xB - x17*xH + x6*x7 + x9)
+    x20 = 1/x13
+    x21 = c**2
+    x22 = IBzz*x21
+    x23 = IFxx*x21
+    x24 = IHzz*x21
+    x25 = IHzz*x13
+    x26 = IRxx*x21
+    x27 = mH*w**4
+    x28 = IFxx*c
+    x29 = 2*w
+    x30 = IHzz*c
+    x31 = 2*w**3
+    x32 = c*mH
+    x33 = x31*x32
+    x34 = mH*xH
+    x35 = x31*x34
+    x36 = mB*xB**2
+    x37 = x21*x36
+    x38 = mH*x21
+    x39 = xH**2
+    x40 = x38*x39
+    x41 = mH*x39
+    x42 = c*x41
+    x43 = mH*x13
+    x44 = c*x43
+    x45 = x38*xH
+    x46 = x6**2
+    x47 = x13*x46
+    x48 = x28*x46
+    x49 = x30*x46
+    x50 = x13*x6
+    x51 = 2*x50
+    x52 = x11*x5*x8
+    x53 = 2*xH
+    x54 = x42*x46
+    x55 = x34*x47
+    x56 = x45*x46
+    x57 = rF*rR
+    x58 = rR*x0
+    x59 = rF*x2
+    x60 = x16*x57
+    x61 = x11*x57
+    x62 = IFyy*rR
+    x63 = IRyy*rF
+    x64 = c*x62 + c*x63 + w*x62
+    x65 = 1/rF
+    x66 = x3*x4*x65/rR
+    x67 = IBzz*c
+    x68 = IHzz*w
+    x69 = IRxx*c
+    x70 = c*x36
+    x71 = mB*xB
+    x72 = x21*x71
+    x73 = w*x41
+    x74 = w*x38
+    x75 = mF*rF
+    x76 = x75*x8
+    x77 = w*x34
+    x78 = g*x3*(c*mH*w*x4 + mH*w*x6*zH + mH*x13*x4 - x34*x5 - x4*x77 - x5*x71 - x76)
+    x79 = c*rF
+    x80 = x71*x79
+    x81 = x34*x79
+    x82 = rF*x77
+    x83 = rF*w*x32
+    M = casadi.blockcat([[IBxx + IFxx + IHxx + IRxx + mB*zB**2 + x0 + x1 + x2, x19], [x19, x20*(IFxx*x13 + IHxx*x47 + 4*c*x55 + x0*x47 + x1*x47 + x10*x51 + x13*x38 + x13*x41 + x14*x31*x6 - x15*x53*x6 + x17*x51 - x22*x46 + x22 - x23*x46 + x23 - x24*x46 + x24 - x25*x46 + x25 - x26*x46 + x26 - x27*x46 + x27 + x28*x29 + x29*x30 + x29*x42 - x29*x45 - x29*x48 - x29*x49 - x29*x54 + x29*x56 - x33*x46 + x33 + x35*x46 - x35 - x37*x46 + x37 - x38*x47 - x40*x46 + x40 - x41*x47 - 4*x44*xH - x52*x53 + 2*x8*x9)]])
+    C1 = casadi.blockcat([[0, x66*(IBxz*x57 + IHxz*x57 + c*x58 + c*x59 - c*x60 - c*x61 + w*x58 - x60*xB - x61*xH + x64)], [-x64*x66, x20*(x10*x8 - x18*x8 + x28 + x30 + x32*x47 + x4*x50*x75 + x42 - x43*xH - x44 + x45 - x46*x67 - x46*x68 - x46*x69 - x46*x7 - x46*x70 - x46*x72 - x46*x73 + x46*x74 - x48 - x49 + x5*x76 - x52 - x54 + x55 - x56 + x67 + x68 + x69 + x7 + x70 + x72 + x73 - x74)]])
+    K0 = casadi.blockcat([[g*(-mR*rR + x11 + x16 - x75), x78], [x78, x6*x78]])
+    K2 = casadi.blockcat([[0, x66*(x58 + x59 - x60 - x61 + x62 + x63)], [0, x20*x65*(IFyy*x4*x8 + mH*rF*x47 - rF*x14*x8 - rF*x43 + x12*x4 - x46*x80 - x46*x81 - x46*x82 + x46*x83 + x80 + x81 + x82 - x83)]])
+    return M, C1, K0, K2
+
+
+def function(symbol_type=casadi.SX):
+    """A casadi.Function p -> (M, C1, K0, K2) with p of length 24."""
+    p = symbol_type.sym('p', 24)
+    return casadi.Function('whipple', [p], list(matrices(p)), ['p'], list(OUTPUTS))

@@ -1,0 +1,58 @@
+"""Re-derive the linearized equations with SymPy and rewrite generated/ (or check it).
+
+With --check nothing is written: the command exits 1 and names every file of generated/ that
+differs from a fresh derivation, and 0 when all match byte for byte.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+HELP = "re-derive the equations and rewrite (or --check) the generated code"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--check", action="store_true",
+                        help="compare with a fresh derivation instead of writing; exit 1 on any difference")
+    parser.add_argument("--output", type=Path, default=None,
+                        help="folder to write to or check (default: the package's generated/ folder)")
+
+
+def _default_folder() -> Path:
+    import whipple.generated
+
+    return Path(whipple.generated.__file__).resolve().parent
+
+
+def run(args: argparse.Namespace) -> int:
+    import sympy
+
+    from whipple.atomic import write_text_atomic
+    from whipple.derivation.regenerate import MANIFEST, differences, generate
+
+    folder = args.output or _default_folder()
+    started = time.perf_counter()
+    files = generate()
+    elapsed = time.perf_counter() - started
+    if args.check:
+        changed = differences(files, folder)
+        if not changed:
+            print(f"generated code in {folder} matches a fresh derivation ({elapsed:.1f} s)")
+            return 0
+        manifest = folder / MANIFEST
+        if manifest.exists():
+            recorded = json.loads(manifest.read_text()).get("sympy")
+            if recorded and recorded != sympy.__version__:
+                print(f"note: generated with SymPy {recorded}, this is SymPy {sympy.__version__}",
+                      file=sys.stderr)
+        print(f"generated code in {folder} differs from a fresh derivation: {', '.join(changed)}",
+              file=sys.stderr)
+        return 1
+    for name, text in files.items():
+        write_text_atomic(folder / name, text)
+    print(f"wrote {len(files)} files to {folder} ({elapsed:.1f} s)")
+    return 0

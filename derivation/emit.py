@@ -17,13 +17,11 @@ from .symbols import ALL_DESCRIPTIONS
 class _CasadiPrinter(PythonCodePrinter):
     """Print elementary functions as CasADi calls (they accept SX, MX and numbers)."""
 
-    def _print_Function(self, expr):  # noqa: N802 (SymPy printer protocol)
-        name = type(expr).__name__
-        if name in {"sin", "cos", "tan", "sqrt", "exp", "log"}:
-            return f"casadi.{name}({', '.join(self._print(a) for a in expr.args)})"
-        return super()._print_Function(expr)
+    def __init__(self):
+        names = ("sin", "cos", "tan", "exp", "log", "sqrt")
+        super().__init__({"user_functions": {name: f"casadi.{name}" for name in names}})
 
-    def _print_Pow(self, expr, rational=False):  # noqa: N802
+    def _print_Pow(self, expr, rational=False):  # noqa: N802 (SymPy printer protocol)
         if expr.exp == sm.S.Half:
             return f"casadi.sqrt({self._print(expr.base)})"
         return super()._print_Pow(expr, rational=rational)

@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple``).
 
-Derivation sources sha256: a5c7243bbb6923bfab1c52a7a7f1f223e943c138d0fcea196d898363708842c3
+Derivation sources sha256: 60175385412892a753073e2b8e48a61d4719cdd5c5e9a72d2b30e27e80f9e7f9
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import sympy as sm
 from sympy.printing.numpy import NumPyPrinter
+from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.pycode import PythonCodePrinter
 
 from .models import DerivedModel
@@ -24,6 +25,21 @@ class _CasadiPrinter(PythonCodePrinter):
     def _print_Pow(self, expr, rational=False):  # noqa: N802 (SymPy printer protocol)
         if expr.exp == sm.S.Half:
             return f"casadi.sqrt({self._print(expr.base)})"
+        return super()._print_Pow(expr, rational=rational)
+
+
+class _NumPyPrinter(NumPyPrinter):
+    """NumPy printer that writes small integer powers as products (numpy.power is slow)."""
+
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": True})
+
+    def _print_Pow(self, expr, rational=False):  # noqa: N802 (SymPy printer protocol)
+        exponent = expr.exp
+        if exponent.is_Integer and 1 <= abs(int(exponent)) <= 4:
+            base = self.parenthesize(expr.base, PRECEDENCE["Mul"] + 1)
+            product = "*".join([base] * abs(int(exponent)))
+            return product if exponent > 0 else f"1/({product})"
         return super()._print_Pow(expr, rational=rational)
 
 
@@ -52,7 +68,7 @@ def _cse(model: DerivedModel):
 
 def emit_numpy(model: DerivedModel, source_hash: str) -> str:
     """Module text with ``matrices(**parameters)`` broadcasting over arrays of parameters."""
-    printer = NumPyPrinter({"fully_qualified_modules": True})
+    printer = _NumPyPrinter()
     replacements, reduced = _cse(model)
     arguments = ", ".join(model.parameters)
     lines = [_header(model, "NumPy", source_hash), "import numpy", "",

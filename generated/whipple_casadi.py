@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple``).
 
-Derivation sources sha256: 60175385412892a753073e2b8e48a61d4719cdd5c5e9a72d2b30e27e80f9e7f9
+Derivation sources sha256: f4126d238e8841bf33d4131713618049e34c6af922678b83f65f675f6a4c39bc
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],

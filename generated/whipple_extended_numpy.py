@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple_extended``).
 
-Derivation sources sha256: 60175385412892a753073e2b8e48a61d4719cdd5c5e9a72d2b30e27e80f9e7f9
+Derivation sources sha256: f4126d238e8841bf33d4131713618049e34c6af922678b83f65f675f6a4c39bc
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],
@@ -55,13 +55,13 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     """
     w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, payload_mass, payload_x, payload_z, steer_inertia, steer_damping, = numpy.broadcast_arrays(numpy.asarray(w, dtype=float), numpy.asarray(c, dtype=float), numpy.asarray(lam, dtype=float), numpy.asarray(g, dtype=float), numpy.asarray(rR, dtype=float), numpy.asarray(mR, dtype=float), numpy.asarray(IRxx, dtype=float), numpy.asarray(IRyy, dtype=float), numpy.asarray(xB, dtype=float), numpy.asarray(zB, dtype=float), numpy.asarray(mB, dtype=float), numpy.asarray(IBxx, dtype=float), numpy.asarray(IBzz, dtype=float), numpy.asarray(IBxz, dtype=float), numpy.asarray(xH, dtype=float), numpy.asarray(zH, dtype=float), numpy.asarray(mH, dtype=float), numpy.asarray(IHxx, dtype=float), numpy.asarray(IHzz, dtype=float), numpy.asarray(IHxz, dtype=float), numpy.asarray(rF, dtype=float), numpy.asarray(mF, dtype=float), numpy.asarray(IFxx, dtype=float), numpy.asarray(IFyy, dtype=float), numpy.asarray(payload_mass, dtype=float), numpy.asarray(payload_x, dtype=float), numpy.asarray(payload_z, dtype=float), numpy.asarray(steer_inertia, dtype=float), numpy.asarray(steer_damping, dtype=float))
     shape = w.shape
-    x0 = mF*rF**2
-    x1 = mH*zH**2
-    x2 = mR*rR**2
+    x0 = mF*rF*rF
+    x1 = mH*zH*zH
+    x2 = mR*rR*rR
     x3 = numpy.sin(lam)
-    x4 = x3**2
+    x4 = x3*x3
     x5 = steer_inertia*x4
-    x6 = w**(-1.0)
+    x6 = 1/(w)
     x7 = numpy.cos(lam)
     x8 = c*x7
     x9 = IFxx*w
@@ -71,9 +71,9 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     x13 = c*steer_inertia
     x14 = steer_inertia*w
     x15 = mH*zH
-    x16 = x3**3
+    x16 = x3*x3*x3
     x17 = x0*x10
-    x18 = w**2
+    x18 = w*w
     x19 = x18*x7
     x20 = x15*x19
     x21 = mB*zB
@@ -82,29 +82,29 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     x24 = payload_mass*payload_z
     x25 = payload_x*x24
     x26 = x6*(IBxz*x8 + IHxx*x10 + IHxz*x12 + w*x15*x8 + x1*x10 + x11 - x12*x23 - x13*x16 + x13*x3 + x14*x3 + x17 + x20 - x22*x8 - x23*x8 - x25*x8 + x3*x9)
-    x27 = x18**(-1.0)
-    x28 = c**2
+    x27 = 1/(x18)
+    x28 = c*c
     x29 = IBzz*x28
     x30 = IFxx*x28
     x31 = IHzz*x28
     x32 = IHzz*x18
     x33 = IRxx*x28
     x34 = steer_inertia*x28
-    x35 = mH*w**4
+    x35 = mH*w*w*w*w
     x36 = IFxx*c
     x37 = 2*w
     x38 = IHzz*c
-    x39 = 2*w**3
+    x39 = 2*w*w*w
     x40 = c*mH
     x41 = x39*x40
     x42 = mH*xH
     x43 = x39*x42
-    x44 = mB*xB**2
+    x44 = mB*xB*xB
     x45 = x28*x44
     x46 = mH*x28
-    x47 = xH**2
+    x47 = xH*xH
     x48 = x46*x47
-    x49 = payload_mass*payload_x**2
+    x49 = payload_mass*payload_x*payload_x
     x50 = x28*x49
     x51 = mH*x47
     x52 = c*x51
@@ -112,7 +112,7 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     x54 = c*x53
     x55 = x46*xH
     x56 = x18*x4
-    x57 = x3**4
+    x57 = x3*x3*x3*x3
     x58 = x36*x4
     x59 = x38*x4
     x60 = w*x5
@@ -134,7 +134,7 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     x76 = x21*x69
     x77 = x15*x69
     x78 = x24*x69
-    x79 = rF**(-1.0)
+    x79 = 1/(rF)
     x80 = x6*x79/rR
     x81 = x7*x80
     x82 = IBzz*c
@@ -160,7 +160,7 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     x102 = x101*x42
     x103 = x101*x40
     M = numpy.zeros(shape + (2, 2))
-    M[..., 0, 0] = IBxx + IFxx + IHxx + IRxx + mB*zB**2 + payload_mass*payload_z**2 + x0 + x1 + x2 + x5
+    M[..., 0, 0] = IBxx + IFxx + IHxx + IRxx + mB*zB*zB + payload_mass*payload_z*payload_z + x0 + x1 + x2 + x5
     M[..., 0, 1] = x26
     M[..., 1, 0] = x26
     M[..., 1, 1] = x27*(IFxx*x18 + IHxx*x56 + 2*IHxz*x62 - 2*c*x60 + 4*c*x67 + steer_inertia*x18 + x0*x56 + x1*x56 + 2*x10*x11 + x13*x37 + x18*x46 + x18*x51 + 2*x18*x63*x8 - x20*x3*x65 - x28*x61 - x29*x4 + x29 - x30*x4 + x30 - x31*x4 + x31 - x32*x4 + x32 - x33*x4 + x33 + x34*x57 + x34 - x35*x4 + x35 + x36*x37 + x37*x38 + x37*x52 - x37*x55 - x37*x58 - x37*x59 - x37*x66 + x37*x68 + x39*x63*x7 - x4*x41 + x4*x43 - x4*x45 - x4*x48 - x4*x50 + x41 - x43 + x45 - x46*x56 + x48 + x50 - x51*x56 - 4*x54*xH - x64*x65)

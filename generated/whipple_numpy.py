@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple``).
 
-Derivation sources sha256: 60175385412892a753073e2b8e48a61d4719cdd5c5e9a72d2b30e27e80f9e7f9
+Derivation sources sha256: f4126d238e8841bf33d4131713618049e34c6af922678b83f65f675f6a4c39bc
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],
@@ -50,10 +50,10 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     """
     w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, = numpy.broadcast_arrays(numpy.asarray(w, dtype=float), numpy.asarray(c, dtype=float), numpy.asarray(lam, dtype=float), numpy.asarray(g, dtype=float), numpy.asarray(rR, dtype=float), numpy.asarray(mR, dtype=float), numpy.asarray(IRxx, dtype=float), numpy.asarray(IRyy, dtype=float), numpy.asarray(xB, dtype=float), numpy.asarray(zB, dtype=float), numpy.asarray(mB, dtype=float), numpy.asarray(IBxx, dtype=float), numpy.asarray(IBzz, dtype=float), numpy.asarray(IBxz, dtype=float), numpy.asarray(xH, dtype=float), numpy.asarray(zH, dtype=float), numpy.asarray(mH, dtype=float), numpy.asarray(IHxx, dtype=float), numpy.asarray(IHzz, dtype=float), numpy.asarray(IHxz, dtype=float), numpy.asarray(rF, dtype=float), numpy.asarray(mF, dtype=float), numpy.asarray(IFxx, dtype=float), numpy.asarray(IFyy, dtype=float))
     shape = w.shape
-    x0 = mF*rF**2
-    x1 = mH*zH**2
-    x2 = mR*rR**2
-    x3 = w**(-1.0)
+    x0 = mF*rF*rF
+    x1 = mH*zH*zH
+    x2 = mR*rR*rR
+    x3 = 1/(w)
     x4 = numpy.cos(lam)
     x5 = c*x4
     x6 = numpy.sin(lam)
@@ -63,40 +63,40 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     x10 = IHxz*x4
     x11 = mH*zH
     x12 = x0*x8
-    x13 = w**2
+    x13 = w*w
     x14 = x11*x4
     x15 = x13*x14
     x16 = mB*zB
     x17 = x11*x5
     x18 = x14*xH
     x19 = x3*(IBxz*x5 + IHxx*x8 + w*x10 + w*x11*x5 - w*x18 + x1*x8 + x12 + x15 - x16*x5*xB - x17*xH + x6*x7 + x9)
-    x20 = x13**(-1.0)
-    x21 = c**2
+    x20 = 1/(x13)
+    x21 = c*c
     x22 = IBzz*x21
     x23 = IFxx*x21
     x24 = IHzz*x21
     x25 = IHzz*x13
     x26 = IRxx*x21
-    x27 = mH*w**4
+    x27 = mH*w*w*w*w
     x28 = IFxx*c
     x29 = 2*w
     x30 = IHzz*c
-    x31 = 2*w**3
+    x31 = 2*w*w*w
     x32 = c*mH
     x33 = x31*x32
     x34 = mH*xH
     x35 = x31*x34
-    x36 = mB*xB**2
+    x36 = mB*xB*xB
     x37 = x21*x36
     x38 = mH*x21
-    x39 = xH**2
+    x39 = xH*xH
     x40 = x38*x39
     x41 = mH*x39
     x42 = c*x41
     x43 = mH*x13
     x44 = c*x43
     x45 = x38*xH
-    x46 = x6**2
+    x46 = x6*x6
     x47 = x13*x46
     x48 = x28*x46
     x49 = x30*x46
@@ -115,7 +115,7 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     x62 = IFyy*rR
     x63 = IRyy*rF
     x64 = c*x62 + c*x63 + w*x62
-    x65 = rF**(-1.0)
+    x65 = 1/(rF)
     x66 = x3*x4*x65/rR
     x67 = IBzz*c
     x68 = IHzz*w
@@ -135,7 +135,7 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     x82 = rF*x77
     x83 = rF*w*x32
     M = numpy.zeros(shape + (2, 2))
-    M[..., 0, 0] = IBxx + IFxx + IHxx + IRxx + mB*zB**2 + x0 + x1 + x2
+    M[..., 0, 0] = IBxx + IFxx + IHxx + IRxx + mB*zB*zB + x0 + x1 + x2
     M[..., 0, 1] = x19
     M[..., 1, 0] = x19
     M[..., 1, 1] = x20*(IFxx*x13 + IHxx*x47 + 4*c*x55 + x0*x47 + x1*x47 + x10*x51 + x13*x38 + x13*x41 + x14*x31*x6 - x15*x53*x6 + x17*x51 - x22*x46 + x22 - x23*x46 + x23 - x24*x46 + x24 - x25*x46 + x25 - x26*x46 + x26 - x27*x46 + x27 + x28*x29 + x29*x30 + x29*x42 - x29*x45 - x29*x48 - x29*x49 - x29*x54 + x29*x56 - x33*x46 + x33 + x35*x46 - x35 - x37*x46 + x37 - x38*x47 - x40*x46 + x40 - x41*x47 - 4*x44*xH - x52*x53 + 2*x8*x9)

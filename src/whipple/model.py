@@ -48,6 +48,25 @@ class Matrices(NamedTuple):
     D: NDArray[np.float64]
 
 
+# Sets evaluated per call of the generated code: small enough that its ~100 temporaries stay in
+# the CPU cache (measured 6x faster than one call on 10^6 sets, see benchmarks/).
+_CHUNK = 8192
+
+
+def _evaluate(function, arrays: list[NDArray[np.float64]]) -> tuple[NDArray[np.float64], ...]:
+    """Call generated code on broadcast parameter arrays, in cache-sized chunks."""
+    arrays = list(np.broadcast_arrays(*arrays))
+    shape = arrays[0].shape
+    size = int(np.prod(shape))
+    if size <= _CHUNK:
+        return tuple(function(*arrays))
+    flat = [array.reshape(-1) for array in arrays]
+    pieces = [function(*(array[start:start + _CHUNK] for array in flat))
+              for start in range(0, size, _CHUNK)]
+    return tuple(np.concatenate([piece[k] for piece in pieces]).reshape(shape + (2, 2))
+                 for k in range(len(pieces[0])))
+
+
 def _gather(parameters: Mapping[str, ArrayLike], names: Sequence[str]) -> list[NDArray[np.float64]]:
     missing = [name for name in names if name not in parameters]
     if missing:
@@ -69,7 +88,7 @@ def whipple_matrices(parameters: Mapping[str, ArrayLike]) -> Matrices:
     Matrices
         M, C1, K0 (with gravity), K2, and D = 0; shape broadcast_shape + (2, 2).
     """
-    M, C1, K0, K2 = whipple_numpy.matrices(*_gather(parameters, MODEL_PARAMETERS))
+    M, C1, K0, K2 = _evaluate(whipple_numpy.matrices, _gather(parameters, MODEL_PARAMETERS))
     return Matrices(M, C1, K0, K2, np.zeros_like(M))
 
 
@@ -98,7 +117,8 @@ def extended_matrices(
     """
     merged: dict[str, ArrayLike] = dict(_extension_values(extensions))
     merged.update(parameters)
-    M, C1, D, K0, K2 = whipple_extended_numpy.matrices(*_gather(merged, EXTENDED_PARAMETERS))
+    M, C1, D, K0, K2 = _evaluate(whipple_extended_numpy.matrices,
+                                 _gather(merged, EXTENDED_PARAMETERS))
     return Matrices(M, C1, K0, K2, D)
 
 

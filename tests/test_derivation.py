@@ -1,0 +1,138 @@
+"""The derived and generated equations against independent references.
+
+Sources of reference values:
+- published matrices: Meijaard et al. (2007) section 4 / Table 1 and Kooijman & Schwab (2009)
+  equation (2), shipped in whipple/data/reference (see its README);
+- the Meijaard et al. (2007) Appendix A closed form, implemented independently in
+  tests/meijaard_oracle.py (never used by the package);
+- closed-form equivalences: a payload point mass is the same as a heavier rear frame (parallel
+  axis theorem); extra steer inertia is the same as a front frame inertia plus J s s^T.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import whipple.generated
+from meijaard_oracle import meijaard_matrices, random_physical_parameters
+from whipple.derivation.regenerate import differences, generate
+
+from whipple.model import (
+    EXTENDED_PARAMETERS,
+    MODEL_PARAMETERS,
+    casadi_matrices,
+    extended_matrices,
+    whipple_matrices,
+)
+from whipple.verification import reference_sets, verify
+
+NAMES = ("M", "C1", "K0", "K2")
+
+
+@pytest.mark.parametrize("reference", reference_sets(), ids=lambda r: r.name)
+def test_published_matrices_through_casadi(reference):
+    result = verify(reference)
+    worst = max(entry.error for entry in result.entries)
+    assert result.passed, f"largest error {worst:.2e} > tolerance {reference.tolerance:.1e}"
+
+
+def test_benchmark_to_1e_12_absolute():
+    benchmark = next(r for r in reference_sets() if r.name == "benchmark")
+    vector = np.array([benchmark.parameters[name] for name in MODEL_PARAMETERS])
+    for name, value in zip(NAMES, casadi_matrices(vector), strict=True):
+        np.testing.assert_allclose(np.array(value), benchmark.matrices[name], rtol=0, atol=1e-12)
+
+
+def _normwise_relative(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    # Relative to each matrix's largest entry: some entries vanish identically (C1[0,0]) or
+    # nearly cancel, where an entrywise relative error is meaningless.
+    scale = np.max(np.abs(b), axis=(-2, -1))
+    return np.max(np.abs(a - b), axis=(-2, -1)) / scale
+
+
+def test_generated_equals_closed_form_at_1000_random_bicycles():
+    parameters = random_physical_parameters(np.random.default_rng(20071955), 1000)
+    generated = whipple_matrices(parameters)
+    oracle = meijaard_matrices(parameters)
+    for name, expected in zip(NAMES, oracle, strict=True):
+        error = _normwise_relative(getattr(generated, name), expected)
+        assert error.shape == (1000,)
+        assert np.max(error) < 1e-12, f"{name}: worst normwise relative error {np.max(error):.2e}"
+
+
+def test_numpy_and_casadi_agree_on_random_bicycles():
+    parameters = random_physical_parameters(np.random.default_rng(7), 50)
+    numeric = whipple_matrices(parameters)
+    for index in range(50):
+        vector = np.array([parameters[name][index] for name in MODEL_PARAMETERS])
+        for name, value in zip(NAMES, casadi_matrices(vector), strict=True):
+            np.testing.assert_allclose(np.array(value), getattr(numeric, name)[index],
+                                       rtol=1e-13, atol=1e-13)
+
+
+def test_broadcasting_over_parameter_arrays():
+    benchmark = next(r for r in reference_sets() if r.name == "benchmark").parameters
+    parameters = dict(benchmark)
+    parameters["c"] = np.linspace(0.0, 0.1, 7)[:, None]
+    parameters["mB"] = np.array([80.0, 85.0, 90.0])
+    matrices = whipple_matrices(parameters)
+    assert matrices.M.shape == (7, 3, 2, 2)
+    single = whipple_matrices({**benchmark, "c": parameters["c"][4, 0], "mB": 90.0})
+    np.testing.assert_array_equal(matrices.K0[4, 2], single.K0)
+
+
+def test_generated_folder_is_reproduced_by_a_fresh_derivation():
+    folder = whipple.generated.__file__.rsplit("/", 1)[0]
+    from pathlib import Path
+
+    assert differences(generate(), Path(folder)) == []
+
+
+def _benchmark() -> dict[str, float]:
+    return dict(next(r for r in reference_sets() if r.name == "benchmark").parameters)
+
+
+def test_payload_equals_heavier_rear_frame():
+    p = _benchmark()
+    mass, x, z = 6.0, 0.05, -0.75
+    extended = extended_matrices({**p, "payload_mass": mass, "payload_x": x, "payload_z": z})
+    total = p["mB"] + mass
+    xB = (p["mB"] * p["xB"] + mass * x) / total
+    zB = (p["mB"] * p["zB"] + mass * z) / total
+    combined = dict(p, mB=total, xB=xB, zB=zB)
+    # Parallel axis theorem for the tensor entries (Ixz = -sum m x z about the mass centre).
+    combined["IBxx"] = p["IBxx"] + p["mB"] * (p["zB"] - zB) ** 2 + mass * (z - zB) ** 2
+    combined["IBzz"] = p["IBzz"] + p["mB"] * (p["xB"] - xB) ** 2 + mass * (x - xB) ** 2
+    combined["IBxz"] = (p["IBxz"] - p["mB"] * (p["xB"] - xB) * (p["zB"] - zB)
+                        - mass * (x - xB) * (z - zB))
+    expected = whipple_matrices(combined)
+    for name in NAMES:
+        np.testing.assert_allclose(getattr(extended, name), getattr(expected, name),
+                                   rtol=1e-12, atol=1e-12)
+
+
+def test_steer_inertia_equals_front_frame_inertia_about_steer_axis():
+    p = _benchmark()
+    J = 0.02
+    s, c = np.sin(p["lam"]), np.cos(p["lam"])
+    extended = extended_matrices({**p, "steer_inertia": J})
+    expected = whipple_matrices(dict(p, IHxx=p["IHxx"] + J * s * s, IHzz=p["IHzz"] + J * c * c,
+                                     IHxz=p["IHxz"] + J * s * c))
+    for name in NAMES:
+        np.testing.assert_allclose(getattr(extended, name), getattr(expected, name),
+                                   rtol=1e-12, atol=1e-12)
+
+
+def test_steer_damping_acts_on_steer_rate_only():
+    extended = extended_matrices({**_benchmark(), "steer_damping": 0.3})
+    np.testing.assert_allclose(extended.D, [[0.0, 0.0], [0.0, 0.3]], atol=1e-15)
+
+
+def test_extended_model_without_extensions_is_the_base_model():
+    p = _benchmark()
+    base, extended = whipple_matrices(p), extended_matrices(p)
+    for name in NAMES:
+        np.testing.assert_allclose(getattr(extended, name), getattr(base, name), rtol=1e-13, atol=1e-13)
+    assert set(MODEL_PARAMETERS) < set(EXTENDED_PARAMETERS)
+    # The pitch inertias cannot enter: the frames do not pitch to first order.
+    assert "IByy" not in MODEL_PARAMETERS and "IHyy" not in MODEL_PARAMETERS

@@ -50,9 +50,7 @@ def _header(model: DerivedModel, backend: str, source_hash: str) -> str:
         f"derivation in derivation/ (model ``{model.name}``).\n\n"
         f"Derivation sources sha256: {source_hash}\n"
         f"SymPy version: {sm.__version__}\n\n"
-        "Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],\n"
-        "f = [roll torque, steer torque]; K0 includes gravity. D is present only in models\n"
-        "with damping.\n\n"
+        f"Equation form: {model.equation}.\n\n"
         "Parameters (SI units):\n"
         + "".join(f"    {name}: {ALL_DESCRIPTIONS[name]}\n" for name in model.parameters)
         + '"""\n'
@@ -60,8 +58,7 @@ def _header(model: DerivedModel, backend: str, source_hash: str) -> str:
 
 
 def _cse(model: DerivedModel):
-    matrices = [getattr(model.equations, name) for name in model.outputs]
-    entries = [entry for matrix in matrices for entry in matrix]
+    entries = [entry for matrix in model.matrices.values() for entry in matrix]
     replacements, reduced = sm.cse(entries, symbols=sm.numbered_symbols("x"), order="canonical")
     return replacements, reduced
 
@@ -77,19 +74,22 @@ def emit_numpy(model: DerivedModel, source_hash: str) -> str:
              '    """Evaluate the matrices; parameters are arrays broadcast against each other.',
              "",
              "    Returns a tuple " + ", ".join(model.outputs)
-             + " of arrays of shape broadcast_shape + (2, 2).",
+             + " of arrays of shape broadcast_shape + their matrix shape.",
              '    """',
              f"    {arguments}, = numpy.broadcast_arrays("
              + ", ".join(f"numpy.asarray({name}, dtype=float)" for name in model.parameters) + ")",
              f"    shape = {model.parameters[0]}.shape"]
     for symbol, expression in replacements:
         lines.append(f"    {symbol} = {printer.doprint(expression)}")
-    for index, name in enumerate(model.outputs):
-        lines.append(f"    {name} = numpy.zeros(shape + (2, 2))")
-        for k in range(4):
-            value = reduced[4 * index + k]
+    position = 0
+    for name, matrix in model.matrices.items():
+        rows, columns = matrix.shape
+        lines.append(f"    {name} = numpy.zeros(shape + ({rows}, {columns}))")
+        for k in range(rows * columns):
+            value = reduced[position + k]
             if value != 0:
-                lines.append(f"    {name}[..., {k // 2}, {k % 2}] = {printer.doprint(value)}")
+                lines.append(f"    {name}[..., {k // columns}, {k % columns}] = {printer.doprint(value)}")
+        position += rows * columns
     lines.append(f"    return {', '.join(model.outputs)}")
     return "\n".join(lines) + "\n"
 
@@ -105,12 +105,16 @@ def emit_casadi(model: DerivedModel, source_hash: str) -> str:
              f"    {', '.join(model.parameters)}, = casadi.vertsplit(p)"]
     for symbol, expression in replacements:
         lines.append(f"    {symbol} = {printer.doprint(expression)}")
-    for index, name in enumerate(model.outputs):
-        cells = [printer.doprint(reduced[4 * index + k]) for k in range(4)]
-        lines.append(f"    {name} = casadi.blockcat([[{cells[0]}, {cells[1]}], [{cells[2]}, {cells[3]}]])")
+    position = 0
+    for name, matrix in model.matrices.items():
+        rows, columns = matrix.shape
+        cells = [printer.doprint(reduced[position + k]) for k in range(rows * columns)]
+        body = ", ".join("[" + ", ".join(cells[r * columns:(r + 1) * columns]) + "]" for r in range(rows))
+        lines.append(f"    {name} = casadi.blockcat([{body}])")
+        position += rows * columns
     lines += [f"    return {', '.join(model.outputs)}", "", "",
               "def function(symbol_type=casadi.SX):",
-              f'    """A casadi.Function p -> ({", ".join(model.outputs)}) with p of length {len(model.parameters)}."""',
+              f'    """casadi.Function p -> ({", ".join(model.outputs)}), p of length {len(model.parameters)}."""',
               f"    p = symbol_type.sym('p', {len(model.parameters)})",
               f"    return casadi.Function({model.name!r}, [p], list(matrices(p)), ['p'], list(OUTPUTS))"]
     return "\n".join(lines) + "\n"

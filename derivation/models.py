@@ -4,6 +4,8 @@
 - ``whipple_extended``: the same with a payload point mass on the rear frame, extra steer
   inertia and viscous steer damping, derived by adding those bodies and loads to the system
   (not by editing matrices), so that the extensions pass through the same mechanics.
+- ``tyre``: the extended bicycle with lateral tyre compliance (see ``tyre.py``), whose state
+  adds the lateral speed, the yaw rate and the two tyre forces.
 """
 
 from __future__ import annotations
@@ -14,8 +16,9 @@ from dataclasses import dataclass
 import sympy as sm
 
 from .linearize import LinearEquations, linearize
-from .symbols import BENCHMARK_PARAMETERS, EXTENSION_PARAMETERS, parameter_symbols
+from .symbols import BENCHMARK_PARAMETERS, EXTENSION_PARAMETERS, TYRE_PARAMETERS, parameter_symbols
 from .tidy import tidy
+from .tyre import derive_tyre_equations
 from .whipple import add_payload, add_steer_damping, add_steer_inertia, build_bicycle
 
 # IByy and IHyy are carried through the dynamics and must drop out (checked below).
@@ -24,13 +27,20 @@ _PITCH_INERTIAS = ("IByy", "IHyy")
 
 @dataclass(frozen=True)
 class DerivedModel:
-    """A model's name, description, parameter order and linear equations."""
+    """A model's name, description, parameter order, and its matrices by output name."""
 
     name: str
     description: str
     parameters: tuple[str, ...]
-    equations: LinearEquations
-    outputs: tuple[str, ...]
+    matrices: dict[str, sm.Matrix]
+    equation: str
+
+    @property
+    def outputs(self) -> tuple[str, ...]:
+        return tuple(self.matrices)
+
+
+_BENCHMARK_FORM = "M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]"
 
 
 def _tidy_equations(equations: LinearEquations, lam: sm.Symbol) -> LinearEquations:
@@ -61,8 +71,9 @@ def derive_whipple() -> DerivedModel:
     _check_free_symbols(equations, names, "whipple")
     if equations.B != sm.eye(2):
         raise AssertionError("the benchmark inputs are not dual to roll and steer")
-    return DerivedModel("whipple", "Whipple bicycle, Meijaard et al. (2007) parameters",
-                        names, equations, ("M", "C1", "K0", "K2"))
+    return DerivedModel("whipple", "Whipple bicycle, Meijaard et al. (2007) parameters", names,
+                        {"M": equations.M, "C1": equations.C1, "K0": equations.K0, "K2": equations.K2},
+                        _BENCHMARK_FORM + "; K0 includes gravity")
 
 
 def derive_whipple_extended() -> DerivedModel:
@@ -79,10 +90,37 @@ def derive_whipple_extended() -> DerivedModel:
     return DerivedModel(
         "whipple_extended",
         "Whipple bicycle with a rear-frame payload point mass, extra steer inertia and steer damping",
-        names, equations, ("M", "C1", "D", "K0", "K2"))
+        names, {"M": equations.M, "C1": equations.C1, "D": equations.D, "K0": equations.K0, "K2": equations.K2},
+        _BENCHMARK_FORM + "; K0 includes gravity")
+
+
+def derive_tyre() -> DerivedModel:
+    """The bicycle with lateral tyre compliance (and the other extensions), descriptor form."""
+    p = parameter_symbols(list(BENCHMARK_PARAMETERS) + list(_PITCH_INERTIAS)
+                          + list(EXTENSION_PARAMETERS) + list(TYRE_PARAMETERS))
+    system = build_bicycle(p, lateral_slip=True)
+    add_payload(system, p)
+    add_steer_inertia(system, p)
+    add_steer_damping(system, p["steer_damping"])
+    equations = derive_tyre_equations(system, p)
+    names = tuple(BENCHMARK_PARAMETERS) + tuple(EXTENSION_PARAMETERS) + tuple(TYRE_PARAMETERS)
+    matrices = {"E": equations.E}
+    matrices.update({f"A{k}": matrix for k, matrix in enumerate(equations.A)})
+    matrices["B"] = equations.B
+    matrices = {key: matrix.applyfunc(lambda entry: tidy(entry, p["lam"])) for key, matrix in matrices.items()}
+    model = DerivedModel(
+        "tyre", "Bicycle with linear lateral tyre forces and relaxation (tyre compliance)", names, matrices,
+        "E x' = (A0 + v A1 + ...) x + B f, x = [" + ", ".join(equations.states) + "], "
+        "f = [roll torque, steer torque]")
+    used = set().union(*(matrix.free_symbols for matrix in matrices.values()))
+    unexpected = {str(s) for s in used} - set(names)
+    if unexpected:
+        raise AssertionError(f"model tyre depends on unexpected symbols {sorted(unexpected)}")
+    return model
 
 
 MODELS: dict[str, Callable[[], DerivedModel]] = {
     "whipple": derive_whipple,
     "whipple_extended": derive_whipple_extended,
+    "tyre": derive_tyre,
 }

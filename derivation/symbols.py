@@ -71,3 +71,7 @@ v = sm.Symbol("v", real=True)
 yaw, roll, pitch, steer, spin_rear, spin_front = dynamicsymbols(
     "psi phi theta delta theta_R theta_F"
 )
+
+# Lateral velocity of the rear wheel's contact point [m/s], along the yaw frame's y axis: a
+# generalized speed of the tyre-compliance model (it has no coordinate of its own).
+lateral_speed = dynamicsymbols("u_y")

@@ -19,7 +19,7 @@ import sympy as sm
 from sympy.physics.mechanics import Point, ReferenceFrame, dynamicsymbols, inertia
 from sympy.physics.vector import Dyadic, Vector
 
-from .symbols import pitch, roll, spin_front, spin_rear, steer, yaw
+from .symbols import lateral_speed, pitch, roll, spin_front, spin_rear, steer, yaw
 
 
 @dataclass
@@ -57,14 +57,19 @@ class BicycleSystem:
     steer_axis: Vector
     bodies: list[Body]
     loads: list[Load]
-    # Velocity of the front wheel's material contact point: the rolling constraint says it is 0.
-    front_contact_velocity: Vector
+    # Scalar velocity expressions that vanish (nonholonomic constraints and the time
+    # derivative of the holonomic one), linear in the speeds.
+    constraints: list[sm.Expr]
     # Position of the front contact relative to the rear contact, for the holonomic constraint.
     front_contact_position: Vector
+    coordinates: tuple[sm.Expr, ...]
+    generalized_speeds: tuple[sm.Expr, ...]
     independent_speeds: tuple[sm.Expr, ...]
     dependent_speeds: tuple[sm.Expr, ...]
     inputs: tuple[sm.Symbol, ...]
     points: dict[str, Point] = field(default_factory=dict)
+    frames: dict[str, ReferenceFrame] = field(default_factory=dict)
+    headings: dict[str, Vector] = field(default_factory=dict)
 
 
 def build_frames(p: dict[str, sm.Symbol]):
@@ -85,18 +90,27 @@ def build_frames(p: dict[str, sm.Symbol]):
     return inertial, yaw_frame, roll_frame, rear_frame, front_frame, rear_wheel, front_wheel, steer_axis
 
 
-def build_bicycle(p: dict[str, sm.Symbol]) -> BicycleSystem:
+def build_bicycle(p: dict[str, sm.Symbol], lateral_slip: bool = False) -> BicycleSystem:
     """The Whipple bicycle in the benchmark parameters ``p`` (symbols keyed by name).
 
     ``p`` must also hold ``IByy`` and ``IHyy``: they are carried into the dynamics so that the
     derivation shows, rather than assumes, that they drop out of the linear equations.
+
+    With ``lateral_slip`` the wheels keep their longitudinal rolling and normal contact
+    conditions but may slip sideways: the lateral velocity of the rear wheel's contact point
+    (``lateral_speed``) and the yaw rate become independent speeds. Lateral tyre forces are
+    then added by :func:`whipple.derivation.tyre.add_tyre_forces`.
     """
     N, A, roll_frame, B, H, R, F, steer_axis = build_frames(p)
 
-    # Points. The rear wheel rolls without slipping: its material contact point is at rest,
-    # so the hub moves with the wheel's angular velocity about that point.
+    # Points. The rear wheel rolls: its material contact point has no longitudinal or normal
+    # velocity (and, without lateral slip, none at all), so the hub moves with the wheel's
+    # angular velocity about that point plus the slip velocity.
+    slip_velocity = lateral_speed * A.y if lateral_slip else Vector(0)
     rear_hub = Point("rear_hub")
-    rear_hub.set_vel(N, R.ang_vel_in(N).cross(-p["rR"] * roll_frame.z))
+    rear_hub.set_vel(N, slip_velocity + R.ang_vel_in(N).cross(-p["rR"] * roll_frame.z))
+    rear_contact = rear_hub.locatenew("rear_contact", p["rR"] * roll_frame.z)
+    rear_contact.set_vel(N, slip_velocity)
     rear_mass_centre = rear_hub.locatenew("rear_mass_centre", p["xB"] * B.x + (p["zB"] + p["rR"]) * B.z)
     rear_mass_centre.v2pt_theory(rear_hub, N, B)
     # The steer axis meets the ground at the trail's distance ahead of the front contact.
@@ -114,6 +128,11 @@ def build_bicycle(p: dict[str, sm.Symbol]) -> BicycleSystem:
     vertical_in_plane = A.z - A.z.dot(H.y) * H.y
     to_front_contact = p["rF"] * vertical_in_plane / vertical_in_plane.magnitude()
     front_contact_velocity = front_hub.vel(N) + F.ang_vel_in(N).cross(to_front_contact)
+    front_contact = front_hub.locatenew("front_contact", to_front_contact)
+    front_contact.set_vel(N, front_contact_velocity)
+    # The front wheel's heading: where its plane meets the ground.
+    front_heading = H.y.cross(A.z)
+    front_heading = front_heading / front_heading.magnitude()
     front_contact_position = front_hub.pos_from(rear_hub) + to_front_contact - p["rR"] * roll_frame.z
 
     bodies = [
@@ -138,12 +157,20 @@ def build_bicycle(p: dict[str, sm.Symbol]) -> BicycleSystem:
     return BicycleSystem(
         inertial=N, yaw_frame=A, rear_frame=B, front_frame=H, steer_axis=steer_axis,
         bodies=bodies, loads=loads,
-        front_contact_velocity=front_contact_velocity,
+        constraints=([front_contact_velocity.dot(axis) for axis in (front_heading, A.z)] if lateral_slip
+                     else [front_contact_velocity.dot(axis) for axis in (A.x, A.y, A.z)]),
         front_contact_position=front_contact_position,
-        independent_speeds=(roll.diff(), steer.diff(), spin_rear.diff()),
-        dependent_speeds=(yaw.diff(), pitch.diff(), spin_front.diff()),
+        coordinates=(yaw, roll, pitch, steer, spin_rear, spin_front),
+        generalized_speeds=(lateral_speed,) if lateral_slip else (),
+        independent_speeds=((roll.diff(), steer.diff(), spin_rear.diff(), lateral_speed, yaw.diff())
+                            if lateral_slip else (roll.diff(), steer.diff(), spin_rear.diff())),
+        dependent_speeds=((pitch.diff(), spin_front.diff()) if lateral_slip
+                          else (yaw.diff(), pitch.diff(), spin_front.diff())),
         inputs=(roll_torque, steer_torque),
-        points={"rear_hub": rear_hub, "steer_point": steer_point, "front_hub": front_hub},
+        points={"rear_hub": rear_hub, "steer_point": steer_point, "front_hub": front_hub,
+                "rear_contact": rear_contact, "front_contact": front_contact},
+        frames={"roll": roll_frame, "rear_wheel": R, "front_wheel": F},
+        headings={"rear": A.x, "front": front_heading},
     )
 
 

@@ -3,12 +3,10 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple_extended``).
 
-Derivation sources sha256: f4126d238e8841bf33d4131713618049e34c6af922678b83f65f675f6a4c39bc
+Derivation sources sha256: 7e5610caec39e93d856b1839e0ae0ee3431d83bfeb2b93c7cf6ce3152beb9ddb
 SymPy version: 1.14.0
 
-Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],
-f = [roll torque, steer torque]; K0 includes gravity. D is present only in models
-with damping.
+Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]; K0 includes gravity.
 
 Parameters (SI units):
     w: wheelbase [m]
@@ -164,6 +162,6 @@ def matrices(p):
 
 
 def function(symbol_type=casadi.SX):
-    """A casadi.Function p -> (M, C1, D, K0, K2) with p of length 29."""
+    """casadi.Function p -> (M, C1, D, K0, K2), p of length 29."""
     p = symbol_type.sym('p', 29)
     return casadi.Function('whipple_extended', [p], list(matrices(p)), ['p'], list(OUTPUTS))

@@ -3,12 +3,10 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple``).
 
-Derivation sources sha256: f4126d238e8841bf33d4131713618049e34c6af922678b83f65f675f6a4c39bc
+Derivation sources sha256: 7e5610caec39e93d856b1839e0ae0ee3431d83bfeb2b93c7cf6ce3152beb9ddb
 SymPy version: 1.14.0
 
-Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer],
-f = [roll torque, steer torque]; K0 includes gravity. D is present only in models
-with damping.
+Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]; K0 includes gravity.
 
 Parameters (SI units):
     w: wheelbase [m]
@@ -46,7 +44,7 @@ OUTPUTS = ('M', 'C1', 'K0', 'K2')
 def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy):
     """Evaluate the matrices; parameters are arrays broadcast against each other.
 
-    Returns a tuple M, C1, K0, K2 of arrays of shape broadcast_shape + (2, 2).
+    Returns a tuple M, C1, K0, K2 of arrays of shape broadcast_shape + their matrix shape.
     """
     w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, = numpy.broadcast_arrays(numpy.asarray(w, dtype=float), numpy.asarray(c, dtype=float), numpy.asarray(lam, dtype=float), numpy.asarray(g, dtype=float), numpy.asarray(rR, dtype=float), numpy.asarray(mR, dtype=float), numpy.asarray(IRxx, dtype=float), numpy.asarray(IRyy, dtype=float), numpy.asarray(xB, dtype=float), numpy.asarray(zB, dtype=float), numpy.asarray(mB, dtype=float), numpy.asarray(IBxx, dtype=float), numpy.asarray(IBzz, dtype=float), numpy.asarray(IBxz, dtype=float), numpy.asarray(xH, dtype=float), numpy.asarray(zH, dtype=float), numpy.asarray(mH, dtype=float), numpy.asarray(IHxx, dtype=float), numpy.asarray(IHzz, dtype=float), numpy.asarray(IHxz, dtype=float), numpy.asarray(rF, dtype=float), numpy.asarray(mF, dtype=float), numpy.asarray(IFxx, dtype=float), numpy.asarray(IFyy, dtype=float))
     shape = w.shape

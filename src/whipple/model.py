@@ -140,7 +140,8 @@ def build_linear_model(
     controller : Controller, optional
         State feedback whose gains are polynomials in the speed.
     """
-    if extensions is not None and extensions.tyre_compliance is not None:
+    tyres = extensions is not None and extensions.tyre_compliance is not None
+    if tyres or "cornering_stiffness" in parameters:
         from whipple.tyre import tyre_linear_model  # the tyre model has its own states
 
         return tyre_linear_model(parameters, extensions, controller, description)

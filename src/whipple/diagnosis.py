@@ -1,0 +1,260 @@
+"""Diagnosis from measured weave eigenvalues: which cause explains the model's error.
+
+Each candidate cause (:mod:`whipple.causes`) is fitted to all observations jointly by weighted
+least squares: the residual of each window is the measured weave eigenvalue minus the model's
+eigenvalue at the window's speed, whitened by the fit's covariance. Causes are compared by an
+approximate log Bayes factor against the base model (the *evidence*, see ``docs/diagnosis.md``)::
+
+    evidence = (chi2_base - chi2_cause) / (2 s^2) - (k / 2) ln(n) + ln(prior)
+
+with n residuals, k fitted values, and s^2 >= 1 the reduced chi-square of the best model
+(window uncertainties that are too small inflate every chi-square alike). ``none`` has
+evidence 0. The verdict: ``none`` when no cause reaches ``named_threshold``; ``ambiguous``
+when the runner-up is within ``margin`` of the best; otherwise ``named``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import least_squares
+
+from whipple.causes import Cause, candidate_causes, with_cause
+from whipple.errors import AnalysisError, InputError
+from whipple.model import linear_model
+from whipple.parameters import Bicycle
+
+NAMED_THRESHOLD = 3.0  # evidence (log Bayes factor) a cause needs over the base model: ~20:1
+MARGIN = 2.0  # evidence by which the best must beat the runner-up: ~7:1
+
+
+@dataclass(frozen=True)
+class Observation:
+    """One window's measured weave eigenvalue.
+
+    Attributes
+    ----------
+    run : str
+        Run name.
+    start, stop : float
+        Window [s].
+    speed : float
+        Measured mean speed over the window [m/s].
+    speed_range : tuple of float
+        Speed at the window's start and end from the linear regression [m/s].
+    eigenvalue : complex
+        Fitted weave eigenvalue d + i w [1/s].
+    covariance : ndarray, shape (2, 2)
+        Covariance of (d, w) [1/s^2].
+    """
+
+    run: str
+    start: float
+    stop: float
+    speed: float
+    speed_range: tuple[float, float]
+    eigenvalue: complex
+    covariance: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class CauseFit:
+    """A cause fitted to all observations."""
+
+    cause: str
+    parameters: tuple[str, ...]
+    units: tuple[str, ...]
+    values: tuple[float, ...]
+    std: tuple[float, ...]
+    chi2: float
+    evidence: float = 0.0
+    predicted: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, complex), repr=False)
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """Verdict, ranking and fits of every cause."""
+
+    verdict: str
+    cause: str
+    best: CauseFit | None
+    base: CauseFit
+    fits: tuple[CauseFit, ...]
+    scale: float
+    observations: tuple[Observation, ...]
+
+    def ranking(self) -> list[tuple[str, float]]:
+        """Causes by decreasing evidence, with ``none`` at 0."""
+        entries = [(fit.cause, fit.evidence) for fit in self.fits] + [("none", 0.0)]
+        return sorted(entries, key=lambda entry: -entry[1])
+
+
+def model_eigenvalues(bicycle: Bicycle, speeds: NDArray[np.float64]) -> NDArray[np.complex128]:
+    """All eigenvalues of the bicycle's model at measured speeds (speed_scale applied) [1/s]."""
+    true_speeds = np.asarray(speeds, dtype=float) / bicycle.extensions.speed_scale
+    return np.linalg.eigvals(linear_model(bicycle).state_matrix(true_speeds))
+
+
+def predicted_weave(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArray[np.complex128]:
+    """For each observation, the model eigenvalue (upper half plane) nearest the measured one.
+
+    The measured oscillation is one of the model's modes; matching the nearest one (rather
+    than a label) keeps the comparison meaningful for models with extra modes and below the
+    speed where the weave forms.
+    """
+    speeds = np.array([o.speed for o in observations])
+    measured = np.array([o.eigenvalue for o in observations])
+    values = model_eigenvalues(bicycle, speeds)
+    values = np.where(values.imag < 0, np.conj(values), values)
+    nearest = np.argmin(np.abs(values - measured[:, None]), axis=1)
+    return values[np.arange(len(observations)), nearest]
+
+
+def _whitening(observations: Sequence[Observation]) -> NDArray[np.float64]:
+    matrices = []
+    for observation in observations:
+        covariance = np.asarray(observation.covariance, dtype=float)
+        if covariance.shape != (2, 2) or not np.all(np.isfinite(covariance)):
+            raise InputError(f"window {observation.run} {observation.start:.2f}-{observation.stop:.2f} s: "
+                             "eigenvalue covariance must be a finite 2x2 matrix")
+        try:
+            matrices.append(np.linalg.inv(np.linalg.cholesky(covariance)))
+        except np.linalg.LinAlgError:
+            raise InputError(f"window {observation.run} {observation.start:.2f}-{observation.stop:.2f} s: "
+                             "eigenvalue covariance is not positive definite") from None
+    return np.array(matrices)
+
+
+def _residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: NDArray[np.float64]):
+    predicted = predicted_weave(bicycle, observations)
+    difference = np.array([[o.eigenvalue.real, o.eigenvalue.imag] for o in observations])
+    difference -= np.column_stack([predicted.real, predicted.imag])
+    return np.einsum("nij,nj->ni", whitening, difference).ravel(), predicted
+
+
+def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
+              whitening: NDArray[np.float64] | None = None) -> CauseFit:
+    """Fit one cause's values to all observations by weighted least squares."""
+    whitening = _whitening(observations) if whitening is None else whitening
+    lower = np.array([b[0] for b in cause.bounds])
+    upper = np.array([b[1] for b in cause.bounds])
+    scale = np.maximum(np.abs(np.array(cause.start)), (upper - lower) * 1e-3)
+
+    def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return _residuals(cause.apply(bicycle, x * scale), observations, whitening)[0]
+
+    starts = [np.array(cause.start)]
+    if len(cause.parameters) == 2:  # a coarse grid guards against local minima of 2-D fits
+        starts += [lower + (upper - lower) * np.array(f) for f in ((0.02, 0.1), (0.1, 0.3), (0.4, 0.05))]
+    else:
+        starts += [np.clip(np.array(cause.start) + (upper - lower) * f, lower, upper) for f in (0.02, 0.1)]
+    best = None
+    for start in starts:
+        x0 = np.clip(start, lower, upper) / scale
+        try:
+            result = least_squares(residual, x0, bounds=(lower / scale, upper / scale), x_scale="jac",
+                                   diff_step=1e-6)
+        except (np.linalg.LinAlgError, ValueError):
+            continue
+        if best is None or result.cost < best.cost:
+            best = result
+    if best is None:
+        raise AnalysisError(f"fit of {cause.name} failed")
+    values = best.x * scale
+    jacobian = best.jac / scale
+    try:
+        covariance = np.linalg.pinv(jacobian.T @ jacobian)
+        std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+    except np.linalg.LinAlgError:
+        std = np.full(len(values), np.inf)
+    chi2 = float(2.0 * best.cost)
+    predicted = _residuals(cause.apply(bicycle, values), observations, whitening)[1]
+    return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
+                    tuple(float(s) for s in std), chi2, predicted=predicted)
+
+
+def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
+                          causes: Sequence[Cause] | None = None,
+                          named_threshold: float = NAMED_THRESHOLD, margin: float = MARGIN) -> Diagnosis:
+    """Fit every cause to the observations and decide which, if any, explains them."""
+    observations = tuple(observations)
+    if len(observations) < 2:
+        raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
+    whitening = _whitening(observations)
+    base_residual, base_predicted = _residuals(bicycle, observations, whitening)
+    base = CauseFit("none", (), (), (), (), float(base_residual @ base_residual), predicted=base_predicted)
+    causes = list(candidate_causes(bicycle)) if causes is None else list(causes)
+    fits = [fit_cause(bicycle, cause, observations, whitening) for cause in causes]
+    n = 2 * len(observations)
+    # Over-dispersion: residual scatter of the best-fitting model beyond the stated errors.
+    reduced = [fit.chi2 / max(n - len(fit.parameters), 1) for fit in fits] + [base.chi2 / n]
+    scale = max(1.0, min(reduced))
+    scored = []
+    for cause, fit in zip(causes, fits, strict=True):
+        evidence = ((base.chi2 - fit.chi2) / (2.0 * scale) - 0.5 * len(fit.parameters) * np.log(n)
+                    + np.log(cause.prior))
+        std = tuple(s * np.sqrt(scale) for s in fit.std)
+        scored.append(CauseFit(fit.cause, fit.parameters, fit.units, fit.values, std, fit.chi2,
+                               float(evidence), fit.predicted))
+    scored.sort(key=lambda fit: -fit.evidence)
+    best = scored[0] if scored else None
+    if best is None or best.evidence < named_threshold:
+        verdict, name = "none", "none"
+    elif len(scored) > 1 and scored[1].evidence > best.evidence - margin:
+        verdict, name = "ambiguous", best.cause
+    else:
+        verdict, name = "named", best.cause
+    return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scale, observations)
+
+
+def speed_groups(observations: Sequence[Observation], gap: float = 0.3) -> list[list[int]]:
+    """Indices of observations grouped by speed: a new group where sorted speeds jump > gap [m/s]."""
+    order = np.argsort([o.speed for o in observations])
+    groups: list[list[int]] = [[int(order[0])]]
+    for previous, current in zip(order[:-1], order[1:], strict=True):
+        if observations[current].speed - observations[previous].speed > gap:
+            groups.append([])
+        groups[-1].append(int(current))
+    return groups
+
+
+@dataclass(frozen=True)
+class Gain:
+    """Held-out eigenvalue error of the base and the extended model [1/s]."""
+
+    metric: str
+    base: float
+    extended: float
+    held_out: bool
+    folds: int
+
+
+def held_out_gain(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation]) -> Gain:
+    """Leave-one-speed-out: refit the cause without each speed group, predict that group.
+
+    The metric is the root mean square of |measured - predicted| eigenvalue [1/s] over all
+    held-out windows. With a single speed group, falls back to leave-one-window-out.
+    """
+    observations = tuple(observations)
+    groups = speed_groups(observations)
+    if len(groups) < 2:
+        groups = [[i] for i in range(len(observations))]
+    base_errors, extended_errors = [], []
+    for group in groups:
+        training = [o for i, o in enumerate(observations) if i not in group]
+        held = [observations[i] for i in group]
+        if len(training) < 2:
+            continue
+        fit = fit_cause(bicycle, cause, training)
+        measured = np.array([o.eigenvalue for o in held])
+        base_errors.extend(np.abs(measured - predicted_weave(bicycle, held)))
+        extended = with_cause(bicycle, cause, fit.values)
+        extended_errors.extend(np.abs(measured - predicted_weave(extended, held)))
+    if not base_errors:
+        raise AnalysisError("too few windows for a held-out comparison")
+    return Gain("rms eigenvalue error on held-out speeds [1/s]",
+                float(np.sqrt(np.mean(np.square(base_errors)))),
+                float(np.sqrt(np.mean(np.square(extended_errors)))), True, len(groups))

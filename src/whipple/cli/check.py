@@ -1,0 +1,66 @@
+"""Validate a bicycle (a parameter file or a built-in name), print its matrices and stability.
+
+Prints the validation result, the matrices M, C1, K0 (with gravity), K2 (and D when steer
+damping is present), the weave and capsize speeds, the stable speed ranges found by root
+finding in --speeds, and the eigenvalues at a few speeds. --json prints one JSON object with
+``matrices``, ``weave_speed``, ``capsize_speed``, ``stable_speed_ranges`` and more.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+from whipple.errors import InputError
+
+HELP = "validate a bicycle, print its matrices and stable speed range"
+
+
+def parse_speed_range(text: str) -> tuple[float, float]:
+    """``LOW:HIGH`` in m/s, with 0 <= LOW < HIGH."""
+    try:
+        low_text, high_text = text.split(":")
+        low, high = float(low_text), float(high_text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected LOW:HIGH in m/s, got {text!r}") from None
+    if not (math.isfinite(low) and math.isfinite(high) and 0 <= low < high):
+        raise argparse.ArgumentTypeError(f"need 0 <= LOW < HIGH (finite), got {text!r}")
+    return low, high
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("bicycle", metavar="PARAMS",
+                        help="bicycle file (.toml or BicycleParameters *Benchmark.txt) or built-in name")
+    parser.add_argument("--speeds", type=parse_speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
+                        help="speed interval searched for critical speeds, m/s (default 0:10)")
+    parser.add_argument("--json", action="store_true", help="print a JSON object instead of text")
+
+
+def _matrix_lines(name: str, matrix) -> list[str]:
+    rows = [f"[{matrix[i][0]:>14.8f} {matrix[i][1]:>14.8f} ]" for i in range(2)]
+    return [f"  {name:<3}= {rows[0]}", f"        {rows[1]}"]
+
+
+def run(args: argparse.Namespace) -> int:
+    from whipple.analysis import analyse_bicycle
+    from whipple.parameters import load_bicycle
+
+    bicycle = load_bicycle(args.bicycle)
+    try:
+        report = analyse_bicycle(bicycle, speed_range=args.speeds)
+    except InputError as error:
+        raise InputError(error.problem, args.bicycle) from None
+    if args.json:
+        print(json.dumps(report.to_dict(), indent=2))
+        return 0
+    print(f"bicycle: {bicycle.name or args.bicycle} ({bicycle.source or args.bicycle})")
+    print("validation: ok" if not report.warnings else "validation: ok, with warnings")
+    for warning in report.warnings:
+        print(f"  warning: {warning}")
+    print("matrices (M q'' + (v C1 + D) q' + (K0 + v^2 K2) q = f, q = [roll, steer], K0 with g):")
+    for name, matrix in report.matrices.items():
+        print("\n".join(_matrix_lines(name, matrix)))
+    for line in report.summary_lines():
+        print(line)
+    return 0

@@ -1,0 +1,115 @@
+"""Simulate measured runs of a bicycle and write them as run files.
+
+Each run follows the seed paper's procedure: the bicycle is held upright, released, pushed
+sideways, coasts freely, is caught and held, and is pushed again. The true motion is the
+bicycle's linear model (with its extensions and controller); the signals carry sensor noise
+and bias. Each file lists its true free-coasting windows in the ``# true_windows:`` line.
+One file is written per speed: into DIR as ``<bicycle>_<setting>_<speed>ms.csv``, or to FILE
+(ending in .csv) for a single speed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from pathlib import Path
+
+from whipple.errors import InputError
+
+HELP = "simulate realistic measured runs (push, coast, catch, sensor noise) as run files"
+
+
+def _speed_list(text: str) -> list[float]:
+    try:
+        speeds = [float(item) for item in text.split(",") if item.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected speeds like 2,3.5,5 (m/s), got {text!r}"
+                                         ) from None
+    if not speeds:
+        raise argparse.ArgumentTypeError("no speeds given")
+    return speeds
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--bicycle", required=True, metavar="PARAMS",
+                        help="bicycle file (.toml or BicycleParameters *.txt) or built-in name")
+    speeds = parser.add_mutually_exclusive_group(required=True)
+    speeds.add_argument("--speed", type=float, metavar="V", help="true forward speed, m/s")
+    speeds.add_argument("--speeds", type=_speed_list, metavar="V1,V2,...",
+                        help="several speeds, m/s: one run file each")
+    parser.add_argument("--sample-rate", type=float, default=100.0, metavar="HZ",
+                        help="sample rate, Hz (default 100)")
+    parser.add_argument("--setting", choices=("treadmill", "ground"), default="treadmill",
+                        help="constant belt speed, or a speed decaying while coasting "
+                             "(default treadmill)")
+    parser.add_argument("--deceleration", type=float, default=0.05, metavar="A",
+                        help="speed decay on the ground, m/s^2 (default 0.05)")
+    parser.add_argument("--pushes", type=int, default=None, metavar="N",
+                        help="number of pushes (default 3, or as many as fit in --duration)")
+    parser.add_argument("--duration", type=float, default=None, metavar="S",
+                        help="length of each run, s (default: long enough for the pushes)")
+    parser.add_argument("--speedometer", action="store_true",
+                        help="write a raw magnet-ring speedometer signal instead of speed")
+    parser.add_argument("--noise", type=float, default=1.0, metavar="SCALE",
+                        help="multiply every sensor's noise by SCALE (0: noise-free; default 1)")
+    parser.add_argument("--bias", type=float, default=1.0, metavar="SCALE",
+                        help="multiply every sensor's bias by SCALE (default 1)")
+    parser.add_argument("--seed", type=int, default=0, metavar="N",
+                        help="random seed of the first run; the k-th speed uses N + k "
+                             "(default 0)")
+    parser.add_argument("--output", required=True, metavar="DIR-or-FILE",
+                        help="folder for the run files, or a .csv file for a single speed")
+
+
+def _file_name(bicycle: str, setting: str, speed: float) -> str:
+    stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", bicycle) or "bicycle"
+    return f"{stem}_{setting}_{speed:.2f}ms.csv"
+
+
+def run(args: argparse.Namespace) -> int:
+    from whipple.atomic import refuse_input_overwrite
+    from whipple.model import linear_model
+    from whipple.parameters import load_bicycle
+    from whipple.scenario import RunScenario, Sensors
+    from whipple.simulation import simulate_run, write_run_csv
+
+    speeds = args.speeds if args.speeds is not None else [args.speed]
+    bad = [v for v in speeds if not (math.isfinite(v) and v > 0)]
+    if bad:
+        raise InputError(f"speeds must be positive m/s, got {bad[0]:g}")
+    output = Path(args.output)
+    refuse_input_overwrite(output, [args.bicycle])
+    single_file = output.suffix.lower() == ".csv"
+    if single_file and len(speeds) > 1:
+        raise InputError(f"{len(speeds)} speeds need an output folder, not a .csv file",
+                         args.output)
+    if not single_file and output.exists() and not output.is_dir():
+        raise InputError("output exists and is not a folder", args.output)
+
+    bicycle = load_bicycle(args.bicycle)
+    model = linear_model(bicycle)
+    columns = ["roll_rate", "yaw_rate", "steer_angle",
+               "speedometer" if args.speedometer else "speed"]
+    sensors = Sensors().scaled(noise=args.noise, bias=args.bias)
+    name = bicycle.name or Path(args.bicycle).stem
+    scenarios = [
+        RunScenario(speed=speed, sample_rate=args.sample_rate, duration=args.duration,
+                    setting=args.setting, deceleration=args.deceleration,
+                    n_pushes=args.pushes, sensors=sensors, columns=tuple(columns),
+                    seed=args.seed + k)
+        for k, speed in enumerate(speeds)
+    ]  # all validated before anything is written
+    targets = [output if single_file else output / _file_name(name, args.setting, s.speed)
+               for s in scenarios]
+    for target in targets:
+        refuse_input_overwrite(target, [args.bicycle])
+    # Simulate everything first: a bad speed (e.g. aliasing) must not leave half the files.
+    runs = [simulate_run(bicycle, scenario, model=model, name=target.stem)
+            for scenario, target in zip(scenarios, targets, strict=True)]
+    for scenario, target, simulated in zip(scenarios, targets, runs, strict=True):
+        write_run_csv(simulated, target)
+        windows = ", ".join(f"{a:.2f}-{b:.2f}" for a, b in simulated.segments) or "none"
+        print(f"{target}: {scenario.speed:g} m/s, {simulated.time.size} samples at "
+              f"{scenario.sample_rate:g} Hz, coasting windows (s): {windows}")
+    return 0

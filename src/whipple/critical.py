@@ -94,9 +94,10 @@ class CriticalSpeeds:
         Every interval [m/s] where all eigenvalues have negative real parts (open at
         crossings; an end equal to `low` or `high` is where the search stopped).
     weave_speed, capsize_speed : float or None
-        The weave (capsize) crossing bounding the main stable range, i.e. the longest, from
-        below (above); if it is not bounded so, the first weave (capsize) crossing; None if
-        there is none in the interval.
+        The oscillatory (real) crossing bounding the main stable range, i.e. the longest, from
+        below (above), whatever the mode's label (with a controller the modes need not look
+        like the uncontrolled bicycle's); if it is not bounded so, the first weave (capsize)
+        crossing; None if there is none in the interval.
     """
 
     low: float
@@ -380,7 +381,11 @@ def _package(found: dict[str, NDArray], directions: NDArray[np.str_],
     capsize = tuple(c.speed for c in crossings if c.mode == modes.CAPSIZE and c.kind == "real"
                     and c.direction != "touch")
     main = max(ranges, key=lambda r: r[1] - r[0]) if ranges else None
-    weave_speed = main[0] if main and main[0] in weave else (weave[0] if weave else None)
-    capsize_speed = main[1] if main and main[1] in capsize else (capsize[0] if capsize else None)
+    # The main range's bounds by kind of crossing: with a controller the oscillatory and real
+    # modes that bound it need not carry the uncontrolled bicycle's labels.
+    hopf = {c.speed for c in crossings if c.kind == "hopf" and c.direction != "touch"}
+    real = {c.speed for c in crossings if c.kind == "real" and c.direction != "touch"}
+    weave_speed = main[0] if main and main[0] in hopf else (weave[0] if weave else None)
+    capsize_speed = main[1] if main and main[1] in real else (capsize[0] if capsize else None)
     return CriticalSpeeds(low, high, crossings, weave, capsize, ranges, weave_speed,
                           capsize_speed)

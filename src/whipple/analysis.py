@@ -94,7 +94,10 @@ def _uncertainty(bicycle: Bicycle, critical: CriticalSpeeds) -> tuple[dict[str, 
     skipped = [key for key in bicycle.uncertainty if key not in EXTENDED_PARAMETERS]
     notes = [f"uncertainty of {', '.join(skipped)} ignored: not in the linear model"] if skipped else []
     stds: dict[str, float | None] = {}
-    if not keys:
+    if not keys:  # every stated uncertainty is zero (or outside the model): no spread
+        for kind, speed in (("weave", critical.weave_speed), ("capsize", critical.capsize_speed)):
+            if speed is not None:
+                stds[kind] = 0.0
         return stds, tuple(notes)
     function, p0 = casadi_state_function(bicycle, keys)
     spread = np.array([bicycle.uncertainty[key] for key in keys])

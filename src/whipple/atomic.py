@@ -34,8 +34,12 @@ def atomic_path(target: str | Path, suffix: str | None = None) -> Iterator[Path]
     )
     os.close(handle)
     temporary = Path(name)
+    # mkstemp creates the file readable by its owner only; outputs get the usual permissions.
+    umask = os.umask(0)
+    os.umask(umask)
     try:
         yield temporary
+        os.chmod(temporary, 0o666 & ~umask)
         os.replace(temporary, target)
     finally:
         if temporary.exists():

@@ -11,8 +11,6 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
-import numpy as np
-
 from whipple.parameters import Bicycle, Payload, TyreCompliance
 
 # Reported bicycle tyre values (shared spec tyre-model.md): the camber stiffness is not fitted
@@ -135,6 +133,6 @@ def cause_by_name(bicycle: Bicycle, name: str) -> Cause:
 
 def with_cause(bicycle: Bicycle, cause: Cause, values: Sequence[float]) -> Bicycle:
     """The bicycle modified by a cause, its description noting the change."""
-    changed = cause.apply(bicycle, np.atleast_1d(values))
+    changed = cause.apply(bicycle, [float(value) for value in values])
     note = ", ".join(f"{name} = {value:.6g}" for name, value in zip(cause.parameters, values, strict=True))
     return replace(changed, description=(bicycle.description + f" [diagnosed: {cause.name}: {note}]").strip())

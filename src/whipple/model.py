@@ -157,7 +157,7 @@ def linear_model(bicycle: Bicycle) -> LinearModel:
                               description=bicycle.name)
 
 
-def casadi_matrices(p: casadi.SX) -> tuple[casadi.SX, ...]:
+def casadi_matrices(p: casadi.SX | NDArray[np.float64]) -> tuple[casadi.SX, ...]:
     """M, C1, K0, K2 of the base model as CasADi expressions of a parameter vector p.
 
     p holds the parameters in the order of ``MODEL_PARAMETERS``.

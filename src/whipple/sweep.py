@@ -102,6 +102,6 @@ def sweep(table: ParameterTable, base: Bicycle, speed_range: tuple[float, float]
         model = build_linear_model({name: values[rows] for name, values in parameters.items()},
                                    base.extensions, base.controller)
         results = critical_speeds_batch(model, *speed_range, progress=progress)
-        for row, result in zip(rows, results, strict=True):
+        for row, result in zip(rows.tolist(), results, strict=True):
             critical[row] = result
     return SweepResult(valid, tuple(problems), tuple(critical))

@@ -110,5 +110,5 @@ def tyre_casadi_state_function(bicycle: Bicycle, keys: Sequence[str] = ()) -> tu
         feedback = feedback + v**power * casadi.DM(gain)
     right[:, :4] = right[:, :4] + outputs["B"] @ feedback
     A = casadi.solve(outputs["E"], right)
-    p0 = np.array([float(values[name]) for name in keys], dtype=float)  # type: ignore[arg-type]
+    p0 = np.array([float(values[name]) for name in keys])  # type: ignore[arg-type]
     return casadi.Function("A", [v, p], [A], ["v", "p"], ["A"]), p0

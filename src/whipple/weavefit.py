@@ -35,6 +35,10 @@ from whipple.windows import Window
 MIN_SAMPLES = 12
 
 
+#: Non-oscillating parts of the fitted function, by name: the degree of a polynomial in time.
+BASELINES = {"constant": 0, "linear": 1, "quadratic": 2}
+
+
 class NoOscillationError(InputError, AnalysisError):
     """The window holds no usable oscillation (under half a period, or a degenerate fit)."""
 
@@ -112,7 +116,7 @@ class WeaveFit:
     def curve(self, time: ArrayLike) -> NDArray[np.float64]:
         """The fitted curves at `time` [s], shape ``(k,) + shape(time)``."""
         tau = np.asarray(time, dtype=float) - self.start
-        basis = _basis(tau.ravel(), self.damping, self.frequency)
+        basis = _basis(tau.ravel(), self.damping, self.frequency, self.coefficients.shape[1] - 3)
         return (basis @ self.coefficients.T).T.reshape((-1,) + tau.shape)
 
 
@@ -121,6 +125,7 @@ def fit_weave(
     values: ArrayLike,
     names: Sequence[str] = ("roll_rate",),
     noise: str = "auto",
+    baseline: str = "constant",
 ) -> WeaveFit:
     """Fit ``c1 + exp(d t) [c2 cos(w t) + c3 sin(w t)]`` to one or more signals.
 
@@ -136,6 +141,9 @@ def fit_weave(
     noise : {"auto", "white", "correlated"}
         Covariance estimate: white residuals, Newey-West, or Newey-West only when the
         residual's lag-1 autocorrelation is significant (above 3 / sqrt(n)).
+    baseline : {"constant", "linear", "quadratic"}
+        The non-oscillating part: the seed paper's constant c1, or a polynomial in time that
+        also follows the slow capsize mode's exponential (it would otherwise bias d and w).
 
     Raises
     ------
@@ -144,6 +152,9 @@ def fit_weave(
     InputError
         Non-finite values or mismatched shapes.
     """
+    if baseline not in BASELINES:
+        raise InputError(f"fit_weave: unknown baseline '{baseline}' (one of {', '.join(BASELINES)})")
+    degree = BASELINES[baseline]
     if noise not in NOISE_MODELS:
         raise InputError(f"fit_weave: unknown noise model '{noise}' (one of "
                          f"{', '.join(NOISE_MODELS)})")
@@ -163,25 +174,26 @@ def fit_weave(
     if not (spread > 0).all():
         raise NoOscillationError("a signal is constant over the window")
     weights = 1.0 / spread
-    theta = _best_optimum(tau, y * weights[:, None], span)
+    theta = _best_optimum(tau, y * weights[:, None], span, degree)
     # One reweighting by the residual RMS puts signals of different noise on an equal footing.
     if y.shape[0] > 1:
-        residual = y - _linear_fit(tau, y.T, theta)[1].T
+        residual = y - _linear_fit(tau, y.T, theta, degree)[1].T
         weights = 1.0 / np.maximum(residual.std(axis=1), 1e-12 * spread)
-        theta = _polish(tau, y * weights[:, None], theta, span)
+        theta = _polish(tau, y * weights[:, None], theta, span, degree)
     d, w = theta
     if w * span < np.pi:
         raise NoOscillationError(
             f"under half a period of oscillation in the window (w = {w:.3g} rad/s over "
             f"{span:.3g} s)"
         )
-    coefficients, fitted = _linear_fit(tau, y.T, theta)
+    coefficients, fitted = _linear_fit(tau, y.T, theta, degree)
     coefficients, fitted = coefficients.T, fitted.T
     return _result(t, y, names, fitted, coefficients, weights, theta, noise)
 
 
 def fit_window(
-    run: Run, window: Window, signals: Sequence[str] = ("roll_rate",), noise: str = "auto"
+    run: Run, window: Window, signals: Sequence[str] = ("roll_rate",), noise: str = "auto",
+    baseline: str = "constant",
 ) -> WeaveFit:
     """Fit the weave eigenvalue over a window of a run (see :func:`fit_weave`).
 
@@ -193,8 +205,8 @@ def fit_window(
         The window (its sample indices, or its times when the indices are unknown).
     signals : sequence of str
         Signals to fit jointly (e.g. ``("roll_rate", "yaw_rate")``).
-    noise : str
-        Covariance estimate, as in :func:`fit_weave`.
+    noise, baseline : str
+        Covariance estimate and non-oscillating part, as in :func:`fit_weave`.
 
     Raises
     ------
@@ -211,19 +223,20 @@ def fit_window(
         first = int(np.searchsorted(run.time, window.start))
         stop = int(np.searchsorted(run.time, window.stop, side="right"))
     values = np.array([run.signals[name][first:stop] for name in signals])
-    return fit_weave(run.time[first:stop], values, tuple(signals), noise)
+    return fit_weave(run.time[first:stop], values, tuple(signals), noise, baseline)
 
 
-def _basis(tau: NDArray[np.float64], d: float, w: float) -> NDArray[np.float64]:
+def _basis(tau: NDArray[np.float64], d: float, w: float, degree: int = 0) -> NDArray[np.float64]:
     decay = np.exp(d * tau)
-    return np.column_stack([np.ones_like(tau), decay * np.cos(w * tau), decay * np.sin(w * tau)])
+    powers = [tau**k for k in range(degree + 1)]
+    return np.column_stack(powers + [decay * np.cos(w * tau), decay * np.sin(w * tau)])
 
 
 def _linear_fit(
-    tau: NDArray[np.float64], Y: NDArray[np.float64], theta: NDArray[np.float64]
+    tau: NDArray[np.float64], Y: NDArray[np.float64], theta: NDArray[np.float64], degree: int = 0
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The c's (3, k) for given (d, w) and the fitted curves (n, k)."""
-    basis = _basis(tau, float(theta[0]), float(theta[1]))
+    """The c's (degree + 3, k) for given (d, w) and the fitted curves (n, k)."""
+    basis = _basis(tau, float(theta[0]), float(theta[1]), degree)
     coefficients = np.asarray(np.linalg.lstsq(basis, Y, rcond=None)[0], dtype=float)
     return coefficients, np.asarray(basis @ coefficients, dtype=float)
 
@@ -231,18 +244,18 @@ def _linear_fit(
 _Projection = Callable[[NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]]
 
 
-def _projected(tau: NDArray[np.float64], Y: NDArray[np.float64]) -> _Projection:
+def _projected(tau: NDArray[np.float64], Y: NDArray[np.float64], degree: int = 0) -> _Projection:
     """Residual and Kaufman Jacobian of the variable-projection problem, for least_squares."""
 
     def parts(theta: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         d, w = theta
         decay = np.exp(d * tau)
         cos, sin = decay * np.cos(w * tau), decay * np.sin(w * tau)
-        basis = np.column_stack([np.ones_like(tau), cos, sin])
+        basis = np.column_stack([tau**k for k in range(degree + 1)] + [cos, sin])
         q, r = np.linalg.qr(basis)
         coefficients = np.linalg.lstsq(r, q.T @ Y, rcond=None)[0]
         residual = Y - basis @ coefficients
-        c2, c3 = coefficients[1], coefficients[2]
+        c2, c3 = coefficients[-2], coefficients[-1]
         columns = []
         for derivative in (
             tau[:, None] * (cos[:, None] * c2 + sin[:, None] * c3),  # d/dd of the model
@@ -261,15 +274,16 @@ def _bounds(tau: NDArray[np.float64]) -> tuple[list[float], list[float]]:
     return [-60.0 / span, 1e-3 / span], [60.0 / span, np.pi * (tau.size - 1) / span]
 
 
-def _best_optimum(tau: NDArray[np.float64], Y: NDArray[np.float64], span: float) -> NDArray[np.float64]:
-    parts = _projected(tau, Y.T)
+def _best_optimum(tau: NDArray[np.float64], Y: NDArray[np.float64], span: float,
+                  degree: int = 0) -> NDArray[np.float64]:
+    parts = _projected(tau, Y.T, degree)
     lower, upper = _bounds(tau)
     starts = [np.clip(start, lower, upper) for start in starting_values(tau, Y.T[:, 0])]
     # Polishing every start is wasteful: the two most promising ones are polished.
     ranked = sorted(starts, key=lambda start: float(np.sum(parts(start)[0] ** 2)))
     best: tuple[float, NDArray[np.float64]] | None = None
     for start in ranked[:2]:
-        theta = _polish(tau, Y, start, span)
+        theta = _polish(tau, Y, start, span, degree)
         cost = float(np.sum(parts(theta)[0] ** 2))
         if best is None or cost < best[0]:
             best = (cost, theta)
@@ -278,11 +292,12 @@ def _best_optimum(tau: NDArray[np.float64], Y: NDArray[np.float64], span: float)
 
 
 def _polish(
-    tau: NDArray[np.float64], Y: NDArray[np.float64], start: NDArray[np.float64], span: float
+    tau: NDArray[np.float64], Y: NDArray[np.float64], start: NDArray[np.float64], span: float,
+    degree: int = 0,
 ) -> NDArray[np.float64]:
     lower, upper = _bounds(tau)
     x0 = np.clip(start, np.array(lower) + 1e-9, np.array(upper) - 1e-9)
-    parts = _projected(tau, Y.T)
+    parts = _projected(tau, Y.T, degree)
     cache: dict[bytes, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
 
     def evaluate(theta: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -350,14 +365,14 @@ def _result(
 def _full_jacobian(
     tau: NDArray[np.float64], coefficients: NDArray[np.float64], d: float, w: float
 ) -> NDArray[np.float64]:
-    """Jacobian (k, n, 3k + 2) of all model values with respect to (c's of each signal, d, w)."""
-    k = coefficients.shape[0]
-    basis = _basis(tau, d, w)
-    decay = basis[:, 1:]
-    jacobian = np.zeros((k, tau.size, 3 * k + 2))
+    """Jacobian (k, n, m k + 2) of all model values w.r.t. (m c's of each signal, d, w)."""
+    k, m = coefficients.shape
+    basis = _basis(tau, d, w, m - 3)
+    decay = basis[:, -2:]
+    jacobian = np.zeros((k, tau.size, m * k + 2))
     for signal in range(k):
-        _, c2, c3 = coefficients[signal]
-        jacobian[signal, :, 3 * signal: 3 * signal + 3] = basis
+        c2, c3 = coefficients[signal, -2:]
+        jacobian[signal, :, m * signal: m * signal + m] = basis
         jacobian[signal, :, -2] = tau * (decay[:, 0] * c2 + decay[:, 1] * c3)
         jacobian[signal, :, -1] = tau * (decay[:, 0] * c3 - decay[:, 1] * c2)
     return jacobian

@@ -1,0 +1,86 @@
+"""From measured runs to weave eigenvalues: windows, fits and speeds, window by window.
+
+This is the measurement side shared by ``whipple fit`` and ``whipple diagnose``: every window
+of every run either yields a fitted eigenvalue at a speed range, or is skipped with a reason.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from whipple.diagnosis import Observation
+from whipple.errors import InputError
+from whipple.runs import Run
+from whipple.speedometer import SpeedRange, speed_regression
+from whipple.weavefit import WeaveFit, fit_window
+from whipple.windows import Window, find_windows
+
+#: Fits explaining less of the window's variance than this are not used as observations.
+MIN_R_SQUARED = 0.5
+#: Nor fits covering less of a weave period than this (cycles = w * length / 2 pi).
+MIN_CYCLES = 0.75
+
+
+@dataclass(frozen=True)
+class WindowMeasurement:
+    """One window: its fit and speed, or why it was skipped."""
+
+    run: Run
+    window: Window
+    fit: WeaveFit | None
+    speed: SpeedRange | None
+    skipped: str | None = None
+
+    @property
+    def usable(self) -> bool:
+        return self.fit is not None and self.skipped is None
+
+
+def measure_run(run: Run, windows: Sequence[Window] | None = None,
+                signals: Sequence[str] = ("roll_rate",), baseline: str = "constant") -> list[WindowMeasurement]:
+    """Fit the weave in each window of a run (found automatically unless given).
+
+    ``baseline`` is the fitted function's non-oscillating part (see
+    :func:`whipple.weavefit.fit_weave`): the seed paper's constant, or a polynomial that
+    follows the slow capsize mode.
+    """
+    if windows is None:
+        windows = find_windows(run).windows
+    else:
+        windows = [w for w in windows if w.run == run.name]
+    speed = run.speed()
+    measurements = []
+    for window in windows:
+        try:
+            speeds = speed_regression(run.time, speed, window.start, window.stop)
+            fit = fit_window(run, window, signals, baseline=baseline)
+        except InputError as error:
+            measurements.append(WindowMeasurement(run, window, None, None, error.problem))
+            continue
+        reason = None
+        if fit.r_squared < MIN_R_SQUARED:
+            reason = f"poor fit (R^2 = {fit.r_squared:.2f} < {MIN_R_SQUARED})"
+        elif fit.cycles < MIN_CYCLES:
+            reason = f"too short ({fit.cycles:.2f} weave cycles < {MIN_CYCLES})"
+        elif not np.all(np.isfinite(fit.covariance)):
+            reason = "eigenvalue covariance not finite"
+        measurements.append(WindowMeasurement(run, window, fit, speeds, reason))
+    return measurements
+
+
+def observation(measurement: WindowMeasurement) -> Observation:
+    """The diagnosis' view of a usable window."""
+    if measurement.fit is None or measurement.speed is None:
+        raise ValueError("window has no fit")
+    speed = measurement.speed
+    return Observation(measurement.run.name, measurement.window.start, measurement.window.stop, float(speed.mean),
+                       (float(speed.start_speed), float(speed.stop_speed)), complex(measurement.fit.eigenvalue),
+                       np.asarray(measurement.fit.covariance, dtype=float))
+
+
+def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]:
+    """Observations of all usable windows."""
+    return [observation(m) for m in measurements if m.usable]

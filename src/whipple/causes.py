@@ -64,18 +64,13 @@ def _speed_scale(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
     return bicycle.with_extensions(speed_scale=bicycle.extensions.speed_scale * float(values[0]))
 
 
-def payload_position(bicycle: Bicycle) -> tuple[float, float]:
-    """Where an unidentified payload is assumed: at the rear frame's mass centre [m].
-
-    With eigenvalue data alone the position of a small mass is poorly identifiable; its mass
-    at the rear frame's mass centre is the one-parameter hypothesis that is.
-    """
-    return bicycle.parameters["xB"], bicycle.parameters["zB"]
-
-
 def _payload(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    x, z = payload_position(bicycle)
-    return bicycle.with_extensions(payload=Payload(mass=float(values[0]), x=x, z=z))
+    mass, x, z = (float(value) for value in values)
+    return bicycle.with_extensions(payload=Payload(mass=mass, x=x, z=z))
+
+
+def _payload_at_mass_centre(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+    return _payload(bicycle, (values[0], bicycle.parameters["xB"], bicycle.parameters["zB"]))
 
 
 def _tyre(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
@@ -107,13 +102,20 @@ def parameter_cause(bicycle: Bicycle, key: str, share: float) -> Cause:
 
 def candidate_causes(bicycle: Bicycle, include_parameters: bool = True) -> list[Cause]:
     """The candidate causes for a bicycle, with starting values and bounds."""
+    p = bicycle.parameters
     causes = [
         Cause("steer_damping", ("steer_damping",), ("N m s/rad",), (0.0,), ((0.0, 20.0),), _steer_damping,
               null=(0.0,)),
         Cause("steer_inertia", ("steer_inertia",), ("kg m^2",), (0.0,), ((0.0, 2.0),), _steer_inertia, null=(0.0,)),
         Cause("speed_scale", ("speed_scale",), ("",), (1.0,), ((0.5, 2.0),), _speed_scale, null=(1.0,)),
-        Cause("payload", ("payload_mass",), ("kg",), (0.0,), ((0.0, 3.0 * bicycle.parameters["mB"]),), _payload,
+        # A payload has two forms, of which the diagnosis keeps the better supported: its mass
+        # alone, at the rear frame's mass centre; and mass and position, for a payload away from
+        # the mass centre, which changes the inertia in a way a mass alone cannot mimic.
+        Cause("payload", ("payload_mass",), ("kg",), (0.0,), ((0.0, 3.0 * p["mB"]),), _payload_at_mass_centre,
               null=(0.0,)),
+        Cause("payload", ("payload_mass", "payload_x", "payload_z"), ("kg", "m", "m"),
+              (0.0, p["xB"], p["zB"]),
+              ((0.0, 3.0 * p["mB"]), (-0.5, p["w"] + 0.5), (-2.0 * max(p["rR"], p["rF"]) - 1.0, 0.0)), _payload),
         Cause("tyre_compliance", ("cornering_stiffness", "relaxation_length"), ("1/rad", "m"), (12.0, 0.15),
               ((1.0, 500.0), (0.005, 1.0)), _tyre),
     ]

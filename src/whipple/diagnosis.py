@@ -156,11 +156,12 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
         return _residuals(cause.apply(bicycle, x * scale), observations, whitening)[0]
 
-    starts = [np.array(cause.start)]
-    if len(cause.parameters) == 2:  # a coarse grid guards against local minima of 2-D fits
-        starts += [lower + (upper - lower) * np.array(f) for f in ((0.02, 0.1), (0.1, 0.3), (0.4, 0.05))]
-    else:
-        starts += [np.clip(np.array(cause.start) + (upper - lower) * f, lower, upper) for f in (0.02, 0.1)]
+    # A few deterministic starts spread over the bounds guard against local minima.
+    starts = [np.array(cause.start)] + [np.clip(np.array(cause.start) + (upper - lower) * f, lower, upper)
+                                        for f in (0.02, 0.1)]
+    if len(cause.parameters) > 1:
+        starts += [lower + (upper - lower) * np.resize(np.array(f), len(lower))
+                   for f in ((0.02, 0.1, 0.5), (0.1, 0.3, 0.4), (0.4, 0.05, 0.6))]
     best = None
     for start in starts:
         x0 = np.clip(start, lower, upper) / scale
@@ -209,7 +210,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         std = tuple(s * np.sqrt(scale) for s in fit.std)
         scored.append(CauseFit(fit.cause, fit.parameters, fit.units, fit.values, std, fit.chi2,
                                float(evidence), fit.predicted))
-    scored.sort(key=lambda fit: -fit.evidence)
+    scored = _merge_forms(scored)
     best = scored[0] if scored else None
     if best is None or best.evidence < named_threshold:
         verdict, name = "none", "none"
@@ -218,6 +219,25 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     else:
         verdict, name = "named", best.cause
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scale, observations)
+
+
+def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
+    """One entry per cause, by decreasing evidence.
+
+    A cause with several forms (payload: mass alone, or mass and position) is supported as
+    well as its best form; its estimate is that of its most general form, so that the interval
+    also carries the uncertainty of what the simpler form holds fixed.
+    """
+    merged: dict[str, CauseFit] = {}
+    for fit in scored:
+        forms = [other for other in scored if other.cause == fit.cause]
+        if fit.cause in merged:
+            continue
+        general = max(forms, key=lambda other: len(other.parameters))
+        evidence = max(other.evidence for other in forms)
+        merged[fit.cause] = CauseFit(general.cause, general.parameters, general.units, general.values,
+                                     general.std, general.chi2, evidence, general.predicted)
+    return sorted(merged.values(), key=lambda fit: -fit.evidence)
 
 
 def speed_groups(observations: Sequence[Observation], gap: float = 0.3) -> list[list[int]]:

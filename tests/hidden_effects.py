@@ -94,7 +94,7 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=SPEEDS
     for k, speed in enumerate(speeds):
         scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k)
         run = simulate_run(truth_bicycle, scenario, name=f"run{k}").to_run()
-        measurements += measure_run(run, baseline="quadratic")
+        measurements += measure_run(run, baseline="auto")
     diagnosis = diagnose_observations(base, observations(measurements))
     return Trial(cause, seed, truth, diagnosis)
 

@@ -22,6 +22,9 @@ from whipple.windows import Window, find_windows
 MIN_R_SQUARED = 0.5
 #: Nor fits covering less of a weave period than this (cycles = w * length / 2 pi).
 MIN_CYCLES = 0.75
+#: With baseline "auto", windows of at least this many weave cycles get a quadratic baseline
+#: (enough data to separate the slow capsize mode from the weave); shorter ones the constant.
+AUTO_QUADRATIC_CYCLES = 2.0
 
 
 @dataclass(frozen=True)
@@ -44,8 +47,10 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None,
     """Fit the weave in each window of a run (found automatically unless given).
 
     ``baseline`` is the fitted function's non-oscillating part (see
-    :func:`whipple.weavefit.fit_weave`): the seed paper's constant, or a polynomial that
-    follows the slow capsize mode.
+    :func:`whipple.weavefit.fit_weave`): the seed paper's constant, a polynomial that follows
+    the slow capsize mode, or "auto": the constant, and the quadratic when the window holds at
+    least AUTO_QUADRATIC_CYCLES weave cycles (in shorter windows the extra terms would trade
+    off against the weave itself).
     """
     if windows is None:
         windows = find_windows(run).windows
@@ -56,7 +61,9 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None,
     for window in windows:
         try:
             speeds = speed_regression(run.time, speed, window.start, window.stop)
-            fit = fit_window(run, window, signals, baseline=baseline)
+            fit = fit_window(run, window, signals, baseline="constant" if baseline == "auto" else baseline)
+            if baseline == "auto" and fit.cycles >= AUTO_QUADRATIC_CYCLES:
+                fit = fit_window(run, window, signals, baseline="quadratic")
         except InputError as error:
             measurements.append(WindowMeasurement(run, window, None, None, error.problem))
             continue

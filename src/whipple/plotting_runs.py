@@ -151,9 +151,13 @@ def plot_weave_fit(
     title : str, optional
         First title line (default: the run's name, if given).
     """
-    figure = Figure(figsize=(8, 5.2), layout="constrained")
+    # Fixed margins and title positions: the CLI draws one of these per window, and automatic
+    # placement triples the time to save it.
+    figure = Figure(figsize=(8, 5.2))
     FigureCanvasAgg(figure)
-    axis, lower = figure.subplots(2, 1, sharex=True, height_ratios=(3, 1))
+    axis, lower = figure.subplots(2, 1, sharex=True, height_ratios=(3, 1),
+                                  gridspec_kw=dict(left=0.1, right=0.9, top=0.89, bottom=0.09,
+                                                   hspace=0.28))
     name = fit.signal_names[0]
     low, high = fit.start - (margin if run else 0.0), fit.stop + (margin if run else 0.0)
     if run is not None and name in run.signals:
@@ -170,7 +174,7 @@ def plot_weave_fit(
         (f"{heading}\n" if heading else "")
         + f"λ = {fit.damping:.2f} ± {d_std:.2f} {'+' if fit.frequency >= 0 else '-'} "
         f"({abs(fit.frequency):.2f} ± {w_std:.2f})i 1/s over {fit.start:.2f}-{fit.stop:.2f} s, "
-        f"R² = {fit.r_squared:.3f}", fontsize=10)
+        f"R² = {fit.r_squared:.3f}", fontsize=10, y=1.0)
     handles, texts = axis.get_legend_handles_labels()
     if run is not None:
         twin = axis.twinx()
@@ -199,7 +203,7 @@ def plot_weave_fit(
     lower.set_ylabel("residual", fontsize=8)
     lower.set_xlabel("time [s]")
     lower.set_title(f"residual: RMS {fit.rms_residual[0]:.3g}, lag-1 autocorrelation "
-                    f"{fit.residual_correlation:.2f}, covariance {fit.noise_model}", fontsize=8)
+                    f"{fit.residual_correlation:.2f}, covariance {fit.noise_model}", fontsize=8, y=1.0)
     axis.set_xlim(low, high)
     return figure
 

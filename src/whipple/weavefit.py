@@ -109,6 +109,12 @@ class WeaveFit:
         return float(self.eigenvalue.imag)
 
     @property
+    def baseline(self) -> str:
+        """Name of the fitted non-oscillating part (see :data:`BASELINES`)."""
+        degree = self.coefficients.shape[1] - 3
+        return next(name for name, value in BASELINES.items() if value == degree)
+
+    @property
     def cycles(self) -> float:
         """Number of oscillation periods in the window."""
         return self.frequency * (self.stop - self.start) / (2 * np.pi)
@@ -376,3 +382,35 @@ def _full_jacobian(
         jacobian[signal, :, -2] = tau * (decay[:, 0] * c2 + decay[:, 1] * c3)
         jacobian[signal, :, -1] = tau * (decay[:, 0] * c3 - decay[:, 1] * c2)
     return jacobian
+
+
+def response_with_eigenvalue(
+    time: ArrayLike, values: ArrayLike, eigenvalue: complex, baseline: str = "constant"
+) -> NDArray[np.float64]:
+    """The best fit of a window with the eigenvalue held fixed (amplitude, phase, baseline free).
+
+    This is how a model's weave eigenvalue explains a measured window in the time domain:
+    the model fixes d and w, the window's initial state fixes the linear coefficients.
+
+    Parameters
+    ----------
+    time : array_like, shape (n,)
+        Sample times [s].
+    values : array_like, shape (n,) or (k, n)
+        Measured signal(s).
+    eigenvalue : complex
+        d + i w [1/s].
+    baseline : str
+        As in :func:`fit_weave`.
+
+    Returns
+    -------
+    ndarray, shape (k, n)
+        The fitted curves.
+    """
+    if baseline not in BASELINES:
+        raise InputError(f"unknown baseline '{baseline}' (one of {', '.join(BASELINES)})")
+    t = np.asarray(time, dtype=float)
+    y = np.atleast_2d(np.asarray(values, dtype=float))
+    fitted = _linear_fit(t - t[0], y.T, np.array([eigenvalue.real, abs(eigenvalue.imag)]), BASELINES[baseline])[1]
+    return np.asarray(fitted.T, dtype=float)

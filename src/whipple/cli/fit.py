@@ -59,6 +59,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "still the ones fitted); 'bundled' as for --windows")
     parser.add_argument("--signals", default="roll_rate", metavar="NAME[,NAME...]",
                         help="signals fitted jointly, sharing one eigenvalue (default roll_rate)")
+    # The choices of whipple.weavefit (BASELINES, NOISE_MODELS), spelled out here so that the
+    # parser does not import SciPy.
+    parser.add_argument("--baseline", choices=("constant", "linear", "quadratic"),
+                        default="constant",
+                        help="non-oscillating part of the fitted function: the seed paper's "
+                             "constant c1 (default), or a polynomial in time that also absorbs "
+                             "a slow capsize-mode drift")
+    parser.add_argument("--noise", choices=("auto", "white", "correlated"), default="auto",
+                        help="covariance of the eigenvalue: white residuals, Newey-West for "
+                             "autocorrelated ones, or Newey-West when the residual's lag-1 "
+                             "autocorrelation is significant (default auto)")
     parser.add_argument("--bicycle", metavar="PARAMS",
                         help="bicycle file or built-in name: list its model weave eigenvalue "
                              "at each window's speed")
@@ -67,6 +78,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plot", "--plots", dest="plot", metavar="DIR",
                         help="write figures (PNG) into DIR: each run's signals, each fit, and "
                              "the eigenvalues against speed")
+
+
+@dataclass(frozen=True)
+class _Fitting:
+    """How windows are fitted: the signals, the covariance estimate, the baseline."""
+
+    signals: tuple[str, ...]
+    noise: str
+    baseline: str
 
 
 @dataclass
@@ -80,6 +100,7 @@ class _Entry:
     fit: WeaveFit | None = None
     skipped: str | None = None
     model: complex | None = None
+    baseline: str = "constant"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -127,6 +148,7 @@ def run(args: argparse.Namespace) -> int:
 
         bicycle = load_bicycle(args.bicycle)
 
+    fitting = _Fitting(signals, args.noise, args.baseline)
     searches = {run_.name: find_windows(run_) for run_ in runs}
     entries: list[_Entry] = []
     for run_ in runs:
@@ -136,13 +158,15 @@ def run(args: argparse.Namespace) -> int:
             rejected: list[Window] = []
         else:
             windows, rejected = list(search.windows), list(search.rejected)
-        entries += _analyse(run_, windows, rejected, signals)
+        none = ("no window of this run in the windows file" if chosen is not None
+                else "no free-coasting window found")
+        entries += _analyse(run_, windows, rejected, fitting, none)
     if bicycle is not None:
         _add_model(entries, bicycle)
 
     _print_table(runs, searches, entries, chosen is not None)
     if reference is not None:
-        _print_comparison(reference_name, reference, searches, entries, signals)
+        _print_comparison(reference_name, reference, searches, entries, fitting)
     _write_outputs(args, runs, searches, entries, bicycle, inputs)
     return 0
 
@@ -161,9 +185,12 @@ def _check_outputs(args: argparse.Namespace, inputs: list[str]) -> None:
         raise InputError("--plot needs a folder; this is a file", args.plot)
 
 
-def _analyse(run_: Run, windows: list[Window], rejected: list[Window],
-             signals: tuple[str, ...]) -> list[_Entry]:
-    """Fit each window of a run; rejected stretches and failed fits become skipped entries."""
+def _analyse(run_: Run, windows: list[Window], rejected: list[Window], fitting: _Fitting,
+             none: str) -> list[_Entry]:
+    """Fit each window of a run; rejected stretches and failed fits become skipped entries.
+
+    A run without any window gets one skipped entry spanning it, with the reason `none`.
+    """
     from whipple.errors import RunFileError
     from whipple.speedometer import speed_regression
     from whipple.weavefit import NoOscillationError, fit_window
@@ -171,10 +198,10 @@ def _analyse(run_: Run, windows: list[Window], rejected: list[Window],
     speed = run_.speed()
     entries = []
     for window in windows:
-        entry = _Entry(run_, window)
+        entry = _Entry(run_, window, baseline=fitting.baseline)
         try:
             entry.speed = speed_regression(run_.time, speed, window.start, window.stop)
-            entry.fit = fit_window(run_, window, signals)
+            entry.fit = fit_window(run_, window, fitting.signals, fitting.noise, fitting.baseline)
         except (NoOscillationError, RunFileError) as error:
             entry.skipped = error.problem
         entries.append(entry)
@@ -190,7 +217,7 @@ def _analyse(run_: Run, windows: list[Window], rejected: list[Window],
 
         whole = Window(run_.name, float(run_.time[0]), float(run_.time[-1]), 0, run_.time.size,
                        "the whole run")
-        entries.append(_Entry(run_, whole, skipped="no free-coasting window found",
+        entries.append(_Entry(run_, whole, skipped=none,
                               speed=speed_regression(run_.time, speed, whole.start, whole.stop)))
     entries.sort(key=lambda entry: entry.window.start)
     for number, entry in enumerate(entries, 1):
@@ -254,7 +281,7 @@ def _complex(value: complex) -> str:
 
 
 def _print_comparison(name: str, reference: tuple[Window, ...], searches: dict[str, WindowSearch],
-                      entries: list[_Entry], signals: tuple[str, ...]) -> None:
+                      entries: list[_Entry], fitting: _Fitting) -> None:
     """How the automatic windows match the reference ones, and the eigenvalues of both."""
     import numpy as np
 
@@ -283,7 +310,8 @@ def _print_comparison(name: str, reference: tuple[Window, ...], searches: dict[s
         if match.found is None:
             continue
         try:
-            pair = [fit_window(runs[match.reference.run], w, signals).eigenvalue
+            pair = [fit_window(runs[match.reference.run], w, fitting.signals, fitting.noise,
+                               fitting.baseline).eigenvalue
                     for w in (match.found, match.reference)]
         except InputError:
             continue
@@ -317,6 +345,7 @@ def _json_entry(entry: _Entry) -> dict[str, Any]:
         "samples": None if fit is None else fit.n_samples,
         "signals": None if fit is None else list(fit.signal_names),
         "noise_model": None if fit is None else fit.noise_model,
+        "baseline": None if fit is None else entry.baseline,
         "notes": _notes(entry),
         "window": entry.number,
         "source": entry.run.source,

@@ -1,0 +1,102 @@
+"""Diagnose what the model gets wrong on measured runs, name the cause, extend, measure the gain.
+
+Every free-coasting window of the runs is fitted; each candidate cause (steer damping, steer
+inertia, speed scale, payload, tyre compliance, a wrong parameter) is fitted to all windows
+jointly and compared by its evidence; the chosen cause's extended model is tested on held-out
+speeds. The bicycle file carries the controller, if any.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+HELP = "find what the model gets wrong on measured runs and which cause explains it"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("runs", nargs="*", type=Path, metavar="RUNS", help="run files")
+    parser.add_argument("--bundled", action="store_true", help="use the bundled steer-by-wire treadmill runs")
+    parser.add_argument("--bicycle", required=True, metavar="PARAMS", help="bicycle file or built-in name")
+    parser.add_argument("--layout", default=None, help="layout of the run files (name or TOML file)")
+    parser.add_argument("--windows", type=Path, default=None, metavar="FILE",
+                        help="windows file instead of automatic windows")
+    parser.add_argument("--json", type=Path, default=None, metavar="OUT", help="write the diagnosis JSON")
+    parser.add_argument("--report", type=Path, default=None, metavar="DIR", help="write report.md and figures")
+    parser.add_argument("--save-model", type=Path, default=None, metavar="FILE",
+                        help="write the extended model as a bicycle file")
+    parser.add_argument("--no-parameters", action="store_true",
+                        help="do not consider a wrong benchmark parameter as a cause")
+    parser.add_argument("--baseline", default="auto", choices=("auto", "constant", "linear", "quadratic"),
+                        help="non-oscillating part of the window fits (default auto: quadratic, following the "
+                             "capsize mode, in windows of two weave cycles or more; constant otherwise)")
+
+
+def run(args: argparse.Namespace) -> int:
+    import json
+    import shlex
+    import sys
+
+    from whipple.atomic import atomic_path, refuse_input_overwrite, write_text_atomic
+    from whipple.diagnosis_report import assemble, report_json, report_markdown
+    from whipple.errors import InputError
+    from whipple.experiment import measure_run
+    from whipple.parameters import load_bicycle, write_bicycle_toml
+    from whipple.reference_windows import read_windows
+    from whipple.runs import read_run
+
+    sources: list = list(args.runs)
+    if args.bundled:
+        from whipple.bundled import bundled_runs
+
+        sources += bundled_runs()
+    if not sources:
+        raise InputError("no run files given (name files, or use --bundled)")
+    inputs = [s for s in sources if isinstance(s, Path)] + [args.bicycle]
+    if args.windows is not None:
+        inputs.append(args.windows)
+    for output in (args.json, args.save_model):
+        if output is not None:
+            refuse_input_overwrite(output, inputs)
+    bicycle = load_bicycle(args.bicycle)
+    runs = [read_run(source, args.layout) for source in sources]
+    windows = read_windows(args.windows, runs) if args.windows is not None else None
+    measurements = []
+    for run_ in runs:
+        measurements += measure_run(run_, windows, baseline=args.baseline)
+    report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters)
+    data = report_json(report)
+    diagnosis = report.diagnosis
+    print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs)")
+    print(f"what the model gets wrong: {report.residual_summary[0]}")
+    print(f"verdict: {diagnosis.verdict}" + (f" ({diagnosis.cause})" if diagnosis.verdict != "none" else ""))
+    for name, estimate in data["estimate"].items():
+        print(f"  {name} = {estimate['value']:.6g} +/- {estimate['std']:.3g} {estimate['unit']}")
+    print("ranking: " + ", ".join(f"{cause} {evidence:.1f}" for cause, evidence in diagnosis.ranking()[:5]))
+    if report.gain is not None:
+        g = report.gain
+        print(f"held-out eigenvalue error [1/s]: base {g.base:.3f}, extended {g.extended:.3f} ({g.folds} folds)")
+        if g.time_base is not None:
+            print(f"held-out time-domain error (relative rms): base {g.time_base:.3f}, extended {g.time_extended:.3f}")
+    if args.json is not None:
+        write_text_atomic(args.json, json.dumps(data, indent=2) + "\n")
+        print(f"wrote {args.json}")
+    if args.report is not None:
+        from whipple import plotting_diagnosis as plots
+
+        makers = {"eigenvalues": plots.plot_eigenvalues, "residuals": plots.plot_residuals,
+                  "time": plots.plot_time_overlay, "ranking": plots.plot_ranking}
+        figures = {}
+        for key, make in makers.items():
+            figure = make(report)
+            name = f"{key}.png"
+            with atomic_path(args.report / name) as temporary:
+                figure.savefig(temporary, dpi=120)
+            figures[key] = name
+        command = "whipple " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:] else ""
+        write_text_atomic(args.report / "report.md", report_markdown(report, figures, command))
+        print(f"wrote {args.report / 'report.md'}")
+    if args.save_model is not None:
+        write_bicycle_toml(report.extended, args.save_model)
+        print(f"wrote {args.save_model}")
+    return 0

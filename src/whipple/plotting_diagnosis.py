@@ -1,0 +1,114 @@
+"""Figures of the diagnosis report (matplotlib, Agg); functions return Figures, never save."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+from whipple.diagnosis import predicted_weave  # noqa: E402
+from whipple.diagnosis_report import DiagnosisReport  # noqa: E402
+from whipple.model import linear_model  # noqa: E402
+from whipple.parameters import Bicycle  # noqa: E402
+from whipple.stability import weave_eigenvalue  # noqa: E402
+from whipple.weavefit import response_with_eigenvalue  # noqa: E402
+
+
+def _weave_curve(bicycle: Bicycle, speeds: np.ndarray) -> np.ndarray:
+    """The weave eigenvalue against measured speed (speed_scale applied)."""
+    return weave_eigenvalue(linear_model(bicycle), speeds / bicycle.extensions.speed_scale)
+
+
+def plot_eigenvalues(report: DiagnosisReport) -> Figure:
+    """Measured weave eigenvalues (bars over their speed range) against both models' weave."""
+    observations = report.diagnosis.observations
+    speeds = np.array([o.speed for o in observations])
+    grid = np.linspace(max(0.0, speeds.min() - 0.5), speeds.max() + 0.5, 300)
+    figure, axes = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5))
+    models = [("base model", report.bicycle, "C0")]
+    if report.diagnosis.best is not None:
+        models.append((f"extended ({report.diagnosis.cause})", report.extended, "C3"))
+    for axis, part, label in ((axes[0], np.real, "real part d [1/s]"), (axes[1], np.imag, "imaginary part w [rad/s]")):
+        for name, bicycle, colour in models:
+            axis.plot(grid, part(_weave_curve(bicycle, grid)), color=colour, label=name)
+        for o in observations:
+            value = part(o.eigenvalue)
+            std = np.sqrt(o.covariance[0, 0] if part is np.real else o.covariance[1, 1])
+            low, high = sorted(o.speed_range)
+            axis.plot([low, high], [value, value], color="k", lw=2)
+            axis.errorbar(o.speed, value, yerr=std, color="k", lw=0.8, capsize=2)
+        axis.set_ylabel(label)
+        axis.grid(alpha=0.3)
+    axes[0].axhline(0.0, color="0.5", lw=0.8)
+    axes[0].plot([], [], color="k", lw=2, label="measured (speed range, 1 std)")
+    axes[0].legend(fontsize=8)
+    axes[1].set_xlabel("measured speed [m/s]")
+    figure.suptitle("Weave eigenvalue: measurements and models")
+    figure.tight_layout()
+    return figure
+
+
+def plot_residuals(report: DiagnosisReport) -> Figure:
+    """Measured minus model weave eigenvalue against speed, base and extended."""
+    observations = report.diagnosis.observations
+    speeds = np.array([o.speed for o in observations])
+    measured = np.array([o.eigenvalue for o in observations])
+    std = np.array([np.sqrt(np.diag(o.covariance)) for o in observations])
+    figure, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    models = [("base", report.bicycle, "C0", -0.03)]
+    if report.diagnosis.best is not None:
+        models.append(("extended", report.extended, "C3", 0.03))
+    for name, bicycle, colour, shift in models:
+        residual = measured - predicted_weave(bicycle, observations)
+        axes[0].errorbar(speeds + shift, residual.real, yerr=std[:, 0], fmt="o", ms=3, color=colour, label=name)
+        axes[1].errorbar(speeds + shift, residual.imag, yerr=std[:, 1], fmt="o", ms=3, color=colour, label=name)
+    for axis, title in zip(axes, ("damping residual d [1/s]", "frequency residual w [rad/s]"), strict=True):
+        axis.axhline(0.0, color="0.5", lw=0.8)
+        axis.set_xlabel("measured speed [m/s]")
+        axis.set_title(title, fontsize=10)
+        axis.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    figure.tight_layout()
+    return figure
+
+
+def plot_time_overlay(report: DiagnosisReport, count: int = 4) -> Figure:
+    """Measured roll rate of a few windows across speed, explained by each model's eigenvalue."""
+    used = [m for m in report.used if m.fit is not None]
+    order = np.argsort([m.speed.mean if m.speed else 0.0 for m in used])
+    picks = [used[i] for i in order[np.linspace(0, len(order) - 1, min(count, len(order))).astype(int)]]
+    figure, axes = plt.subplots(len(picks), 1, figsize=(7.5, 2.0 * len(picks) + 0.5), squeeze=False)
+    for axis, m in zip(axes[:, 0], picks, strict=True):
+        fit = m.fit
+        assert fit is not None
+        o = report.diagnosis.observations[report.used.index(m)]
+        axis.plot(fit.time, fit.measured[0], color="k", lw=1, label="measured roll rate")
+        for name, bicycle, colour in (("base", report.bicycle, "C0"), ("extended", report.extended, "C3")):
+            if name == "extended" and report.diagnosis.best is None:
+                continue
+            eigenvalue = complex(predicted_weave(bicycle, [o])[0])
+            curve = response_with_eigenvalue(fit.time, fit.measured, eigenvalue, fit.baseline)[0]
+            axis.plot(fit.time, curve, color=colour, lw=1.2, label=f"{name} model ({eigenvalue.real:.2f}"
+                      f"{eigenvalue.imag:+.2f}i)")
+        axis.set_title(f"{m.run.name}, {o.speed:.2f} m/s", fontsize=9)
+        axis.set_ylabel("rad/s")
+        axis.legend(fontsize=7, loc="upper right")
+    axes[-1, 0].set_xlabel("time [s]")
+    figure.tight_layout()
+    return figure
+
+
+def plot_ranking(report: DiagnosisReport, count: int = 10) -> Figure:
+    """Evidence of the best-supported causes (and none at 0)."""
+    ranking = report.diagnosis.ranking()[:count]
+    figure, axis = plt.subplots(figsize=(7, 0.35 * len(ranking) + 1.2))
+    names = [cause for cause, _ in ranking][::-1]
+    values = [evidence for _, evidence in ranking][::-1]
+    axis.barh(names, values, color=["C3" if n == report.diagnosis.cause else "0.6" for n in names])
+    axis.axvline(0.0, color="k", lw=0.8)
+    axis.set_xlabel("evidence (log Bayes factor against the base model)")
+    figure.tight_layout()
+    return figure

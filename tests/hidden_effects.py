@@ -66,8 +66,8 @@ def hidden_bicycle(base: Bicycle, cause: str, rng: np.random.Generator) -> tuple
     if cause == "payload":
         mass = rng.uniform(10.0, 25.0)
         x, z = cause_payload_position(base, rng)
-        return base.with_extensions(payload=Payload(mass, x, z)), {"payload_mass": mass, "payload_x": x,
-                                                                   "payload_z": z}
+        # Only the mass is an estimate the diagnosis must cover (position: if identifiable).
+        return base.with_extensions(payload=Payload(mass, x, z)), {"payload_mass": mass}
     if cause == "tyre_compliance":
         stiffness, relaxation = rng.uniform(8.0, 16.0), rng.uniform(0.1, 0.25)
         tyres = TyreCompliance(stiffness, 0.57, relaxation)

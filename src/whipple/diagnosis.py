@@ -198,6 +198,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     base_residual, base_predicted = _residuals(bicycle, observations, whitening)
     base = CauseFit("none", (), (), (), (), robust_chi2(base_residual), predicted=base_predicted)
     causes = list(candidate_causes(bicycle)) if causes is None else list(causes)
+    estimators = [cause for cause in causes if not cause.for_evidence]
+    causes = [cause for cause in causes if cause.for_evidence]
     fits = [fit_cause(bicycle, cause, observations, whitening) for cause in causes]
     n = 2 * len(observations)
     # Over-dispersion: residual scatter of the best-fitting model beyond the stated errors.
@@ -211,6 +213,13 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         scored.append(CauseFit(fit.cause, fit.parameters, fit.units, fit.values, std, fit.chi2,
                                float(evidence), fit.predicted))
     scored = _merge_forms(scored)
+    if scored:  # the leading cause's values, from its estimate-only form where it has one
+        for cause in estimators:
+            if cause.name == scored[0].cause:
+                fit = fit_cause(bicycle, cause, observations, whitening)
+                std = tuple(s * np.sqrt(scale) for s in fit.std)
+                scored[0] = CauseFit(fit.cause, fit.parameters, fit.units, fit.values, std, fit.chi2,
+                                     scored[0].evidence, fit.predicted)
     best = scored[0] if scored else None
     if best is None or best.evidence < named_threshold:
         verdict, name = "none", "none"

@@ -228,7 +228,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
               f"{diagnosis.scale:.2f}.", "", f"![ranking]({figures['ranking']})", "", "## 3. The extended model", ""]
     if diagnosis.best is not None:
         lines += ["| parameter | value | std | unit |", "|---|---|---|---|"]
-        lines += [f"| {name} | {e['value']:.6g} | {e['std']:.3g} | {e['unit']} |" for name, e in data["estimate"].items()]
+        lines += [f"| {name} | {e['value']:.6g} | {e['std']:.3g} | {e['unit']} |"
+                  for name, e in data["estimate"].items()]
         lines += ["", f"- base model: {_speeds_text(report.base_critical)}",
                   f"- extended model: {_speeds_text(report.extended_critical)}"]
         if "matrices" in data["extended_model"]:
@@ -249,7 +250,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
                   "predicts it.", "", "| metric | base | extended |", "|---|---|---|",
                   f"| {g.metric} | {g.base:.3f} | {g.extended:.3f} |"]
         if g.time_base is not None and g.time_extended is not None:
-            lines.append(f"| rms roll-rate residual / window rms (held out) | {g.time_base:.3f} | {g.time_extended:.3f} |")
+            lines.append("| median rms roll-rate residual / window rms (held out) | "
+                         f"{g.time_base:.3f} | {g.time_extended:.3f} |")
     else:
         lines.append(report.gain_note or "No gain computed.")
     skipped = data["skipped_windows"]

@@ -91,3 +91,4 @@ def observation(measurement: WindowMeasurement) -> Observation:
 def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]:
     """Observations of all usable windows."""
     return [observation(m) for m in measurements if m.usable]
+

@@ -1,20 +1,16 @@
-"""Figures of the diagnosis report (matplotlib, Agg); functions return Figures, never save."""
+"""Figures of the diagnosis report: plain matplotlib Figures (no pyplot state), never saved here."""
 
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
-
-from whipple.diagnosis import predicted_weave  # noqa: E402
-from whipple.diagnosis_report import DiagnosisReport  # noqa: E402
-from whipple.model import linear_model  # noqa: E402
-from whipple.parameters import Bicycle  # noqa: E402
-from whipple.stability import weave_eigenvalue  # noqa: E402
-from whipple.weavefit import response_with_eigenvalue  # noqa: E402
+from whipple.diagnosis import predicted_weave
+from whipple.diagnosis_report import DiagnosisReport
+from whipple.model import linear_model
+from whipple.parameters import Bicycle
+from whipple.stability import weave_eigenvalue
+from whipple.weavefit import response_with_eigenvalue
 
 
 def _weave_curve(bicycle: Bicycle, speeds: np.ndarray) -> np.ndarray:
@@ -27,7 +23,8 @@ def plot_eigenvalues(report: DiagnosisReport) -> Figure:
     observations = report.diagnosis.observations
     speeds = np.array([o.speed for o in observations])
     grid = np.linspace(max(0.0, speeds.min() - 0.5), speeds.max() + 0.5, 300)
-    figure, axes = plt.subplots(2, 1, sharex=True, figsize=(7.5, 6.5))
+    figure = Figure(figsize=(7.5, 6.5))
+    axes = figure.subplots(2, 1, sharex=True)
     models = [("base model", report.bicycle, "C0")]
     if report.diagnosis.best is not None:
         models.append((f"extended ({report.diagnosis.cause})", report.extended, "C3"))
@@ -57,7 +54,8 @@ def plot_residuals(report: DiagnosisReport) -> Figure:
     speeds = np.array([o.speed for o in observations])
     measured = np.array([o.eigenvalue for o in observations])
     std = np.array([np.sqrt(np.diag(o.covariance)) for o in observations])
-    figure, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    figure = Figure(figsize=(10, 3.8))
+    axes = figure.subplots(1, 2)
     models = [("base", report.bicycle, "C0", -0.03)]
     if report.diagnosis.best is not None:
         models.append(("extended", report.extended, "C3", 0.03))
@@ -80,7 +78,8 @@ def plot_time_overlay(report: DiagnosisReport, count: int = 4) -> Figure:
     used = [m for m in report.used if m.fit is not None]
     order = np.argsort([m.speed.mean if m.speed else 0.0 for m in used])
     picks = [used[i] for i in order[np.linspace(0, len(order) - 1, min(count, len(order))).astype(int)]]
-    figure, axes = plt.subplots(len(picks), 1, figsize=(7.5, 2.0 * len(picks) + 0.5), squeeze=False)
+    figure = Figure(figsize=(7.5, 2.0 * len(picks) + 0.5))
+    axes = figure.subplots(len(picks), 1, squeeze=False)
     for axis, m in zip(axes[:, 0], picks, strict=True):
         fit = m.fit
         assert fit is not None
@@ -104,7 +103,8 @@ def plot_time_overlay(report: DiagnosisReport, count: int = 4) -> Figure:
 def plot_ranking(report: DiagnosisReport, count: int = 10) -> Figure:
     """Evidence of the best-supported causes (and none at 0)."""
     ranking = report.diagnosis.ranking()[:count]
-    figure, axis = plt.subplots(figsize=(7, 0.35 * len(ranking) + 1.2))
+    figure = Figure(figsize=(7, 0.35 * len(ranking) + 1.2))
+    axis = figure.subplots()
     names = [cause for cause, _ in ranking][::-1]
     values = [evidence for _, evidence in ranking][::-1]
     axis.barh(names, values, color=["C3" if n == report.diagnosis.cause else "0.6" for n in names])

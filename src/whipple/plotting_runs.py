@@ -63,7 +63,8 @@ def plot_run(
     windows : sequence of Window
         Free-coasting windows that were fitted, shaded green and numbered.
     signals : sequence of str, optional
-        Signals to show; by default those of RUN_SIGNALS the run has.
+        Signals to show; by default those of RUN_SIGNALS the run has (and the speed from the
+        speedometer signal when the run has no speed column).
     rejected : sequence of Window
         Stretches after a perturbation that the window finder rejected (no oscillation),
         shaded grey.
@@ -77,6 +78,11 @@ def plot_run(
     names = [name for name in (signals or RUN_SIGNALS) if name in run.signals]
     if not names:
         raise InputError("none of the signals to plot is in the run", run.source)
+    traces = {name: run.signals[name] for name in names}
+    if signals is None and "speedometer" in names and "speed" not in names:
+        # The raw magnet-ring signal is a solid band at this scale: show its speed as well.
+        names.append("speed")
+        traces["speed"] = run.speed()
     labels = list(numbers) if numbers is not None else list(range(1, len(windows) + 1))
     if len(labels) != len(windows):
         raise ValueError("plot_run: one number per window needed")
@@ -88,7 +94,7 @@ def plot_run(
     axes = figure.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
     shading = ((windows, "tab:green", 0.25), (rejected, "0.5", 0.25), (skipped, "tab:red", 0.2))
     for axis, name in zip(axes, names, strict=True):
-        axis.plot(run.time[shown], run.signals[name][shown], color="k", linewidth=0.6)
+        axis.plot(run.time[shown], traces[name][shown], color="k", linewidth=0.6)
         axis.set_ylabel(RUN_SIGNALS.get(name, name), fontsize=8)
         for group, colour, alpha in shading:
             for window in group:

@@ -141,7 +141,9 @@ def run(args: argparse.Namespace) -> int:
     reference = windows_file(args.compare) if args.compare else chosen
     reference_name = args.compare or args.windows
     if reference is None and args.bundled:
-        reference, reference_name = windows_file(BUNDLED), "the hand-picked windows (bundled)"
+        reference, reference_name = windows_file(BUNDLED), BUNDLED
+    if reference_name == BUNDLED:
+        reference_name = "the hand-picked windows of the bundled runs"
     bicycle = None
     if args.bicycle:
         from whipple.parameters import load_bicycle
@@ -197,8 +199,13 @@ def _analyse(run_: Run, windows: list[Window], rejected: list[Window], fitting: 
 
     speed = run_.speed()
     entries = []
+    first, last = float(run_.time[0]), float(run_.time[-1])
     for window in windows:
         entry = _Entry(run_, window, baseline=fitting.baseline)
+        if window.start >= last or window.stop <= first:
+            entry.skipped = f"window outside the run ({first:.2f}-{last:.2f} s)"
+            entries.append(entry)
+            continue
         try:
             entry.speed = speed_regression(run_.time, speed, window.start, window.stop)
             entry.fit = fit_window(run_, window, fitting.signals, fitting.noise, fitting.baseline)

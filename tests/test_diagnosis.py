@@ -1,0 +1,105 @@
+"""Diagnosis: causes fitted to weave eigenvalues, verdicts, report, CLI.
+
+Synthetic observations are the model's own weave eigenvalues (derived equations) of a bicycle
+with a known effect, plus Gaussian noise of the stated covariance: the diagnosis must find the
+effect, and say ``none`` without one. The end-to-end runs use the run simulator.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from whipple.causes import cause_by_name, with_cause
+from whipple.cli import main
+from whipple.diagnosis import Observation, diagnose_observations, predicted_weave
+from whipple.parameters import load_bicycle
+from whipple.scenario import RunScenario
+from whipple.simulation import simulate_run, write_run_csv
+
+SPEEDS = np.repeat([4.5, 5.5, 6.5, 7.5], 3)
+STD = 0.05  # 1/s, of both parts
+
+
+def _observations(true_bicycle, rng):
+    covariance = np.eye(2) * STD**2
+    guesses = [Observation("r", 0.0, 1.0, v, (v, v), complex(-1.0, 5.0), covariance) for v in SPEEDS]
+    truth = predicted_weave(true_bicycle, guesses)
+    return [Observation("r", 0.0, 1.0, v, (v, v), lam + complex(*rng.normal(0.0, STD, 2)), covariance)
+            for v, lam in zip(SPEEDS, truth, strict=True)]
+
+
+@pytest.mark.parametrize("cause, values", [
+    ("steer_damping", [0.5]), ("steer_inertia", [0.04]), ("speed_scale", [1.07]),
+    ("tyre_compliance", [12.0, 0.15]),
+])
+def test_synthetic_eigenvalues_name_the_hidden_cause(cause, values):
+    bicycle = load_bicycle("benchmark")
+    truth = with_cause(bicycle, cause_by_name(bicycle, cause), values)
+    diagnosis = diagnose_observations(bicycle, _observations(truth, np.random.default_rng(3)))
+    assert diagnosis.verdict == "named" and diagnosis.cause == cause
+    best = diagnosis.best
+    for value, estimate, std in zip(values, best.values, best.std, strict=True):
+        assert abs(estimate - value) < 4 * std  # loose here; calibration is measured in benchmarks
+
+
+def test_no_effect_gives_none():
+    bicycle = load_bicycle("benchmark")
+    verdicts = [diagnose_observations(bicycle, _observations(bicycle, np.random.default_rng(seed))).verdict
+                for seed in range(3)]
+    assert verdicts.count("none") >= 2
+
+
+def test_too_few_windows_is_an_input_error():
+    bicycle = load_bicycle("benchmark")
+    with pytest.raises(ValueError, match="at least 2"):
+        diagnose_observations(bicycle, _observations(bicycle, np.random.default_rng(0))[:1])
+
+
+@pytest.fixture(scope="module")
+def damped_runs(tmp_path_factory):
+    """Simulated runs of the benchmark with hidden steer damping 0.8 N m s/rad."""
+    folder = tmp_path_factory.mktemp("runs")
+    truth = load_bicycle("benchmark").with_extensions(steer_damping=0.8)
+    paths = []
+    for k, speed in enumerate((4.0, 5.0, 6.0, 7.0)):
+        run = simulate_run(truth, RunScenario(speed=speed, seed=10 + k), name=f"run{k}")
+        paths.append(write_run_csv(run, folder / f"run{k}.csv"))
+    return paths
+
+
+def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
+    out, report, model = tmp_path / "d.json", tmp_path / "report", tmp_path / "extended.toml"
+    args = ["diagnose", *map(str, damped_runs), "--bicycle", "benchmark", "--json", str(out),
+            "--report", str(report), "--save-model", str(model)]
+    assert main(args) == 0
+    data = json.loads(out.read_text())
+    assert data["verdict"] == "named" and data["cause"] == "steer_damping"
+    estimate = data["estimate"]["steer_damping"]
+    assert estimate["unit"] == "N m s/rad" and abs(estimate["value"] - 0.8) < 0.2
+    assert data["ranking"][0]["cause"] == "steer_damping"
+    assert {"metric", "base", "extended", "held_out"} <= set(data["gain"])
+    assert data["gain"]["extended"] < data["gain"]["base"]
+    window = data["windows"][0]
+    assert {"run", "start", "stop", "speed", "eigenvalue", "eigenvalue_std", "model_eigenvalue",
+            "extended_eigenvalue"} <= set(window)
+    assert (report / "report.md").exists() and (report / "eigenvalues.png").exists()
+    # The saved model is a bicycle file every command accepts.
+    capsys.readouterr()
+    assert main(["check", str(model), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["weave_speed"] is not None
+    assert load_bicycle(str(model)).extensions.steer_damping == pytest.approx(estimate["value"])
+
+
+def test_diagnose_refuses_to_overwrite_a_run(damped_runs, capsys):
+    before = damped_runs[0].read_bytes()
+    assert main(["diagnose", *map(str, damped_runs), "--bicycle", "benchmark", "--json", str(damped_runs[0])]) == 2
+    assert damped_runs[0].read_bytes() == before
+    assert "refusing" in capsys.readouterr().err
+
+
+def test_diagnose_without_runs_is_an_error(capsys):
+    assert main(["diagnose", "--bicycle", "benchmark"]) == 2
+    assert "no run files" in capsys.readouterr().err

@@ -23,6 +23,8 @@ from whipple.simulation import simulate_run
 CAUSES = ("none", "steer_damping", "steer_inertia", "speed_scale", "payload", "tyre_compliance", "parameter:c")
 #: Speeds of the simulated runs [m/s] (several runs across 2-8 m/s).
 SPEEDS = (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0)
+#: Pushes per run (the bundled treadmill logs hold 7 to 20 per file).
+PUSHES = 3
 
 
 @dataclass(frozen=True)
@@ -92,7 +94,7 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=SPEEDS
     truth_bicycle, truth = hidden_bicycle(base, cause, rng)
     measurements = []
     for k, speed in enumerate(speeds):
-        scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k)
+        scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES)
         run = simulate_run(truth_bicycle, scenario, name=f"run{k}").to_run()
         measurements += measure_run(run, baseline="auto")
     diagnosis = diagnose_observations(base, observations(measurements))

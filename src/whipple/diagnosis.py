@@ -16,7 +16,7 @@ when the runner-up is within ``margin`` of the best; otherwise ``named``.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -213,13 +213,19 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         scored.append(CauseFit(fit.cause, fit.parameters, fit.units, fit.values, std, fit.chi2,
                                float(evidence), fit.predicted))
     scored = _merge_forms(scored)
-    if scored:  # the leading cause's values, from its estimate-only form where it has one
-        for cause in estimators:
-            if cause.name == scored[0].cause:
-                fit = fit_cause(bicycle, cause, observations, whitening)
-                std = tuple(s * np.sqrt(scale) for s in fit.std)
-                scored[0] = CauseFit(fit.cause, fit.parameters, fit.units, fit.values, std, fit.chi2,
-                                     scored[0].evidence, fit.predicted)
+    if scored:
+        # The leading cause's values, from its estimate-only form where it has one, with an
+        # uncertainty that also covers errors shared by the windows of one speed.
+        leading = [c for c in estimators if c.name == scored[0].cause]
+        if not leading:
+            leading = [c for c in causes if c.name == scored[0].cause
+                       and len(c.parameters) == len(scored[0].parameters)]
+        cause = leading[0]
+        fit = fit_cause(bicycle, cause, observations, whitening) if not cause.for_evidence else scored[0]
+        spread = np.array(fit.std) * (np.sqrt(scale) if not cause.for_evidence else 1.0)
+        spread = np.maximum(spread, jackknife_std(bicycle, cause, observations, fit.values))
+        scored[0] = CauseFit(fit.cause, fit.parameters, fit.units, fit.values, tuple(float(s) for s in spread),
+                             fit.chi2, scored[0].evidence, fit.predicted)
     best = scored[0] if scored else None
     if best is None or best.evidence < named_threshold:
         verdict, name = "none", "none"
@@ -247,6 +253,30 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
         merged[fit.cause] = CauseFit(general.cause, general.parameters, general.units, general.values,
                                      general.std, general.chi2, evidence, general.predicted)
     return sorted(merged.values(), key=lambda fit: -fit.evidence)
+
+
+def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
+                  values: Sequence[float]) -> NDArray[np.float64]:
+    """Leave-one-speed-group-out jackknife standard deviation of a cause's values.
+
+    The fit's own standard deviation assumes independent windows; errors shared by the windows
+    of one speed (a fitting-function bias that depends on speed, a speed error) are not in it.
+    The jackknife over speed groups is robust to such errors. Zero with fewer than 3 groups.
+    """
+    groups = speed_groups(observations)
+    if len(groups) < 3:
+        return np.zeros(len(values))
+    estimates = []
+    for group in groups:
+        kept = [o for i, o in enumerate(observations) if i not in group]
+        if len(kept) < 2:
+            continue
+        estimates.append(fit_cause(bicycle, replace(cause, start=tuple(values)), kept).values)
+    if len(estimates) < 3:
+        return np.zeros(len(values))
+    estimates_array = np.array(estimates)
+    g = len(estimates_array)
+    return np.asarray(np.sqrt((g - 1) / g * np.sum((estimates_array - estimates_array.mean(axis=0)) ** 2, axis=0)))
 
 
 def speed_groups(observations: Sequence[Observation], gap: float = 0.3) -> list[list[int]]:

@@ -135,6 +135,30 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
         describe_residuals(observations, predicted), baseline)
 
 
+#: Reduced chi-square of the best model above which the report warns that no candidate
+#: explains the data within the stated uncertainty.
+DISPERSION_WARNING = 2.0
+#: Causes within this much evidence of the named one are listed as close alternatives.
+CLOSE_EVIDENCE = 5.0
+
+
+def caveats(report: DiagnosisReport) -> list[str]:
+    """What the verdict does not say: residual misfit, close alternatives."""
+    diagnosis = report.diagnosis
+    notes = []
+    if diagnosis.scale > DISPERSION_WARNING:
+        notes.append(f"even the best-fitting model leaves residuals {np.sqrt(diagnosis.scale):.1f} times the "
+                     f"stated uncertainties (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the candidates, "
+                     "but none explains all of the disagreement")
+    if diagnosis.best is not None:
+        close = [f"{fit.cause} ({fit.evidence:.1f})" for fit in diagnosis.fits[1:]
+                 if fit.evidence > diagnosis.best.evidence - CLOSE_EVIDENCE]
+        if close:
+            notes.append(f"close alternatives to {diagnosis.best.cause} ({diagnosis.best.evidence:.1f}): "
+                         + ", ".join(close))
+    return notes
+
+
 def _pair(value: complex) -> list[float]:
     return [float(value.real), float(value.imag)]
 
@@ -181,6 +205,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "windows": windows,
         "skipped_windows": skipped,
         "summary": list(report.residual_summary),
+        "caveats": caveats(report),
         "evidence_definition": EVIDENCE_DEFINITION,
         "dispersion": diagnosis.scale,
         "bicycle": report.bicycle.name,
@@ -222,7 +247,9 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
                "ambiguous": f"**Ambiguous**: {diagnosis.cause} explains the data best, but the runner-up about "
                             "as well; the evidence does not single out one cause.",
                "none": "**None**: no cause explains the data clearly better than the base model."}[diagnosis.verdict]
-    lines += [verdict, "", "| cause | evidence |", "|---|---|"]
+    lines += [verdict, ""]
+    lines += [f"- Caveat: {note}." for note in data["caveats"]]
+    lines += ["", "| cause | evidence |", "|---|---|"]
     lines += [f"| {cause} | {evidence:.1f} |" for cause, evidence in diagnosis.ranking()[:12]]
     lines += ["", f"Evidence: {EVIDENCE_DEFINITION}. Dispersion (reduced chi2 of the best model): "
               f"{diagnosis.scale:.2f}.", "", f"![ranking]({figures['ranking']})", "", "## 3. The extended model", ""]

@@ -73,6 +73,8 @@ def run(args: argparse.Namespace) -> int:
     for name, estimate in data["estimate"].items():
         print(f"  {name} = {estimate['value']:.6g} +/- {estimate['std']:.3g} {estimate['unit']}")
     print("ranking: " + ", ".join(f"{cause} {evidence:.1f}" for cause, evidence in diagnosis.ranking()[:5]))
+    for note in data["caveats"]:
+        print(f"caveat: {note}")
     if report.gain is not None:
         g = report.gain
         print(f"held-out eigenvalue error [1/s]: base {g.base:.3f}, extended {g.extended:.3f} ({g.folds} folds)")

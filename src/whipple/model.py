@@ -26,7 +26,11 @@ from whipple.generated import (
 from whipple.linear import LinearModel, second_order_model
 
 if TYPE_CHECKING:
-    from whipple.parameters import Bicycle, Controller, Extensions
+    from whipple.parameters import Bicycle, Controller
+
+from whipple.parameters import Extensions
+
+_NO_EXTENSIONS = Extensions()
 
 #: Parameters of the base model, in the order of the generated code.
 MODEL_PARAMETERS: tuple[str, ...] = tuple(whipple_numpy.PARAMETERS)
@@ -93,17 +97,8 @@ def whipple_matrices(parameters: Mapping[str, ArrayLike]) -> Matrices:
 
 
 def _extension_values(extensions: Extensions | None) -> dict[str, float]:
-    values = {"payload_mass": 0.0, "payload_x": 0.0, "payload_z": 0.0,
-              "steer_inertia": 0.0, "steer_damping": 0.0}
-    if extensions is None:
-        return values
-    values["steer_inertia"] = extensions.steer_inertia
-    values["steer_damping"] = extensions.steer_damping
-    if extensions.payload is not None:
-        values["payload_mass"] = extensions.payload.mass
-        values["payload_x"] = extensions.payload.x
-        values["payload_z"] = extensions.payload.z
-    return values
+    values = (extensions if extensions is not None else _NO_EXTENSIONS).model_values()
+    return {name: value for name, value in values.items() if name in EXTENDED_PARAMETERS}
 
 
 def extended_matrices(

@@ -148,6 +148,25 @@ class Extensions:
         """True when the extensions change nothing in the Whipple model."""
         return self == Extensions()
 
+    def model_values(self) -> dict[str, float]:
+        """Values of the derived models' extension parameters (zero when absent).
+
+        Keys: ``payload_mass`` [kg], ``payload_x``, ``payload_z`` [m], ``steer_inertia``
+        [kg m^2], ``steer_damping`` [N m s/rad], ``pneumatic_trail`` [m], and with tyre
+        compliance ``cornering_stiffness``, ``camber_stiffness`` [1/rad],
+        ``relaxation_length`` [m].
+        """
+        values = {"payload_mass": 0.0, "payload_x": 0.0, "payload_z": 0.0,
+                  "steer_inertia": self.steer_inertia, "steer_damping": self.steer_damping,
+                  "pneumatic_trail": 0.0}
+        if self.payload is not None:
+            values.update(payload_mass=self.payload.mass, payload_x=self.payload.x, payload_z=self.payload.z)
+        tyre = self.tyre_compliance
+        if tyre is not None:
+            values.update(cornering_stiffness=tyre.cornering_stiffness, camber_stiffness=tyre.camber_stiffness,
+                          relaxation_length=tyre.relaxation_length, pneumatic_trail=tyre.pneumatic_trail)
+        return values
+
 
 @dataclass(frozen=True)
 class Controller:

@@ -23,9 +23,10 @@ from numpy.typing import ArrayLike, NDArray
 from whipple.errors import ParameterError
 from whipple.generated import tyre_casadi, tyre_numpy
 from whipple.linear import WHIPPLE_INPUT_UNITS, WHIPPLE_INPUTS, LinearModel
+from whipple.parameters import Extensions
 
 if TYPE_CHECKING:
-    from whipple.parameters import Bicycle, Controller, Extensions
+    from whipple.parameters import Bicycle, Controller
 
 TYRE_PARAMETERS: tuple[str, ...] = tuple(tyre_numpy.PARAMETERS)
 TYRE_STATES = ("roll", "steer", "roll_rate", "steer_rate", "lateral_speed", "yaw_rate",
@@ -35,18 +36,7 @@ _POWERS = tuple(name for name in tyre_numpy.OUTPUTS if name.startswith("A"))
 
 
 def _values(parameters: Mapping[str, ArrayLike], extensions: Extensions | None) -> dict[str, ArrayLike]:
-    values: dict[str, ArrayLike] = {"payload_mass": 0.0, "payload_x": 0.0, "payload_z": 0.0,
-                                    "steer_inertia": 0.0, "steer_damping": 0.0, "pneumatic_trail": 0.0}
-    if extensions is not None:
-        values["steer_inertia"] = extensions.steer_inertia
-        values["steer_damping"] = extensions.steer_damping
-        if extensions.payload is not None:
-            values.update(payload_mass=extensions.payload.mass, payload_x=extensions.payload.x,
-                          payload_z=extensions.payload.z)
-        tyre = extensions.tyre_compliance
-        if tyre is not None:
-            values.update(cornering_stiffness=tyre.cornering_stiffness, camber_stiffness=tyre.camber_stiffness,
-                          relaxation_length=tyre.relaxation_length, pneumatic_trail=tyre.pneumatic_trail)
+    values: dict[str, ArrayLike] = dict((extensions or Extensions()).model_values())
     values.update(parameters)
     missing = [name for name in TYRE_PARAMETERS if name not in values]
     if missing:

@@ -136,3 +136,21 @@ def test_extended_model_without_extensions_is_the_base_model():
     assert set(MODEL_PARAMETERS) < set(EXTENDED_PARAMETERS)
     # The pitch inertias cannot enter: the frames do not pitch to first order.
     assert "IByy" not in MODEL_PARAMETERS and "IHyy" not in MODEL_PARAMETERS
+
+
+def test_table2_eigenvalues_from_the_derived_model():
+    """Meijaard et al. (2007) Table 2: eigenvalues at 0..10 m/s, from the derived matrices."""
+    import tomllib
+    from importlib import resources
+
+    from whipple.linear import second_order_model
+
+    text = resources.files("whipple.data").joinpath("reference", "meijaard2007-benchmark.toml").read_text()
+    table = tomllib.loads(text)["eigenvalues"]
+    matrices = whipple_matrices(_benchmark())
+    model = second_order_model(matrices.M, matrices.C1, matrices.K0, matrices.K2)
+    for key, published in table.items():
+        speed = float(key[1:])
+        computed = np.sort_complex(np.linalg.eigvals(model.state_matrix([speed])[0]))
+        expected = np.sort_complex(np.array([complex(re, im) for re, im in published]))
+        np.testing.assert_allclose(computed, expected, rtol=0, atol=1e-12, err_msg=f"v = {speed} m/s")

@@ -193,7 +193,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         g = report.gain
         gain = {"metric": g.metric, "base": g.base, "extended": g.extended, "held_out": g.held_out,
                 "folds": g.folds,
-                "time_domain": {"metric": "rms roll-rate residual / window rms, held-out windows",
+                "time_domain": {"metric": "median over held-out windows of rms roll-rate residual / window rms",
                                 "base": g.time_base, "extended": g.time_extended}}
     result: dict[str, Any] = {
         "cause": diagnosis.cause,

@@ -122,10 +122,12 @@ def candidate_causes(bicycle: Bicycle, include_parameters: bool = True) -> list[
         # fore-aft position as well made the payload mimic other causes (steer inertia, trail)
         # in hidden-effect tests: the weave eigenvalues do not identify three payload values
         # well enough to decide between causes.
+        # The two forms share the cause's one unit of prior weight, so that taking the better of
+        # them is not a free second chance.
         Cause("payload", ("payload_mass",), ("kg",), (0.0,), ((0.0, 3.0 * p["mB"]),), _payload_at_mass_centre,
-              null=(0.0,)),
+              prior=0.5, null=(0.0,)),
         Cause("payload", ("payload_mass", "payload_z"), ("kg", "m"), (0.0, p["zB"]),
-              ((0.0, 3.0 * p["mB"]), (-2.0 * max(p["rR"], p["rF"]) - 1.0, 0.0)), _payload_at_height),
+              ((0.0, 3.0 * p["mB"]), (-2.0 * max(p["rR"], p["rF"]) - 1.0, 0.0)), _payload_at_height, prior=0.5),
         # The estimate of a named payload comes from mass and full position, so that its
         # interval carries what the simpler forms hold fixed.
         Cause("payload", ("payload_mass", "payload_x", "payload_z"), ("kg", "m", "m"), (0.0, p["xB"], p["zB"]),

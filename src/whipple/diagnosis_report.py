@@ -36,8 +36,8 @@ EVIDENCE_DEFINITION = (
     "(chi2_base - chi2_cause) / (2 s^2) - (k/2) ln(n) + ln(prior), with chi2 a soft-L1 sum of "
     f"squared whitened eigenvalue residuals (scale {ROBUST_SCALE}), n residuals, k fitted values, "
     "s^2 >= 1 the best model's reduced chi2, prior 1 per named cause (shared by its forms) and "
-    f"1/(number of parameters) per parameter:<key>; 'named' needs evidence >= {NAMED_THRESHOLD} and a lead of {MARGIN} over "
-    "the runner-up")
+    f"1/(number of parameters) per parameter:<key>; 'named' needs evidence >= {NAMED_THRESHOLD} "
+    f"and a lead of {MARGIN} over the runner-up")
 
 
 @dataclass(frozen=True)

@@ -52,12 +52,6 @@ def write_text_atomic(target: str | Path, text: str) -> None:
         temporary.write_text(text, encoding="utf-8")
 
 
-def write_bytes_atomic(target: str | Path, data: bytes) -> None:
-    """Write `data` to `target` atomically."""
-    with atomic_path(target) as temporary:
-        temporary.write_bytes(data)
-
-
 def refuse_input_overwrite(output: str | Path, inputs: Iterable[str | Path]) -> None:
     """Raise InputError if `output` is the same file as one of `inputs`.
 

@@ -103,7 +103,12 @@ class LinearModel:
 
 
 def polynomial_casadi(coefficients: NDArray[np.float64], speed: casadi.SX) -> casadi.SX:
-    """``sum_k speed^k C_k`` as a CasADi expression, for coefficients of shape (K+1, r, c)."""
+    """``sum_k speed^k C_k`` as a CasADi expression, for coefficients of shape (K+1, r, c).
+
+    No coefficients (K+1 = 0, e.g. an empty controller) give the zero matrix.
+    """
+    if coefficients.shape[0] == 0:
+        return casadi.SX.zeros(*coefficients.shape[1:])
     total = casadi.SX(casadi.DM(coefficients[0]))
     for power in range(1, coefficients.shape[0]):
         total = total + speed**power * casadi.DM(coefficients[power])

@@ -23,7 +23,7 @@ from whipple.generated import (
     whipple_extended_numpy,
     whipple_numpy,
 )
-from whipple.linear import LinearModel, second_order_model
+from whipple.linear import LinearModel, polynomial_casadi, second_order_model
 
 if TYPE_CHECKING:
     from whipple.parameters import Bicycle, Controller
@@ -196,9 +196,8 @@ def casadi_state_function(
     v = casadi.SX.sym("v")
     stiffness = K0 + v**2 * K2
     damping = v * C1 + D
-    feedback = casadi.SX.zeros(2, 4)
-    for power, gain in enumerate(bicycle.controller.feedback_coefficients()):
-        feedback = feedback + v**power * casadi.DM(gain)
+    gains = bicycle.controller.feedback_coefficients()
+    feedback = polynomial_casadi(np.array(gains).reshape(len(gains), 2, 4), v)
     lower = casadi.solve(M, casadi.horzcat(-stiffness, -damping) + feedback)
     A = casadi.vertcat(casadi.horzcat(casadi.SX.zeros(2, 2), casadi.SX.eye(2)), lower)
     p0 = np.array([values[name] for name in keys], dtype=float)

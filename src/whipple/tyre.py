@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import ParameterError
 from whipple.generated import tyre_casadi, tyre_numpy
-from whipple.linear import WHIPPLE_INPUT_UNITS, WHIPPLE_INPUTS, LinearModel
+from whipple.linear import WHIPPLE_INPUT_UNITS, WHIPPLE_INPUTS, LinearModel, polynomial_casadi
 from whipple.parameters import Extensions
 
 if TYPE_CHECKING:
@@ -95,9 +95,8 @@ def tyre_casadi_state_function(bicycle: Bicycle, keys: Sequence[str] = ()) -> tu
     right = casadi.SX.zeros(outputs["E"].shape)
     for power, name in enumerate(_POWERS):
         right = right + v**power * outputs[name]
-    feedback = casadi.SX.zeros(2, 4)
-    for power, gain in enumerate(bicycle.controller.feedback_coefficients()):
-        feedback = feedback + v**power * casadi.DM(gain)
+    gains = bicycle.controller.feedback_coefficients()
+    feedback = polynomial_casadi(np.array(gains).reshape(len(gains), 2, 4), v)
     right[:, :4] = right[:, :4] + outputs["B"] @ feedback
     A = casadi.solve(outputs["E"], right)
     p0 = np.array([float(values[name]) for name in keys])  # type: ignore[arg-type]

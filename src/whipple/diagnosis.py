@@ -1,16 +1,21 @@
-"""Diagnosis from measured weave eigenvalues: which cause explains the model's error.
+"""Diagnosis from measured weave eigenvalues and mode shapes: which cause explains the model's error.
 
-Each candidate cause (:mod:`whipple.causes`) is fitted to all observations jointly by weighted
-least squares: the residual of each window is the measured weave eigenvalue minus the model's
-eigenvalue at the window's speed, whitened by the fit's covariance. Causes are compared by an
-approximate log Bayes factor against the base model (the *evidence*, see ``docs/diagnosis.md``)::
+Each candidate cause (:mod:`whipple.causes`) is fitted to all observations jointly by robust
+weighted least squares. Each window contributes the measured weave eigenvalue minus the model's
+eigenvalue at the window's speed and, where a steer signal was measured, the measured mode
+shape (steer amplitude per roll-rate amplitude, complex) minus the model's eigenvector ratio;
+each residual is whitened by its fit's covariance. Eigenvalues alone leave some causes nearly
+interchangeable (a longer trail and a high payload move the weave alike); the mode shape tells
+them apart. Causes are compared by an approximate log Bayes factor against the base model (the
+*evidence*, see ``docs/diagnosis.md``)::
 
-    evidence = (chi2_base - chi2_cause) / (2 s^2) - (k / 2) ln(n) + ln(prior)
+    evidence = (chi2_base - chi2_cause) / 2 - (k / 2) ln(n) + ln(prior)
 
-with n residuals, k fitted values, and s^2 >= 1 the reduced chi-square of the best model
-(window uncertainties that are too small inflate every chi-square alike). ``none`` has
-evidence 0. The verdict: ``none`` when no cause reaches ``named_threshold``; ``ambiguous``
-when the runner-up is within ``margin`` of the best; otherwise ``named``.
+with n residuals, k fitted values, and each kind of residual (eigenvalue, shape) divided by
+its own s^2 >= 1, the reduced chi-square of the best model on that kind (window uncertainties
+that are too small inflate every chi-square alike). ``none`` has evidence 0. The verdict:
+``none`` when no cause reaches ``named_threshold``; ``ambiguous`` when the runner-up is within
+``margin`` of the best; otherwise ``named``.
 """
 
 from __future__ import annotations
@@ -59,6 +64,14 @@ class Observation:
         Fitted weave eigenvalue d + i w [1/s].
     covariance : ndarray, shape (2, 2)
         Covariance of (d, w) [1/s^2].
+    shape : complex or None
+        The weave's mode shape where a second signal was measured: the complex amplitude of
+        ``shape_signals[0]`` relative to ``shape_signals[1]`` (see
+        :func:`whipple.weavefit.amplitude_ratio`); e.g. steer angle per roll rate [s].
+    shape_covariance : ndarray, shape (2, 2), or None
+        Covariance of the shape's (real, imaginary) part.
+    shape_signals : tuple of str
+        The two signals of the shape, each a state of the model (see MODE_SHAPE_STATES).
     """
 
     run: str
@@ -68,6 +81,9 @@ class Observation:
     speed_range: tuple[float, float]
     eigenvalue: complex
     covariance: NDArray[np.float64]
+    shape: complex | None = None
+    shape_covariance: NDArray[np.float64] | None = None
+    shape_signals: tuple[str, str] = ("steer_angle", "roll_rate")
 
 
 @dataclass(frozen=True)
@@ -82,6 +98,7 @@ class CauseFit:
     chi2: float
     evidence: float = 0.0
     predicted: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, complex), repr=False)
+    block_chi2: tuple[float, ...] = (0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -95,11 +112,17 @@ class Diagnosis:
     fits: tuple[CauseFit, ...]
     scale: float
     observations: tuple[Observation, ...]
+    shape_scale: float = 1.0
+    n_shapes: int = 0
 
     def ranking(self) -> list[tuple[str, float]]:
         """Causes by decreasing evidence, with ``none`` at 0."""
         entries = [(fit.cause, fit.evidence) for fit in self.fits] + [("none", 0.0)]
         return sorted(entries, key=lambda entry: -entry[1])
+
+
+#: Model states a mode shape can relate: the first four states of every model.
+MODE_SHAPE_STATES = {"roll_angle": 0, "steer_angle": 1, "roll_rate": 2, "steer_rate": 3}
 
 
 def model_eigenvalues(bicycle: Bicycle, speeds: NDArray[np.float64]) -> NDArray[np.complex128]:
@@ -115,40 +138,113 @@ def predicted_weave(bicycle: Bicycle, observations: Sequence[Observation]) -> ND
     than a label) keeps the comparison meaningful for models with extra modes and below the
     speed where the weave forms.
     """
-    speeds = np.array([o.speed for o in observations])
+    return predicted_modes(bicycle, observations)[0]
+
+
+def predicted_modes(bicycle: Bicycle, observations: Sequence[Observation]
+                    ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """The model's eigenvalue nearest each measured one (as :func:`predicted_weave`), and its
+    mode shape: the eigenvector's ratio of the observation's ``shape_signals`` (NaN where the
+    observation has no shape)."""
+    observations = tuple(observations)
+    speeds = np.array([o.speed for o in observations]) / bicycle.extensions.speed_scale
     measured = np.array([o.eigenvalue for o in observations])
-    values = model_eigenvalues(bicycle, speeds)
-    values = np.where(values.imag < 0, np.conj(values), values)
+    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(speeds))
+    lower = values.imag < 0
+    values = np.where(lower, np.conj(values), values)
+    vectors = np.where(lower[:, None, :], np.conj(vectors), vectors)
+    rows = np.arange(len(observations))
     nearest = np.argmin(np.abs(values - measured[:, None]), axis=1)
-    return np.asarray(values[np.arange(len(observations)), nearest], dtype=complex)
+    shapes = np.full(len(observations), np.nan, dtype=complex)
+    for n, observation in enumerate(observations):
+        if observation.shape is not None and _has_shape(observation):
+            signal, reference = (MODE_SHAPE_STATES[name] for name in observation.shape_signals)
+            vector = vectors[n, :, nearest[n]]
+            shapes[n] = vector[signal] / vector[reference]
+    return np.asarray(values[rows, nearest], dtype=complex), shapes
 
 
-def _whitening(observations: Sequence[Observation]) -> NDArray[np.float64]:
-    matrices = []
-    for observation in observations:
-        covariance = np.asarray(observation.covariance, dtype=float)
-        if covariance.shape != (2, 2) or not np.all(np.isfinite(covariance)):
-            raise InputError(f"window {observation.run} {observation.start:.2f}-{observation.stop:.2f} s: "
-                             "eigenvalue covariance must be a finite 2x2 matrix")
-        try:
-            matrices.append(np.linalg.inv(np.linalg.cholesky(covariance)))
-        except np.linalg.LinAlgError:
-            raise InputError(f"window {observation.run} {observation.start:.2f}-{observation.stop:.2f} s: "
-                             "eigenvalue covariance is not positive definite") from None
-    return np.array(matrices)
+def _has_shape(observation: Observation) -> bool:
+    return (observation.shape is not None and observation.shape_covariance is not None
+            and all(name in MODE_SHAPE_STATES for name in observation.shape_signals))
 
 
-def _residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: NDArray[np.float64]):
+@dataclass(frozen=True)
+class _Whitening:
+    """Per window: inverse Cholesky factors of the eigenvalue's and the shape's covariance,
+    and the dispersion (reduced chi-square >= 1) by which each kind of residual is scaled."""
+
+    eigenvalue: NDArray[np.float64]
+    shape_index: NDArray[np.int_]
+    shape: NDArray[np.float64]
+    scales: tuple[float, float] = (1.0, 1.0)
+
+
+def _inverse_cholesky(covariance: NDArray[np.float64] | None, observation: Observation,
+                      what: str) -> NDArray[np.float64]:
+    where = f"window {observation.run} {observation.start:.2f}-{observation.stop:.2f} s"
+    covariance = np.asarray(covariance, dtype=float)
+    if covariance.shape != (2, 2) or not np.all(np.isfinite(covariance)):
+        raise InputError(f"{where}: {what} covariance must be a finite 2x2 matrix")
+    try:
+        return np.asarray(np.linalg.inv(np.linalg.cholesky(covariance)))
+    except np.linalg.LinAlgError:
+        raise InputError(f"{where}: {what} covariance is not positive definite") from None
+
+
+#: A window's mode shape is compared only where the base model has an oscillatory mode within
+#: this fraction of the measured eigenvalue's magnitude: a "weave" fitted to a catch or to
+#: noise (strongly damped, far from every model mode) has no mode shape to speak of, and the
+#: shape of whichever real mode lies nearest would make it a huge outlier.
+SHAPE_MATCH = 0.3
+
+
+def compared_shapes(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArray[np.bool_]:
+    """Which windows' mode shapes are compared with the model: those with a shape whose
+    eigenvalue the bicycle's model matches with an oscillatory mode (see SHAPE_MATCH)."""
     predicted = predicted_weave(bicycle, observations)
+    measured = np.array([o.eigenvalue for o in observations])
+    matched = (predicted.imag > 0) & (np.abs(measured - predicted) < SHAPE_MATCH * np.abs(measured))
+    return np.array([_has_shape(o) for o in observations], dtype=bool) & matched
+
+
+def _whitening(observations: Sequence[Observation], bicycle: Bicycle,
+               scales: tuple[float, float] = (1.0, 1.0)) -> _Whitening:
+    """Whitening of every window's eigenvalue, and of the shapes the base ``bicycle`` compares."""
+    eigenvalue = np.array([_inverse_cholesky(o.covariance, o, "eigenvalue") for o in observations])
+    index = np.flatnonzero(compared_shapes(bicycle, observations))
+    shape = np.array([_inverse_cholesky(observations[int(n)].shape_covariance, observations[int(n)], "mode shape")
+                      for n in index]).reshape(-1, 2, 2)
+    return _Whitening(eigenvalue, index, shape, scales)
+
+
+def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whitening: _Whitening
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.complex128]]:
+    """Whitened eigenvalue residuals (2 per window), shape residuals (2 per window with a
+    shape), both at unit dispersion, and the predicted eigenvalues."""
+    predicted, shapes = predicted_modes(bicycle, observations)
     difference = np.array([[o.eigenvalue.real, o.eigenvalue.imag] for o in observations])
     difference -= np.column_stack([predicted.real, predicted.imag])
-    return np.einsum("nij,nj->ni", whitening, difference).ravel(), predicted
+    eigenvalue = np.einsum("nij,nj->ni", whitening.eigenvalue, difference).ravel()
+    index = whitening.shape_index
+    measured = np.array([complex(observations[int(n)].shape or 0.0) for n in index])
+    shape_difference = np.column_stack([(measured - shapes[index]).real, (measured - shapes[index]).imag])
+    shape = np.einsum("nij,nj->ni", whitening.shape, shape_difference.reshape(-1, 2)).ravel()
+    return eigenvalue, shape, predicted
+
+
+def _residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: _Whitening):
+    eigenvalue, shape, predicted = _residual_blocks(bicycle, observations, whitening)
+    scaled = np.concatenate([eigenvalue / np.sqrt(whitening.scales[0]), shape / np.sqrt(whitening.scales[1])])
+    # A model whose weave vanishes at a window's speed has no shape to compare: count it as a
+    # large, finite misfit rather than stopping the fit.
+    return np.nan_to_num(scaled, nan=1e3, posinf=1e3, neginf=-1e3), predicted, (eigenvalue, shape)
 
 
 def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
-              whitening: NDArray[np.float64] | None = None) -> CauseFit:
-    """Fit one cause's values to all observations by weighted least squares."""
-    whitening = _whitening(observations) if whitening is None else whitening
+              whitening: _Whitening | None = None) -> CauseFit:
+    """Fit one cause's values to all observations by robust weighted least squares."""
+    whitening = _whitening(observations, bicycle) if whitening is None else whitening
     lower = np.array([b[0] for b in cause.bounds])
     upper = np.array([b[1] for b in cause.bounds])
     scale = np.maximum(np.abs(np.array(cause.start)), (upper - lower) * 1e-3)
@@ -181,10 +277,28 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
         std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     except np.linalg.LinAlgError:
         std = np.full(len(values), np.inf)
-    final, predicted = _residuals(cause.apply(bicycle, values), observations, whitening)
-    chi2 = robust_chi2(final)
+    final, predicted, blocks = _residuals(cause.apply(bicycle, values), observations, whitening)
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
-                    tuple(float(s) for s in std), chi2, predicted=predicted)
+                    tuple(float(s) for s in std), robust_chi2(final), predicted=predicted,
+                    block_chi2=tuple(robust_chi2(np.nan_to_num(b, nan=1e3)) for b in blocks))
+
+
+def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[float, float]:
+    """Reduced chi-square (at least 1) of each kind of residual, for the best-fitting model.
+
+    Window uncertainties that are too small inflate every model's chi-square alike; eigenvalue
+    and mode-shape residuals are scaled separately, so that one kind of data that no model
+    explains (a miscalibrated steer sensor, say) cannot outweigh the other.
+    """
+    total = max(sum(counts), 1)
+    scales = []
+    for block, count in enumerate(counts):
+        if count == 0:
+            scales.append(1.0)
+            continue
+        reduced = [fit.block_chi2[block] / max(count - len(fit.parameters) * count / total, 1.0) for fit in fits]
+        scales.append(max(1.0, min(reduced)))
+    return scales[0], scales[1]
 
 
 def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
@@ -194,24 +308,22 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     observations = tuple(observations)
     if len(observations) < 2:
         raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
-    whitening = _whitening(observations)
-    base_residual, base_predicted = _residuals(bicycle, observations, whitening)
-    base = CauseFit("none", (), (), (), (), robust_chi2(base_residual), predicted=base_predicted)
     causes = list(candidate_causes(bicycle)) if causes is None else list(causes)
     estimators = [cause for cause in causes if not cause.for_evidence]
     causes = [cause for cause in causes if cause.for_evidence]
-    fits = [fit_cause(bicycle, cause, observations, whitening) for cause in causes]
-    n = 2 * len(observations)
-    # Over-dispersion: residual scatter of the best-fitting model beyond the stated errors.
-    reduced = [fit.chi2 / max(n - len(fit.parameters), 1) for fit in fits] + [base.chi2 / n]
-    scale = max(1.0, min(reduced))
+    whitening = _whitening(observations, bicycle)
+    counts = (2 * len(observations), 2 * len(whitening.shape_index))
+    base, fits = _fit_all(bicycle, causes, observations, whitening)
+    scales = _dispersions([base, *fits], counts)
+    if scales != (1.0, 1.0):
+        # Refit with each kind of residual at its own dispersion (weights the fits, too).
+        whitening = replace(whitening, scales=scales)
+        base, fits = _fit_all(bicycle, causes, observations, whitening)
+    n = sum(counts)
     scored = []
     for cause, fit in zip(causes, fits, strict=True):
-        evidence = ((base.chi2 - fit.chi2) / (2.0 * scale) - 0.5 * len(fit.parameters) * np.log(n)
-                    + np.log(cause.prior))
-        std = tuple(s * np.sqrt(scale) for s in fit.std)
-        scored.append(CauseFit(fit.cause, fit.parameters, fit.units, fit.values, std, fit.chi2,
-                               float(evidence), fit.predicted))
+        evidence = (base.chi2 - fit.chi2) / 2.0 - 0.5 * len(fit.parameters) * np.log(n) + np.log(cause.prior)
+        scored.append(replace(fit, evidence=float(evidence)))
     scored = _merge_forms(scored)
     if scored:
         # The leading cause's values, from its estimate-only form where it has one, with an
@@ -222,10 +334,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                        and len(c.parameters) == len(scored[0].parameters)]
         cause = leading[0]
         fit = fit_cause(bicycle, cause, observations, whitening) if not cause.for_evidence else scored[0]
-        spread = np.array(fit.std) * (np.sqrt(scale) if not cause.for_evidence else 1.0)
-        spread = np.maximum(spread, jackknife_std(bicycle, cause, observations, fit.values))
-        scored[0] = CauseFit(fit.cause, fit.parameters, fit.units, fit.values, tuple(float(s) for s in spread),
-                             fit.chi2, scored[0].evidence, fit.predicted)
+        spread = np.maximum(np.array(fit.std), jackknife_std(bicycle, cause, observations, fit.values, scales))
+        scored[0] = replace(fit, std=tuple(float(s) for s in spread), evidence=scored[0].evidence)
     best = scored[0] if scored else None
     if best is None or best.evidence < named_threshold:
         verdict, name = "none", "none"
@@ -233,7 +343,16 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         verdict, name = "ambiguous", best.cause
     else:
         verdict, name = "named", best.cause
-    return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scale, observations)
+    return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
+                     observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index))
+
+
+def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
+             whitening: _Whitening) -> tuple[CauseFit, list[CauseFit]]:
+    residual, predicted, blocks = _residuals(bicycle, observations, whitening)
+    base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted,
+                    block_chi2=tuple(robust_chi2(np.nan_to_num(b, nan=1e3)) for b in blocks))
+    return base, [fit_cause(bicycle, cause, observations, whitening) for cause in causes]
 
 
 def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
@@ -256,7 +375,7 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
 
 
 def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
-                  values: Sequence[float]) -> NDArray[np.float64]:
+                  values: Sequence[float], scales: tuple[float, float] = (1.0, 1.0)) -> NDArray[np.float64]:
     """Leave-one-speed-group-out jackknife standard deviation of a cause's values.
 
     The fit's own standard deviation assumes independent windows; errors shared by the windows
@@ -271,7 +390,8 @@ def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observa
         kept = [o for i, o in enumerate(observations) if i not in group]
         if len(kept) < 2:
             continue
-        estimates.append(fit_cause(bicycle, replace(cause, start=tuple(values)), kept).values)
+        estimates.append(fit_cause(bicycle, replace(cause, start=tuple(values)), kept,
+                                   _whitening(kept, bicycle, scales)).values)
     if len(estimates) < 3:
         return np.zeros(len(values))
     estimates_array = np.array(estimates)

@@ -21,9 +21,10 @@ from whipple.diagnosis import (
     Diagnosis,
     Gain,
     Observation,
+    compared_shapes,
     diagnose_observations,
     held_out_gain,
-    predicted_weave,
+    predicted_modes,
     speed_groups,
 )
 from whipple.errors import AnalysisError, InputError
@@ -33,9 +34,11 @@ from whipple.parameters import Bicycle
 
 EVIDENCE_DEFINITION = (
     "approximate natural-log Bayes factor of the cause against the base model: "
-    "(chi2_base - chi2_cause) / (2 s^2) - (k/2) ln(n) + ln(prior), with chi2 a soft-L1 sum of "
-    f"squared whitened eigenvalue residuals (scale {ROBUST_SCALE}), n residuals, k fitted values, "
-    "s^2 >= 1 the best model's reduced chi2, prior 1 per named cause (shared by its forms) and "
+    "(chi2_base - chi2_cause) / 2 - (k/2) ln(n) + ln(prior), with chi2 a soft-L1 sum (scale "
+    f"{ROBUST_SCALE}) of squared whitened residuals of the weave eigenvalue and, where a steer signal was "
+    "measured, of the weave mode shape (steer per roll rate), each kind divided by its own s^2 >= 1, "
+    "the best model's reduced chi2 on that kind; n residuals, k fitted values, "
+    "prior 1 per named cause (shared by its forms) and "
     f"1/(number of parameters) per parameter:<key>; 'named' needs evidence >= {NAMED_THRESHOLD} "
     f"and a lead of {MARGIN} over the runner-up")
 
@@ -105,6 +108,28 @@ def describe_residuals(observations: Sequence[Observation], predicted: np.ndarra
     return tuple(["; ".join(summary)] + lines)
 
 
+def describe_mode_shapes(observations: Sequence[Observation], predicted: np.ndarray,
+                         compared: np.ndarray) -> str | None:
+    """A sentence on how the measured mode shapes (where ``compared``) differ from a model's."""
+    index = [int(n) for n in np.flatnonzero(compared) if np.isfinite(predicted[n])]
+    if not index:
+        return None
+    measured = np.array([complex(observations[n].shape or 0.0) for n in index])
+    model = predicted[index]
+    ratio = measured / model
+    magnitude, phase = 100 * (np.abs(ratio) - 1), np.degrees(np.angle(ratio))
+    signal, reference = observations[index[0]].shape_signals
+    # Standard error of the median-ish summary from the scatter between windows.
+    se_magnitude = 1.2533 * np.std(magnitude, ddof=1) / np.sqrt(len(index)) if len(index) > 1 else np.inf
+    se_phase = 1.2533 * np.std(phase, ddof=1) / np.sqrt(len(index)) if len(index) > 1 else np.inf
+    size, angle = float(np.median(magnitude)), float(np.median(phase))
+    within = abs(size) <= 2 * se_magnitude and abs(angle) <= 2 * se_phase
+    verdict = "within noise" if within else "off"
+    return (f"weave mode shape ({signal} per {reference}, {len(index)} windows) {verdict}: magnitude "
+            f"{size:+.0f}% +/- {se_magnitude:.0f}%, phase {angle:+.1f} +/- {se_phase:.1f} deg (median, measured "
+            "relative to model)")
+
+
 def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
              include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0)) -> DiagnosisReport:
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain."""
@@ -128,11 +153,15 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
             note = str(error)
     else:
         note = "no cause named: nothing to extend"
-    predicted = predicted_weave(bicycle, observations)
+    predicted, shapes = predicted_modes(bicycle, observations)
+    summary = describe_residuals(observations, predicted)
+    shape_summary = describe_mode_shapes(observations, shapes, compared_shapes(bicycle, observations))
+    if shape_summary is not None:
+        summary += (shape_summary,)
     return DiagnosisReport(
         bicycle, tuple(measurements), used, diagnosis, extended, chosen, gain, note,
         critical_speeds(linear_model(bicycle), *speed_range), critical_speeds(linear_model(extended), *speed_range),
-        describe_residuals(observations, predicted), baseline)
+        summary, baseline)
 
 
 #: Reduced chi-square of the best model above which the report warns that no candidate
@@ -147,9 +176,13 @@ def caveats(report: DiagnosisReport) -> list[str]:
     diagnosis = report.diagnosis
     notes = []
     if diagnosis.scale > DISPERSION_WARNING:
-        notes.append(f"even the best-fitting model leaves residuals {np.sqrt(diagnosis.scale):.1f} times the "
-                     f"stated uncertainties (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the candidates, "
-                     "but none explains all of the disagreement")
+        notes.append(f"even the best-fitting model leaves eigenvalue residuals {np.sqrt(diagnosis.scale):.1f} times "
+                     f"the stated uncertainties (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the "
+                     "candidates, but none explains all of the disagreement")
+    if diagnosis.shape_scale > DISPERSION_WARNING:
+        notes.append(f"the best-fitting model leaves mode-shape residuals {np.sqrt(diagnosis.shape_scale):.1f} "
+                     f"times their stated uncertainties (reduced chi2 {diagnosis.shape_scale:.1f}); they count "
+                     "correspondingly less in the evidence")
     if diagnosis.best is not None:
         close = [f"{fit.cause} ({fit.evidence:.1f})" for fit in diagnosis.fits[1:]
                  if fit.evidence > diagnosis.best.evidence - CLOSE_EVIDENCE]
@@ -177,15 +210,23 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         estimate = {name: {"value": value, "std": std, "unit": unit}
                     for name, value, std, unit in zip(best.parameters, best.values, best.std, best.units, strict=True)}
     observations = diagnosis.observations
-    base = predicted_weave(report.bicycle, observations)
-    extended = predicted_weave(report.extended, observations)
+    base, base_shapes = predicted_modes(report.bicycle, observations)
+    extended, extended_shapes = predicted_modes(report.extended, observations)
+    compared = compared_shapes(report.bicycle, observations)
     windows = []
-    for m, o, b, e in zip(report.used, observations, base, extended, strict=True):
-        windows.append({"run": o.run, "start": o.start, "stop": o.stop, "speed": list(o.speed_range),
-                        "speed_mean": o.speed, "eigenvalue": _pair(o.eigenvalue),
-                        "eigenvalue_std": [float(np.sqrt(o.covariance[0, 0])), float(np.sqrt(o.covariance[1, 1]))],
-                        "model_eigenvalue": _pair(b), "extended_eigenvalue": _pair(e),
-                        "r_squared": m.fit.r_squared if m.fit else None})
+    for n, (m, o) in enumerate(zip(report.used, observations, strict=True)):
+        window = {"run": o.run, "start": o.start, "stop": o.stop, "speed": list(o.speed_range),
+                  "speed_mean": o.speed, "eigenvalue": _pair(o.eigenvalue),
+                  "eigenvalue_std": [float(np.sqrt(o.covariance[0, 0])), float(np.sqrt(o.covariance[1, 1]))],
+                  "model_eigenvalue": _pair(base[n]), "extended_eigenvalue": _pair(extended[n]),
+                  "r_squared": m.fit.r_squared if m.fit else None}
+        if o.shape is not None and o.shape_covariance is not None and np.isfinite(base_shapes[n]):
+            window["mode_shape"] = {
+                "signals": list(o.shape_signals), "value": _pair(o.shape),
+                "std": [float(np.sqrt(o.shape_covariance[0, 0])), float(np.sqrt(o.shape_covariance[1, 1]))],
+                "model": _pair(base_shapes[n]), "extended": _pair(extended_shapes[n]),
+                "compared": bool(compared[n])}
+        windows.append(window)
     skipped = [{"run": m.run.name, "start": m.window.start, "stop": m.window.stop, "reason": m.skipped}
                for m in report.measurements if not m.usable]
     gain: dict[str, Any] | None = None
@@ -208,6 +249,8 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "caveats": caveats(report),
         "evidence_definition": EVIDENCE_DEFINITION,
         "dispersion": diagnosis.scale,
+        "dispersion_mode_shape": diagnosis.shape_scale,
+        "mode_shape_windows": diagnosis.n_shapes,
         "bicycle": report.bicycle.name,
         "base_model": _critical(report.base_critical),
         "extended_model": _critical(report.extended_critical),
@@ -252,7 +295,9 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     lines += ["", "| cause | evidence |", "|---|---|"]
     lines += [f"| {cause} | {evidence:.1f} |" for cause, evidence in diagnosis.ranking()[:12]]
     lines += ["", f"Evidence: {EVIDENCE_DEFINITION}. Dispersion (reduced chi2 of the best model): "
-              f"{diagnosis.scale:.2f}.", "", f"![ranking]({figures['ranking']})", "", "## 3. The extended model", ""]
+              f"{diagnosis.scale:.2f} for eigenvalues, {diagnosis.shape_scale:.2f} for mode shapes "
+              f"({diagnosis.n_shapes} windows with a shape).", "", f"![ranking]({figures['ranking']})", "",
+              "## 3. The extended model", ""]
     if diagnosis.best is not None:
         lines += ["| parameter | value | std | unit |", "|---|---|---|---|"]
         lines += [f"| {name} | {e['value']:.6g} | {e['std']:.3g} | {e['unit']} |"

@@ -13,9 +13,10 @@ import numpy as np
 
 from whipple.diagnosis import Observation
 from whipple.errors import InputError
+from whipple.mode_shape import AmplitudeRatio, amplitude_ratio
 from whipple.runs import Run
 from whipple.speedometer import SpeedRange, speed_regression
-from whipple.weavefit import WeaveFit, fit_window
+from whipple.weavefit import NoOscillationError, WeaveFit, fit_window
 from whipple.windows import Window, find_windows
 
 #: Fits explaining less of the window's variance than this are not used as observations.
@@ -36,6 +37,7 @@ class WindowMeasurement:
     fit: WeaveFit | None
     speed: SpeedRange | None
     skipped: str | None = None
+    shape: AmplitudeRatio | None = None
 
     @property
     def usable(self) -> bool:
@@ -43,8 +45,14 @@ class WindowMeasurement:
 
 
 def measure_run(run: Run, windows: Sequence[Window] | None = None,
-                signals: Sequence[str] = ("roll_rate",), baseline: str = "constant") -> list[WindowMeasurement]:
+                signals: Sequence[str] = ("roll_rate",), baseline: str = "constant",
+                shape_signal: str | None = "steer_angle") -> list[WindowMeasurement]:
     """Fit the weave in each window of a run (found automatically unless given).
+
+    Where the run also holds ``shape_signal`` (and it is not among ``signals``), each window
+    also gets the weave's mode shape: that signal's amplitude relative to the first of
+    ``signals`` (:func:`whipple.weavefit.amplitude_ratio`); a window too short for it keeps its
+    eigenvalue and has no shape.
 
     ``baseline`` is the fitted function's non-oscillating part (see
     :func:`whipple.weavefit.fit_weave`): the seed paper's constant, a polynomial that follows
@@ -74,18 +82,34 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None,
             reason = f"too short ({fit.cycles:.2f} weave cycles < {MIN_CYCLES})"
         elif not np.all(np.isfinite(fit.covariance)):
             reason = "eigenvalue covariance not finite"
-        measurements.append(WindowMeasurement(run, window, fit, speeds, reason))
+        shape = None
+        if reason is None and shape_signal in run.signals and shape_signal not in signals:
+            shape = _mode_shape(run, fit, shape_signal)
+        measurements.append(WindowMeasurement(run, window, fit, speeds, reason, shape))
     return measurements
+
+
+def _mode_shape(run: Run, fit: WeaveFit, signal: str) -> AmplitudeRatio | None:
+    first = int(np.searchsorted(run.time, fit.start))
+    values = run.signals[signal][first:first + fit.n_samples]
+    try:
+        shape = amplitude_ratio(fit, values, signal)
+    except NoOscillationError:
+        return None
+    return shape if np.all(np.isfinite(shape.covariance)) and np.isfinite(shape.ratio) else None
 
 
 def observation(measurement: WindowMeasurement) -> Observation:
     """The diagnosis' view of a usable window."""
     if measurement.fit is None or measurement.speed is None:
         raise ValueError("window has no fit")
-    speed = measurement.speed
+    speed, shape = measurement.speed, measurement.shape
     return Observation(measurement.run.name, measurement.window.start, measurement.window.stop, float(speed.mean),
                        (float(speed.start_speed), float(speed.stop_speed)), complex(measurement.fit.eigenvalue),
-                       np.asarray(measurement.fit.covariance, dtype=float))
+                       np.asarray(measurement.fit.covariance, dtype=float),
+                       None if shape is None else complex(shape.ratio),
+                       None if shape is None else np.asarray(shape.covariance, dtype=float),
+                       ("steer_angle", "roll_rate") if shape is None else (shape.signal, shape.reference))
 
 
 def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]:

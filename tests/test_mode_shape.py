@@ -1,0 +1,84 @@
+"""Mode shape: a second signal's amplitude relative to the roll rate, against the model's eigenvector."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from whipple.diagnosis import MODE_SHAPE_STATES
+from whipple.errors import InputError
+from whipple.experiment import measure_run
+from whipple.mode_shape import amplitude_ratio
+from whipple.model import linear_model
+from whipple.parameters import load_bicycle
+from whipple.scenario import RunScenario, Sensor, Sensors
+from whipple.simulation import parse_true_windows, simulate_run
+from whipple.weavefit import NoOscillationError
+from whipple.windows import Window, find_windows
+
+QUIET = Sensors(Sensor(1e-6, 0.0), Sensor(1e-6, 0.0), Sensor(1e-6, 0.0))
+
+
+def _model_ratio(bicycle, speed: float, signal: str = "steer_angle") -> complex:
+    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(np.array([speed]))[0])
+    weave = int(np.argmax(values.imag))
+    return complex(vectors[MODE_SHAPE_STATES[signal], weave] / vectors[MODE_SHAPE_STATES["roll_rate"], weave])
+
+
+def _shapes(bicycle, speed: float, sensors: Sensors, seed: int, within_coasting: bool = False):
+    simulated = simulate_run(bicycle, RunScenario(speed=speed, seed=seed, n_pushes=3, sensors=sensors), name="r")
+    run = simulated.to_run()
+    windows = None
+    if within_coasting:
+        # Found windows can run a few samples into the catch (a known limitation of the window
+        # finder; the fit's uncertainty then grows accordingly): cut them to the true coasting.
+        coasting = parse_true_windows(simulated.metadata["true_windows"])
+        windows = [Window(w.run, max(w.start, start), min(w.stop, stop), -1, -1)
+                   for w in find_windows(run).windows for start, stop in coasting
+                   if w.start < stop and w.stop > start]
+    return [m.shape for m in measure_run(run, windows, baseline="auto") if m.usable and m.shape is not None]
+
+
+@pytest.mark.parametrize("speed", [4.0, 5.0, 6.5, 8.0])
+def test_noise_free_ratio_is_the_eigenvector_ratio(speed):
+    # The simulated signals are exact sums of the model's modes: the slow mode and the settle
+    # time must leave the ratio within a small fraction of a percent of the eigenvector ratio.
+    bicycle = load_bicycle("benchmark")
+    shapes = _shapes(bicycle, speed, QUIET, seed=2, within_coasting=True)
+    assert shapes
+    expected = _model_ratio(bicycle, speed)
+    for shape in shapes:
+        assert abs(shape.ratio - expected) < 2e-3 * abs(expected)
+
+
+def test_ratio_uncertainty_is_calibrated():
+    # Whitened errors of a calibrated (Re, Im) estimate have mean squared norm 2.
+    bicycle = load_bicycle("benchmark")
+    norms = []
+    for seed in range(4):
+        for speed in (5.0, 7.0):
+            expected = _model_ratio(bicycle, speed)
+            for shape in _shapes(bicycle, speed, Sensors(), seed):
+                error = np.array([(shape.ratio - expected).real, (shape.ratio - expected).imag])
+                norms.append(float(error @ np.linalg.solve(shape.covariance, error)))
+    assert len(norms) >= 15
+    assert 1.0 < np.mean(norms) < 3.5
+    assert np.mean(np.array(norms) < 6.18) > 0.85  # chi2(2) 95% point
+
+
+def test_ratio_rejects_mismatched_or_short_windows():
+    bicycle = load_bicycle("benchmark")
+    run = simulate_run(bicycle, RunScenario(speed=6.0, seed=1, n_pushes=1), name="r").to_run()
+    fit = next(m.fit for m in measure_run(run) if m.usable)
+    with pytest.raises(InputError, match="finite samples"):
+        amplitude_ratio(fit, np.zeros(fit.time.size - 1), "steer_angle")
+    with pytest.raises(NoOscillationError, match="half a weave period"):
+        amplitude_ratio(fit, np.zeros(fit.time.size), "steer_angle", settle=fit.stop - fit.start)
+
+
+def test_runs_without_a_steer_signal_have_no_shape():
+    bicycle = load_bicycle("benchmark")
+    scenario = RunScenario(speed=6.0, seed=1, n_pushes=1, columns=("roll_rate", "speed"))
+    run = simulate_run(bicycle, scenario, name="r").to_run()
+    measurements = [m for m in measure_run(run) if m.usable]
+    assert measurements and all(m.shape is None for m in measurements)

@@ -20,10 +20,15 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from hidden_effects import CAUSES, run_trial  # noqa: E402
 
+from whipple.errors import InputError  # noqa: E402
+
 
 def _trial(arguments: tuple[str, int]) -> tuple[str, int, str, str, bool, bool, bool]:
     cause, seed = arguments
-    trial = run_trial(cause, seed)
+    try:
+        trial = run_trial(cause, seed)
+    except InputError as error:  # e.g. an effect so large that too few windows were usable
+        return (cause, seed, "error", error.problem, False, False, False)
     return (cause, seed, trial.diagnosis.verdict, trial.diagnosis.cause, trial.named_correctly,
             trial.said_none, trial.covers())
 

@@ -115,6 +115,10 @@ def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
     assert {"run", "start", "stop", "speed", "eigenvalue", "eigenvalue_std", "model_eigenvalue",
             "extended_eigenvalue"} <= set(window)
     assert (report / "report.md").exists() and (report / "eigenvalues.png").exists()
+    # The simulated runs hold a steer angle: windows carry mode shapes, plotted in the report.
+    shapes = [w["mode_shape"] for w in data["windows"] if "mode_shape" in w]
+    assert shapes and data["mode_shape_windows"] > 0 and (report / "shapes.png").exists()
+    assert {"signals", "value", "std", "model", "extended", "compared"} <= set(shapes[0])
     # The saved model is a bicycle file every command accepts.
     capsys.readouterr()
     assert main(["check", str(model), "--json"]) == 0

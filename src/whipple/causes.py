@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
+from whipple.parameter_set import PARAMETER_UNITS
 from whipple.parameters import Bicycle, Payload, TyreCompliance
 
 # Reported bicycle tyre values (shared spec tyre-model.md): the camber stiffness is not fitted
@@ -104,7 +105,7 @@ def parameter_cause(bicycle: Bicycle, key: str, share: float) -> Cause:
     """``parameter:<key>``: the bicycle's value of key is wrong."""
     value = float(bicycle.parameters[key])
     span = max(abs(value), 1e-3)
-    return Cause(f"parameter:{key}", (key,), ("",), (value,), ((value - span, value + span),),
+    return Cause(f"parameter:{key}", (key,), (PARAMETER_UNITS.get(key, ""),), (value,), ((value - span, value + span),),
                  _parameter(key), prior=share, null=(value,))
 
 

@@ -282,10 +282,12 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
               f"{len({m.run.name for m in report.measurements})} runs.", "",
               "## 1. What the model gets wrong", "", f"**{report.residual_summary[0]}.**", ""]
     lines += [f"- {line}" for line in report.residual_summary[1:]]
-    lines += ["", f"![eigenvalues]({figures['eigenvalues']})", "", f"![residuals]({figures['residuals']})", "",
-              "Time domain: each window explained by the model's weave eigenvalue (amplitude, phase and "
-              "baseline fitted):", "", f"![time domain]({figures['time']})", "",
-              "## 2. The cause", ""]
+    lines += ["", f"![eigenvalues]({figures['eigenvalues']})", "", f"![residuals]({figures['residuals']})", ""]
+    if "shapes" in figures:
+        lines += ["Mode shape: the steer angle's amplitude and phase relative to the roll rate in each window "
+                  "whose eigenvalue a weave of the base model matches:", "", f"![mode shapes]({figures['shapes']})", ""]
+    lines += ["Time domain: each window explained by the model's weave eigenvalue (amplitude, phase and "
+              "baseline fitted):", "", f"![time domain]({figures['time']})", "", "## 2. The cause", ""]
     verdict = {"named": f"The cause is **{diagnosis.cause}**: it clearly beats the base model and the runner-up.",
                "ambiguous": f"**Ambiguous**: {diagnosis.cause} explains the data best, but the runner-up about "
                             "as well; the evidence does not single out one cause.",

@@ -52,6 +52,11 @@ class AmplitudeRatio:
         the shared eigenvalue and slow rate.
     slow_rate : float
         The fitted rate s of the non-oscillating part [1/s].
+    eigenvalue : complex
+        The weave eigenvalue d + i w refined jointly from both signals, with the slow mode as
+        an exponential [1/s].
+    eigenvalue_covariance : ndarray, shape (2, 2)
+        Covariance of (d, w) [1/s^2].
     """
 
     signal: str
@@ -59,6 +64,8 @@ class AmplitudeRatio:
     ratio: complex
     covariance: NDArray[np.float64]
     slow_rate: float
+    eigenvalue: complex
+    eigenvalue_covariance: NDArray[np.float64]
 
 
 def _basis(tau: NDArray[np.float64], slow: float, d: float, w: float) -> NDArray[np.float64]:
@@ -149,4 +156,5 @@ def amplitude_ratio(fit: WeaveFit, values: ArrayLike, signal: str, noise: str = 
     derivative = np.array([-ratio, 1j * ratio, 1.0, -1j]) / reference_amplitude
     gradient = np.zeros((2, covariance.shape[0]))
     gradient[:, [2, 3, 6, 7]] = np.vstack([derivative.real, derivative.imag])
-    return AmplitudeRatio(signal, fit.signal_names[0], ratio, gradient @ covariance @ gradient.T, slow)
+    return AmplitudeRatio(signal, fit.signal_names[0], ratio, gradient @ covariance @ gradient.T, slow,
+                          complex(d, w), covariance[-2:, -2:])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from whipple.diagnosis import predicted_weave
+from whipple.diagnosis import MODE_SHAPE_STATES, compared_shapes, predicted_weave
 from whipple.diagnosis_report import DiagnosisReport
 from whipple.model import linear_model
 from whipple.parameters import Bicycle
@@ -69,6 +69,65 @@ def plot_residuals(report: DiagnosisReport) -> Figure:
         axis.set_title(title, fontsize=10)
         axis.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
+    figure.tight_layout()
+    return figure
+
+
+def _shape_curve(bicycle: Bicycle, speeds: np.ndarray, signals: tuple[str, str]) -> np.ndarray:
+    """The weave's eigenvector ratio of two signals against measured speed (NaN with no weave)."""
+    weave = _weave_curve(bicycle, speeds)
+    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(speeds / bicycle.extensions.speed_scale))
+    nearest = np.argmin(np.abs(values - weave[:, None]), axis=1)
+    chosen = vectors[np.arange(len(speeds)), :, nearest]
+    ratio = chosen[:, MODE_SHAPE_STATES[signals[0]]] / chosen[:, MODE_SHAPE_STATES[signals[1]]]
+    return np.where(weave.imag > 0, ratio, np.nan)
+
+
+def _phase(ratio: complex | np.ndarray) -> np.ndarray:
+    # Steer lags the roll rate by 90-270 degrees over the usual speeds; (-360, 0] keeps that
+    # range in one piece where (-180, 180] would cut it.
+    return np.asarray(np.degrees(np.angle(ratio)) % 360.0 - 360.0)
+
+
+def plot_mode_shapes(report: DiagnosisReport) -> Figure:
+    """Measured weave mode shapes (magnitude and phase of the amplitude ratio) against both models'."""
+    observations = report.diagnosis.observations
+    compared = [o for o, used in zip(observations, compared_shapes(report.bicycle, observations), strict=True)
+                if used and o.shape is not None and o.shape_covariance is not None]
+    figure = Figure(figsize=(7.5, 6.0))
+    axes = figure.subplots(2, 1, sharex=True)
+    if not compared:
+        axes[0].set_title("no mode shapes compared")
+        return figure
+    signals = compared[0].shape_signals
+    speeds = np.array([o.speed for o in compared])
+    grid = np.linspace(max(0.0, speeds.min() - 0.5), speeds.max() + 0.5, 300)
+    models = [("base model", report.bicycle, "C0")]
+    if report.diagnosis.best is not None:
+        models.append((f"extended ({report.diagnosis.cause})", report.extended, "C3"))
+    for name, bicycle, colour in models:
+        curve = _shape_curve(bicycle, grid, signals)
+        axes[0].plot(grid, np.abs(curve), color=colour, label=name)
+        axes[1].plot(grid, _phase(curve), color=colour, label=name)
+    for o in compared:
+        ratio = complex(o.shape or 0.0)
+        covariance = np.asarray(o.shape_covariance)
+        # Standard deviations along and across the ratio: of its magnitude and (over |ratio|) its phase.
+        along = np.array([ratio.real, ratio.imag]) / abs(ratio)
+        across = np.array([-along[1], along[0]])
+        axes[0].errorbar(o.speed, abs(ratio), yerr=np.sqrt(along @ covariance @ along), fmt="o", ms=3, color="k",
+                         lw=0.8, capsize=2)
+        axes[1].errorbar(o.speed, _phase(ratio),
+                         yerr=np.degrees(np.sqrt(across @ covariance @ across) / abs(ratio)), fmt="o", ms=3,
+                         color="k", lw=0.8, capsize=2)
+    axes[0].plot([], [], "o", color="k", ms=3, label="measured (1 std)")
+    axes[0].set_ylabel(f"|{signals[0]} / {signals[1]}|")
+    axes[1].set_ylabel("phase [deg], in (-360, 0]")
+    axes[1].set_xlabel("measured speed [m/s]")
+    for axis in axes:
+        axis.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    figure.suptitle("Weave mode shape: measurements and models")
     figure.tight_layout()
     return figure
 

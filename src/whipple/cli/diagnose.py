@@ -88,6 +88,8 @@ def run(args: argparse.Namespace) -> int:
 
         makers = {"eigenvalues": plots.plot_eigenvalues, "residuals": plots.plot_residuals,
                   "time": plots.plot_time_overlay, "ranking": plots.plot_ranking}
+        if report.diagnosis.n_shapes:
+            makers["shapes"] = plots.plot_mode_shapes
         figures = {}
         for key, make in makers.items():
             figure = make(report)

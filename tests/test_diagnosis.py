@@ -17,6 +17,7 @@ from whipple.causes import cause_by_name, with_cause
 from whipple.cli import main
 from whipple.diagnosis import Observation, diagnose_observations, predicted_modes, predicted_weave
 from whipple.parameters import load_bicycle
+from whipple.runs import read_run
 from whipple.scenario import RunScenario
 from whipple.simulation import simulate_run, write_run_csv
 
@@ -124,6 +125,24 @@ def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
     assert main(["check", str(model), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["weave_speed"] is not None
     assert load_bicycle(str(model)).extensions.steer_damping == pytest.approx(estimate["value"])
+
+
+def test_a_flipped_steer_sign_is_reported(damped_runs, tmp_path, capsys):
+    flipped = []
+    for path in damped_runs:
+        run = read_run(path)
+        signals = dict(run.signals, steer_angle=-run.signals["steer_angle"])
+        target = tmp_path / path.name
+        with open(target, "w") as stream:
+            stream.write("time," + ",".join(signals) + "\n")
+            for k, t in enumerate(run.time):
+                stream.write(f"{t:.4f}," + ",".join(f"{v[k]:.6g}" for v in signals.values()) + "\n")
+        flipped.append(str(target))
+    out = tmp_path / "d.json"
+    assert main(["diagnose", *flipped, "--bicycle", "benchmark", "--json", str(out)]) == 0
+    data = json.loads(out.read_text())
+    assert any("opposite to the convention" in note for note in data["caveats"])
+    assert data["cause"] == "steer_damping"  # the eigenvalues still carry the diagnosis
 
 
 def test_diagnose_refuses_to_overwrite_a_run(damped_runs, capsys):

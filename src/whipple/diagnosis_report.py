@@ -171,10 +171,30 @@ DISPERSION_WARNING = 2.0
 CLOSE_EVIDENCE = 5.0
 
 
+#: Median phase difference between measured and model mode shapes beyond which the report
+#: suspects a steer signal of the opposite sign [deg].
+FLIPPED_PHASE = 120.0
+
+
+def _shape_phase_offset(report: DiagnosisReport) -> float | None:
+    """Median phase of measured over base-model mode shape [deg], None without shapes."""
+    observations = report.diagnosis.observations
+    shapes = predicted_modes(report.bicycle, observations)[1]
+    compared = compared_shapes(report.bicycle, observations)
+    ratios = [complex(observations[n].shape or 0.0) / shapes[n] for n in np.flatnonzero(compared)]
+    return float(np.degrees(np.angle(np.median(np.real(ratios)) + 1j * np.median(np.imag(ratios))))) if ratios else None
+
+
 def caveats(report: DiagnosisReport) -> list[str]:
-    """What the verdict does not say: residual misfit, close alternatives."""
+    """What the verdict does not say: residual misfit, close alternatives, a suspect steer sign."""
     diagnosis = report.diagnosis
     notes = []
+    offset = _shape_phase_offset(report)
+    if offset is not None and abs(offset) > FLIPPED_PHASE:
+        signal = diagnosis.observations[0].shape_signals[0]
+        notes.append(f"the measured {signal} is {abs(offset):.0f} degrees out of phase with the model's mode shape: "
+                     f"its sign is probably opposite to the convention of Meijaard et al. (2007) (check the "
+                     "layout's scale factor); the mode shapes then carry little weight in the evidence")
     if diagnosis.scale > DISPERSION_WARNING:
         notes.append(f"even the best-fitting model leaves eigenvalue residuals {np.sqrt(diagnosis.scale):.1f} times "
                      f"the stated uncertainties (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the "

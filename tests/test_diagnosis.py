@@ -82,6 +82,19 @@ def test_no_effect_gives_none():
     assert verdicts.count("none") >= 2
 
 
+def test_offsets_within_the_fitting_bias_floor_give_none():
+    # Windows near the weave speed can be fitted to 0.1% of |lambda|, better than the fitting
+    # function's own bias (up to a few tenths of a percent): offsets of that size are not causes.
+    bicycle = load_bicycle("benchmark")
+    rng = np.random.default_rng(4)
+    covariance = np.eye(2) * 0.003**2
+    guesses = [Observation("r", 0.0, 1.0, v, (v, v), complex(-1.0, 5.0), covariance) for v in SPEEDS]
+    truth = predicted_weave(bicycle, guesses) * 1.003
+    observations = [Observation("r", 0.0, 1.0, v, (v, v), lam + complex(*rng.normal(0.0, 0.003, 2)), covariance)
+                    for v, lam in zip(SPEEDS, truth, strict=True)]
+    assert diagnose_observations(bicycle, observations).verdict == "none"
+
+
 def test_too_few_windows_is_an_input_error():
     bicycle = load_bicycle("benchmark")
     with pytest.raises(ValueError, match="at least 2"):

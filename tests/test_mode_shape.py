@@ -82,3 +82,15 @@ def test_runs_without_a_steer_signal_have_no_shape():
     run = simulate_run(bicycle, scenario, name="r").to_run()
     measurements = [m for m in measure_run(run) if m.usable]
     assert measurements and all(m.shape is None for m in measurements)
+
+
+def test_settle_leaves_the_start_of_each_window_out():
+    bicycle = load_bicycle("benchmark")
+    run = simulate_run(bicycle, RunScenario(speed=6.0, seed=1, n_pushes=2), name="r").to_run()
+    plain = [m for m in measure_run(run) if m.usable]
+    settled = [m for m in measure_run(run, settle=0.3) if m.usable]
+    assert plain and len(settled) == len(plain)
+    for a, b in zip(plain, settled, strict=True):
+        assert b.fit.start == pytest.approx(a.fit.start + 0.3, abs=0.011) and b.fit.stop == a.fit.stop
+        # The shape's own settle time counts from the window's start, not again from the fit's.
+        assert b.shape is not None and abs(b.shape.ratio - a.shape.ratio) < 5 * np.sqrt(np.trace(a.shape.covariance))

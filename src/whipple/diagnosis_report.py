@@ -15,6 +15,7 @@ import numpy as np
 from whipple.causes import Cause, candidate_causes, with_cause
 from whipple.critical import CriticalSpeeds, critical_speeds
 from whipple.diagnosis import (
+    EIGENVALUE_FLOOR,
     MARGIN,
     NAMED_THRESHOLD,
     ROBUST_SCALE,
@@ -35,7 +36,8 @@ from whipple.parameters import Bicycle
 EVIDENCE_DEFINITION = (
     "approximate natural-log Bayes factor of the cause against the base model: "
     "(chi2_base - chi2_cause) / 2 - (k/2) ln(n) + ln(prior), with chi2 a soft-L1 sum (scale "
-    f"{ROBUST_SCALE}) of squared whitened residuals of the weave eigenvalue and, where a steer signal was "
+    f"{ROBUST_SCALE}) of squared whitened residuals of the weave eigenvalue (its covariance with a floor of "
+    f"{100 * EIGENVALUE_FLOOR:g}% of |eigenvalue| for the fitting function's bias) and, where a steer signal was "
     "measured, of the weave mode shape (steer per roll rate), each kind divided by its own s^2 >= 1, "
     "the best model's reduced chi2 on that kind; n residuals, k fitted values, "
     "prior 1 per named cause (shared by its forms) and "

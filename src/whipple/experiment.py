@@ -7,13 +7,13 @@ of every run either yields a fitted eigenvalue at a speed range, or is skipped w
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from whipple.diagnosis import Observation
 from whipple.errors import InputError
-from whipple.mode_shape import AmplitudeRatio, amplitude_ratio
+from whipple.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
 from whipple.runs import Run
 from whipple.speedometer import SpeedRange, speed_regression
 from whipple.weavefit import NoOscillationError, WeaveFit, fit_window
@@ -46,8 +46,13 @@ class WindowMeasurement:
 
 def measure_run(run: Run, windows: Sequence[Window] | None = None,
                 signals: Sequence[str] = ("roll_rate",), baseline: str = "constant",
-                shape_signal: str | None = "steer_angle") -> list[WindowMeasurement]:
+                shape_signal: str | None = "steer_angle", settle: float = 0.0) -> list[WindowMeasurement]:
     """Fit the weave in each window of a run (found automatically unless given).
+
+    ``settle`` [s] leaves the start of each window out of the fits: a window starts at the end
+    of a push, while the fast castering mode still moves the bicycle, which the fitting
+    function does not hold (see :data:`whipple.mode_shape.SETTLE`). The seed paper fits from
+    the push's end (0, the default); ``whipple diagnose`` uses SETTLE.
 
     Where the run also holds ``shape_signal`` (and it is not among ``signals``), each window
     also gets the weave's mode shape: that signal's amplitude relative to the first of
@@ -69,9 +74,10 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None,
     for window in windows:
         try:
             speeds = speed_regression(run.time, speed, window.start, window.stop)
-            fit = fit_window(run, window, signals, baseline="constant" if baseline == "auto" else baseline)
+            fitted = _settled(run, window, settle)
+            fit = fit_window(run, fitted, signals, baseline="constant" if baseline == "auto" else baseline)
             if baseline == "auto" and fit.cycles >= AUTO_QUADRATIC_CYCLES:
-                fit = fit_window(run, window, signals, baseline="quadratic")
+                fit = fit_window(run, fitted, signals, baseline="quadratic")
         except InputError as error:
             measurements.append(WindowMeasurement(run, window, None, None, error.problem))
             continue
@@ -84,16 +90,27 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None,
             reason = "eigenvalue covariance not finite"
         shape = None
         if reason is None and shape_signal in run.signals and shape_signal not in signals:
-            shape = _mode_shape(run, fit, shape_signal)
+            shape = _mode_shape(run, fit, shape_signal, max(SETTLE - (fit.start - window.start), 0.0))
         measurements.append(WindowMeasurement(run, window, fit, speeds, reason, shape))
     return measurements
 
 
-def _mode_shape(run: Run, fit: WeaveFit, signal: str) -> AmplitudeRatio | None:
+def _settled(run: Run, window: Window, settle: float) -> Window:
+    """The window without its first ``settle`` seconds (unchanged for 0)."""
+    if settle <= 0.0:
+        return window
+    first = int(np.searchsorted(run.time, window.start + settle))
+    if first >= len(run.time) or run.time[first] >= window.stop:
+        raise NoOscillationError(f"window shorter than the {settle:g} s settle time")
+    stop = window.stop_index if window.stop_index > 0 else int(np.searchsorted(run.time, window.stop, side="right"))
+    return replace(window, start=float(run.time[first]), start_index=first, stop_index=stop)
+
+
+def _mode_shape(run: Run, fit: WeaveFit, signal: str, settle: float) -> AmplitudeRatio | None:
     first = int(np.searchsorted(run.time, fit.start))
     values = run.signals[signal][first:first + fit.n_samples]
     try:
-        shape = amplitude_ratio(fit, values, signal)
+        shape = amplitude_ratio(fit, values, signal, settle=settle)
     except NoOscillationError:
         return None
     return shape if np.all(np.isfinite(shape.covariance)) and np.isfinite(shape.ratio) else None

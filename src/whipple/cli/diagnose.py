@@ -30,6 +30,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--baseline", default="auto", choices=("auto", "constant", "linear", "quadratic"),
                         help="non-oscillating part of the window fits (default auto: quadratic, following the "
                              "capsize mode, in windows of two weave cycles or more; constant otherwise)")
+    parser.add_argument("--settle", type=float, default=0.0, metavar="SECONDS",
+                        help="leave the first SECONDS of every window out of the eigenvalue fits (default 0, as "
+                             "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
+                             "measured speeds (see docs/diagnosis.md)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -45,6 +49,8 @@ def run(args: argparse.Namespace) -> int:
     from whipple.reference_windows import read_windows
     from whipple.runs import read_run
 
+    if not 0.0 <= args.settle < 10.0:  # also rejects NaN
+        raise InputError(f"--settle must be between 0 and 10 s, got {args.settle}")
     sources: list = list(args.runs)
     if args.bundled:
         from whipple.bundled import bundled_runs
@@ -63,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
     windows = read_windows(args.windows, runs) if args.windows is not None else None
     measurements = []
     for run_ in runs:
-        measurements += measure_run(run_, windows, baseline=args.baseline)
+        measurements += measure_run(run_, windows, baseline=args.baseline, settle=args.settle)
     report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters)
     data = report_json(report)
     diagnosis = report.diagnosis

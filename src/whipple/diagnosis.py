@@ -67,7 +67,7 @@ class Observation:
     shape : complex or None
         The weave's mode shape where a second signal was measured: the complex amplitude of
         ``shape_signals[0]`` relative to ``shape_signals[1]`` (see
-        :func:`whipple.weavefit.amplitude_ratio`); e.g. steer angle per roll rate [s].
+        :func:`whipple.mode_shape.amplitude_ratio`); e.g. steer angle per roll rate [s].
     shape_covariance : ndarray, shape (2, 2), or None
         Covariance of the shape's (real, imaginary) part.
     shape_signals : tuple of str
@@ -125,12 +125,6 @@ class Diagnosis:
 MODE_SHAPE_STATES = {"roll_angle": 0, "steer_angle": 1, "roll_rate": 2, "steer_rate": 3}
 
 
-def model_eigenvalues(bicycle: Bicycle, speeds: NDArray[np.float64]) -> NDArray[np.complex128]:
-    """All eigenvalues of the bicycle's model at measured speeds (speed_scale applied) [1/s]."""
-    true_speeds = np.asarray(speeds, dtype=float) / bicycle.extensions.speed_scale
-    return np.asarray(np.linalg.eigvals(linear_model(bicycle).state_matrix(true_speeds)), dtype=complex)
-
-
 def predicted_weave(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArray[np.complex128]:
     """For each observation, the model eigenvalue (upper half plane) nearest the measured one.
 
@@ -147,21 +141,30 @@ def predicted_modes(bicycle: Bicycle, observations: Sequence[Observation]
     mode shape: the eigenvector's ratio of the observation's ``shape_signals`` (NaN where the
     observation has no shape)."""
     observations = tuple(observations)
-    speeds = np.array([o.speed for o in observations]) / bicycle.extensions.speed_scale
-    measured = np.array([o.eigenvalue for o in observations])
-    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(speeds))
+    speeds = np.array([o.speed for o in observations])
+    targets = np.array([o.eigenvalue for o in observations])
+    signals = [o.shape_signals if _has_shape(o) else None for o in observations]
+    return nearest_modes(bicycle, speeds, targets, signals)
+
+
+def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
+                  signals: Sequence[tuple[str, str] | None]
+                  ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """At each measured speed [m/s] (speed_scale applied), the model eigenvalue (upper half
+    plane) nearest ``targets`` [1/s], and its eigenvector's ratio of two signals
+    (MODE_SHAPE_STATES; NaN where ``signals`` is None)."""
+    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(
+        np.asarray(speeds, dtype=float) / bicycle.extensions.speed_scale))
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)
     vectors = np.where(lower[:, None, :], np.conj(vectors), vectors)
-    rows = np.arange(len(observations))
-    nearest = np.argmin(np.abs(values - measured[:, None]), axis=1)
-    shapes = np.full(len(observations), np.nan, dtype=complex)
-    for n, observation in enumerate(observations):
-        if observation.shape is not None and _has_shape(observation):
-            signal, reference = (MODE_SHAPE_STATES[name] for name in observation.shape_signals)
+    nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
+    shapes = np.full(len(nearest), np.nan, dtype=complex)
+    for n, pair in enumerate(signals):
+        if pair is not None:
             vector = vectors[n, :, nearest[n]]
-            shapes[n] = vector[signal] / vector[reference]
-    return np.asarray(values[rows, nearest], dtype=complex), shapes
+            shapes[n] = vector[MODE_SHAPE_STATES[pair[0]]] / vector[MODE_SHAPE_STATES[pair[1]]]
+    return np.asarray(values[np.arange(len(nearest)), nearest], dtype=complex), shapes
 
 
 def _has_shape(observation: Observation) -> bool:
@@ -217,7 +220,7 @@ def compared_shapes(bicycle: Bicycle, observations: Sequence[Observation]) -> ND
 EIGENVALUE_FLOOR = 0.005
 
 
-def _with_floor(observation: Observation) -> NDArray[np.float64] | None:
+def _with_floor(observation: Observation) -> NDArray[np.float64]:
     covariance = np.asarray(observation.covariance, dtype=float)
     if covariance.shape != (2, 2):
         return covariance
@@ -249,12 +252,16 @@ def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whit
     return eigenvalue, shape, predicted
 
 
-def _residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: _Whitening):
+def _residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: _Whitening
+               ) -> tuple[NDArray[np.float64], NDArray[np.complex128], tuple[float, float]]:
+    """All residuals, each kind divided by its dispersion; the predicted eigenvalues; and the
+    robust chi-square of each kind at unit dispersion (for :func:`_dispersions`)."""
     eigenvalue, shape, predicted = _residual_blocks(bicycle, observations, whitening)
-    scaled = np.concatenate([eigenvalue / np.sqrt(whitening.scales[0]), shape / np.sqrt(whitening.scales[1])])
     # A model whose weave vanishes at a window's speed has no shape to compare: count it as a
     # large, finite misfit rather than stopping the fit.
-    return np.nan_to_num(scaled, nan=1e3, posinf=1e3, neginf=-1e3), predicted, (eigenvalue, shape)
+    eigenvalue, shape = (np.nan_to_num(block, nan=1e3, posinf=1e3, neginf=-1e3) for block in (eigenvalue, shape))
+    scaled = np.concatenate([eigenvalue / np.sqrt(whitening.scales[0]), shape / np.sqrt(whitening.scales[1])])
+    return scaled, predicted, (robust_chi2(eigenvalue), robust_chi2(shape))
 
 
 def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
@@ -293,10 +300,9 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
         std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     except np.linalg.LinAlgError:
         std = np.full(len(values), np.inf)
-    final, predicted, blocks = _residuals(cause.apply(bicycle, values), observations, whitening)
+    final, predicted, block_chi2 = _residuals(cause.apply(bicycle, values), observations, whitening)
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
-                    tuple(float(s) for s in std), robust_chi2(final), predicted=predicted,
-                    block_chi2=tuple(robust_chi2(np.nan_to_num(b, nan=1e3)) for b in blocks))
+                    tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2)
 
 
 def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[float, float]:
@@ -365,9 +371,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
 
 def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
              whitening: _Whitening) -> tuple[CauseFit, list[CauseFit]]:
-    residual, predicted, blocks = _residuals(bicycle, observations, whitening)
-    base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted,
-                    block_chi2=tuple(robust_chi2(np.nan_to_num(b, nan=1e3)) for b in blocks))
+    residual, predicted, block_chi2 = _residuals(bicycle, observations, whitening)
+    base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted, block_chi2=block_chi2)
     return base, [fit_cause(bicycle, cause, observations, whitening) for cause in causes]
 
 

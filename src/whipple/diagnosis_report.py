@@ -26,6 +26,7 @@ from whipple.diagnosis import (
     diagnose_observations,
     held_out_gain,
     predicted_modes,
+    predicted_weave,
     speed_groups,
 )
 from whipple.errors import AnalysisError, InputError
@@ -110,24 +111,28 @@ def describe_residuals(observations: Sequence[Observation], predicted: np.ndarra
     return tuple(["; ".join(summary)] + lines)
 
 
-def describe_mode_shapes(observations: Sequence[Observation], predicted: np.ndarray,
-                         compared: np.ndarray) -> str | None:
-    """A sentence on how the measured mode shapes (where ``compared``) differ from a model's."""
-    index = [int(n) for n in np.flatnonzero(compared) if np.isfinite(predicted[n])]
-    if not index:
+def shape_ratios(bicycle: Bicycle, observations: Sequence[Observation]) -> tuple[np.ndarray, tuple[str, str]]:
+    """Measured over model mode shape, for the windows whose shapes are compared, and the
+    shape's two signals (those of the first such window)."""
+    shapes = predicted_modes(bicycle, observations)[1]
+    index = [int(n) for n in np.flatnonzero(compared_shapes(bicycle, observations)) if np.isfinite(shapes[n])]
+    signals = observations[index[0]].shape_signals if index else observations[0].shape_signals
+    return np.array([complex(observations[n].shape or 0.0) / shapes[n] for n in index], dtype=complex), signals
+
+
+def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | None:
+    """A sentence on how the measured mode shapes differ from a model's (``ratios``: measured
+    over model, see :func:`shape_ratios`); None without shapes."""
+    if ratios.size == 0:
         return None
-    measured = np.array([complex(observations[n].shape or 0.0) for n in index])
-    model = predicted[index]
-    ratio = measured / model
-    magnitude, phase = 100 * (np.abs(ratio) - 1), np.degrees(np.angle(ratio))
-    signal, reference = observations[index[0]].shape_signals
+    magnitude, phase = 100 * (np.abs(ratios) - 1), np.degrees(np.angle(ratios))
     # Standard error of the median-ish summary from the scatter between windows.
-    se_magnitude = 1.2533 * np.std(magnitude, ddof=1) / np.sqrt(len(index)) if len(index) > 1 else np.inf
-    se_phase = 1.2533 * np.std(phase, ddof=1) / np.sqrt(len(index)) if len(index) > 1 else np.inf
+    se_magnitude = 1.2533 * np.std(magnitude, ddof=1) / np.sqrt(ratios.size) if ratios.size > 1 else np.inf
+    se_phase = 1.2533 * np.std(phase, ddof=1) / np.sqrt(ratios.size) if ratios.size > 1 else np.inf
     size, angle = float(np.median(magnitude)), float(np.median(phase))
     within = abs(size) <= 2 * se_magnitude and abs(angle) <= 2 * se_phase
     verdict = "within noise" if within else "off"
-    return (f"weave mode shape ({signal} per {reference}, {len(index)} windows) {verdict}: magnitude "
+    return (f"weave mode shape ({signals[0]} per {signals[1]}, {ratios.size} windows) {verdict}: magnitude "
             f"{size:+.0f}% +/- {se_magnitude:.0f}%, phase {angle:+.1f} +/- {se_phase:.1f} deg (median, measured "
             "relative to model)")
 
@@ -155,9 +160,8 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
             note = str(error)
     else:
         note = "no cause named: nothing to extend"
-    predicted, shapes = predicted_modes(bicycle, observations)
-    summary = describe_residuals(observations, predicted)
-    shape_summary = describe_mode_shapes(observations, shapes, compared_shapes(bicycle, observations))
+    summary = describe_residuals(observations, predicted_weave(bicycle, observations))
+    shape_summary = describe_mode_shapes(*shape_ratios(bicycle, observations))
     if shape_summary is not None:
         summary += (shape_summary,)
     return DiagnosisReport(
@@ -178,24 +182,16 @@ CLOSE_EVIDENCE = 5.0
 FLIPPED_PHASE = 120.0
 
 
-def _shape_phase_offset(report: DiagnosisReport) -> float | None:
-    """Median phase of measured over base-model mode shape [deg], None without shapes."""
-    observations = report.diagnosis.observations
-    shapes = predicted_modes(report.bicycle, observations)[1]
-    compared = compared_shapes(report.bicycle, observations)
-    ratios = [complex(observations[n].shape or 0.0) / shapes[n] for n in np.flatnonzero(compared)]
-    return float(np.degrees(np.angle(np.median(np.real(ratios)) + 1j * np.median(np.imag(ratios))))) if ratios else None
-
-
 def caveats(report: DiagnosisReport) -> list[str]:
     """What the verdict does not say: residual misfit, close alternatives, a suspect steer sign."""
     diagnosis = report.diagnosis
     notes = []
-    offset = _shape_phase_offset(report)
-    if offset is not None and abs(offset) > FLIPPED_PHASE:
-        signal = diagnosis.observations[0].shape_signals[0]
-        notes.append(f"the measured {signal} is {abs(offset):.0f} degrees out of phase with the model's mode shape: "
-                     f"its sign is probably opposite to the convention of Meijaard et al. (2007) (check the "
+    ratios, signals = shape_ratios(report.bicycle, diagnosis.observations)
+    # Median phase of measured over model shape [deg].
+    offset = np.degrees(np.angle(np.median(ratios.real) + 1j * np.median(ratios.imag))) if ratios.size else 0.0
+    if abs(offset) > FLIPPED_PHASE:
+        notes.append(f"the measured {signals[0]} is {abs(offset):.0f} degrees out of phase with the model's mode "
+                     f"shape: its sign is probably opposite to the convention of Meijaard et al. (2007) (check the "
                      "layout's scale factor); the mode shapes then carry little weight in the evidence")
     if diagnosis.scale > DISPERSION_WARNING:
         notes.append(f"even the best-fitting model leaves eigenvalue residuals {np.sqrt(diagnosis.scale):.1f} times "

@@ -52,11 +52,11 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None,
     ``settle`` [s] leaves the start of each window out of the fits: a window starts at the end
     of a push, while the fast castering mode still moves the bicycle, which the fitting
     function does not hold (see :data:`whipple.mode_shape.SETTLE`). The seed paper fits from
-    the push's end (0, the default); ``whipple diagnose`` uses SETTLE.
+    the push's end (0, the default; also ``whipple diagnose --settle``'s default).
 
     Where the run also holds ``shape_signal`` (and it is not among ``signals``), each window
     also gets the weave's mode shape: that signal's amplitude relative to the first of
-    ``signals`` (:func:`whipple.weavefit.amplitude_ratio`); a window too short for it keeps its
+    ``signals`` (:func:`whipple.mode_shape.amplitude_ratio`); a window too short for it keeps its
     eigenvalue and has no shape.
 
     ``baseline`` is the fitted function's non-oscillating part (see

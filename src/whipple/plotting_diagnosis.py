@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from whipple.diagnosis import MODE_SHAPE_STATES, compared_shapes, predicted_weave
+from whipple.diagnosis import compared_shapes, nearest_modes, predicted_weave
 from whipple.diagnosis_report import DiagnosisReport
 from whipple.model import linear_model
 from whipple.parameters import Bicycle
@@ -76,10 +76,7 @@ def plot_residuals(report: DiagnosisReport) -> Figure:
 def _shape_curve(bicycle: Bicycle, speeds: np.ndarray, signals: tuple[str, str]) -> np.ndarray:
     """The weave's eigenvector ratio of two signals against measured speed (NaN with no weave)."""
     weave = _weave_curve(bicycle, speeds)
-    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(speeds / bicycle.extensions.speed_scale))
-    nearest = np.argmin(np.abs(values - weave[:, None]), axis=1)
-    chosen = vectors[np.arange(len(speeds)), :, nearest]
-    ratio = chosen[:, MODE_SHAPE_STATES[signals[0]]] / chosen[:, MODE_SHAPE_STATES[signals[1]]]
+    ratio = nearest_modes(bicycle, speeds, weave, [signals] * len(speeds))[1]
     return np.where(weave.imag > 0, ratio, np.nan)
 
 

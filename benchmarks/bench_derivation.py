@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from meijaard_oracle import meijaard_matrices_scalar, random_physical_parameters  # noqa: E402
 from whipple.derivation.regenerate import generate  # noqa: E402
 
-from whipple.model import whipple_matrices  # noqa: E402
+from whipple.model.assembly import whipple_matrices  # noqa: E402
 
 
 def time_regeneration() -> float:

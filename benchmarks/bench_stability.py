@@ -5,10 +5,10 @@ Run:  python benchmarks/bench_stability.py [--bicycles N]
 Cases, per bicycle (benchmark bicycle of Meijaard et al. 2007, matrices of Appendix A):
 
 1. eigenvalues at 1000 speeds from 0 to 10 m/s
-   - ours: whipple.stability.eigen_analysis (batched eig, tracking and mode labels included)
+   - ours: whipple.stability.eigen.eigen_analysis (batched eig, tracking and mode labels included)
    - baseline: a Python loop over speeds building A(v) and calling numpy.linalg.eig
 2. weave and capsize speeds
-   - ours: whipple.critical.critical_speeds (grid step 0.01 m/s, CasADi Newton polish)
+   - ours: whipple.stability.critical.critical_speeds (grid step 0.01 m/s, CasADi Newton polish)
    - baseline: loop over a 0.01 m/s grid for the largest real part, then scipy brentq in
      every cell where it changes sign
 3. a batch of random bicycles (whipple sweep): critical_speeds_batch per bicycle, for grid
@@ -27,9 +27,9 @@ from collections.abc import Callable
 import numpy as np
 from scipy.optimize import brentq
 
-from whipple.critical import critical_speeds, critical_speeds_batch
-from whipple.linear import second_order_model
-from whipple.stability import eigen_analysis
+from whipple.model.linear import second_order_model
+from whipple.stability.critical import critical_speeds, critical_speeds_batch
+from whipple.stability.eigen import eigen_analysis
 
 G = 9.81
 M = np.array([[80.81722, 2.31941332208709], [2.31941332208709, 0.29784188199686]])

@@ -18,8 +18,8 @@ import time
 import numpy as np
 from scipy.optimize import fmin
 
-from whipple.weave_starts import starting_values
-from whipple.weavefit import fit_weave
+from whipple.measurement.weave_starts import starting_values
+from whipple.measurement.weavefit import fit_weave
 
 #: (name, d [1/s], w [rad/s], sample rate [Hz], window [s], noise [signal units])
 CASES = (

@@ -12,12 +12,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from whipple.causes import cause_by_name
-from whipple.diagnosis import Diagnosis, diagnose_observations
-from whipple.experiment import measure_run, observations
-from whipple.parameters import Bicycle, Payload, TyreCompliance, load_bicycle
-from whipple.scenario import RunScenario
-from whipple.simulation import simulate_run
+from whipple.diagnosis.causes import cause_by_name
+from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
+from whipple.diagnosis.observations import observations
+from whipple.measurement.experiment import measure_run
+from whipple.measurement.runs import run_from_simulation
+from whipple.model.parameters import Bicycle, Payload, TyreCompliance, load_bicycle
+from whipple.simulation.scenario import RunScenario
+from whipple.simulation.simulator import simulate_run
 
 #: Causes with a hidden-effect generator, and "none" (no effect).
 CAUSES = ("none", "steer_damping", "steer_inertia", "speed_scale", "payload", "tyre_compliance", "parameter:c",
@@ -98,7 +100,7 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=SPEEDS
     measurements = []
     for k, speed in enumerate(speeds):
         scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES)
-        run = simulate_run(truth_bicycle, scenario, name=f"run{k}").to_run()
+        run = run_from_simulation(simulate_run(truth_bicycle, scenario, name=f"run{k}"))
         measurements += measure_run(run, baseline="auto")
     diagnosis = diagnose_observations(base, observations(measurements))
     return Trial(cause, seed, truth, diagnosis)

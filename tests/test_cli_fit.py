@@ -9,21 +9,21 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from whipple.bicycle_file import write_bicycle_toml
-from whipple.bundled import bundled_runs
 from whipple.cli import main
-from whipple.critical import critical_speeds
-from whipple.model import linear_model
-from whipple.parameters import load_bicycle
-from whipple.plotting_runs import plot_measured_eigenvalues, plot_run, plot_weave_fit
-from whipple.run_writer import write_run_csv
-from whipple.runs import read_run
-from whipple.scenario import RunScenario
-from whipple.simulation import simulate_run
-from whipple.speedometer import speed_regression
-from whipple.stability import eigen_analysis, weave_eigenvalue
-from whipple.weavefit import fit_window
-from whipple.windows import find_windows
+from whipple.measurement.bundled import bundled_runs
+from whipple.measurement.plots import plot_measured_eigenvalues, plot_run, plot_weave_fit
+from whipple.measurement.runs import read_run
+from whipple.measurement.speedometer import speed_regression
+from whipple.measurement.weavefit import fit_window
+from whipple.measurement.windows import find_windows
+from whipple.model.assembly import linear_model
+from whipple.model.bicycle_file import write_bicycle_toml
+from whipple.model.parameters import load_bicycle
+from whipple.simulation.run_writer import write_run_csv
+from whipple.simulation.scenario import RunScenario
+from whipple.simulation.simulator import simulate_run
+from whipple.stability.critical import critical_speeds
+from whipple.stability.eigen import eigen_analysis, weave_eigenvalue
 
 JSON_KEYS = {"run", "start", "stop", "speed", "speed_mean", "eigenvalue", "eigenvalue_std",
              "r_squared", "model_eigenvalue", "skipped"}

@@ -11,9 +11,9 @@ import json
 import numpy as np
 
 from whipple.cli import main
-from whipple.critical import critical_speeds
-from whipple.model import linear_model
-from whipple.parameters import load_bicycle
+from whipple.model.assembly import linear_model
+from whipple.model.parameters import load_bicycle
+from whipple.stability.critical import critical_speeds
 
 
 def test_stability_writes_figure_and_table(tmp_path, capsys):

@@ -1,4 +1,4 @@
-"""Critical speeds, stable speed ranges and their uncertainty: whipple.critical.
+"""Critical speeds, stable speed ranges and their uncertainty: whipple.stability.critical.
 
 Published values used (facts, not code):
 
@@ -15,16 +15,16 @@ import casadi
 import numpy as np
 import pytest
 
-from whipple.characteristic import (
+from whipple.errors import AnalysisError, InputError
+from whipple.model.linear import LinearModel, second_order_model
+from whipple.stability.characteristic import (
     condition_functions,
     hopf_condition,
     real_condition,
     sparsity_pattern,
 )
-from whipple.critical import critical_speeds, critical_speeds_batch
-from whipple.critical_uncertainty import critical_speed_uncertainty
-from whipple.errors import AnalysisError, InputError
-from whipple.linear import LinearModel, second_order_model
+from whipple.stability.critical import critical_speeds, critical_speeds_batch
+from whipple.stability.uncertainty import critical_speed_uncertainty
 
 G = 9.81
 M = np.array([[80.81722, 2.31941332208709], [2.31941332208709, 0.29784188199686]])

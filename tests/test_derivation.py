@@ -17,14 +17,14 @@ import whipple.generated
 from meijaard_oracle import meijaard_matrices, random_physical_parameters
 from whipple.derivation.regenerate import differences, generate
 
-from whipple.model import (
+from whipple.model.assembly import (
     EXTENDED_PARAMETERS,
     MODEL_PARAMETERS,
     casadi_matrices,
     extended_matrices,
     whipple_matrices,
 )
-from whipple.verification import reference_sets, verify
+from whipple.model.verification import reference_sets, verify
 
 NAMES = ("M", "C1", "K0", "K2")
 
@@ -143,7 +143,7 @@ def test_table2_eigenvalues_from_the_derived_model():
     import tomllib
     from importlib import resources
 
-    from whipple.linear import second_order_model
+    from whipple.model.linear import second_order_model
 
     text = resources.files("whipple.data").joinpath("reference", "meijaard2007-benchmark.toml").read_text()
     table = tomllib.loads(text)["eigenvalues"]

@@ -13,13 +13,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from whipple.causes import cause_by_name, with_cause
 from whipple.cli import main
-from whipple.diagnosis import Observation, diagnose_observations, predicted_modes, predicted_weave
-from whipple.parameters import load_bicycle
-from whipple.runs import read_run
-from whipple.scenario import RunScenario
-from whipple.simulation import simulate_run, write_run_csv
+from whipple.diagnosis.causes import cause_by_name, with_cause
+from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.observations import Observation, predicted_modes, predicted_weave
+from whipple.measurement.runs import read_run
+from whipple.model.parameters import load_bicycle
+from whipple.simulation.scenario import RunScenario
+from whipple.simulation.simulator import simulate_run, write_run_csv
 
 SPEEDS = np.repeat([4.5, 5.5, 6.5, 7.5], 3)
 STD = 0.05  # 1/s, of both parts

@@ -5,16 +5,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from whipple.diagnosis import MODE_SHAPE_STATES
+from whipple.diagnosis.observations import MODE_SHAPE_STATES
 from whipple.errors import InputError
-from whipple.experiment import measure_run
-from whipple.mode_shape import amplitude_ratio
-from whipple.model import linear_model
-from whipple.parameters import load_bicycle
-from whipple.scenario import RunScenario, Sensor, Sensors
-from whipple.simulation import parse_true_windows, simulate_run
-from whipple.weavefit import NoOscillationError
-from whipple.windows import Window, find_windows
+from whipple.measurement.experiment import measure_run
+from whipple.measurement.mode_shape import amplitude_ratio
+from whipple.measurement.runs import run_from_simulation
+from whipple.measurement.weavefit import NoOscillationError
+from whipple.measurement.windows import Window, find_windows
+from whipple.model.assembly import linear_model
+from whipple.model.parameters import load_bicycle
+from whipple.simulation.scenario import RunScenario, Sensor, Sensors
+from whipple.simulation.simulator import parse_true_windows, simulate_run
 
 QUIET = Sensors(Sensor(1e-6, 0.0), Sensor(1e-6, 0.0), Sensor(1e-6, 0.0))
 
@@ -27,7 +28,7 @@ def _model_ratio(bicycle, speed: float, signal: str = "steer_angle") -> complex:
 
 def _shapes(bicycle, speed: float, sensors: Sensors, seed: int, within_coasting: bool = False):
     simulated = simulate_run(bicycle, RunScenario(speed=speed, seed=seed, n_pushes=3, sensors=sensors), name="r")
-    run = simulated.to_run()
+    run = run_from_simulation(simulated)
     windows = None
     if within_coasting:
         # Found windows can run a few samples into the catch (a known limitation of the window
@@ -68,7 +69,7 @@ def test_ratio_uncertainty_is_calibrated():
 
 def test_ratio_rejects_mismatched_or_short_windows():
     bicycle = load_bicycle("benchmark")
-    run = simulate_run(bicycle, RunScenario(speed=6.0, seed=1, n_pushes=1), name="r").to_run()
+    run = run_from_simulation(simulate_run(bicycle, RunScenario(speed=6.0, seed=1, n_pushes=1), name="r"))
     fit = next(m.fit for m in measure_run(run) if m.usable)
     with pytest.raises(InputError, match="finite samples"):
         amplitude_ratio(fit, np.zeros(fit.time.size - 1), "steer_angle")
@@ -79,14 +80,14 @@ def test_ratio_rejects_mismatched_or_short_windows():
 def test_runs_without_a_steer_signal_have_no_shape():
     bicycle = load_bicycle("benchmark")
     scenario = RunScenario(speed=6.0, seed=1, n_pushes=1, columns=("roll_rate", "speed"))
-    run = simulate_run(bicycle, scenario, name="r").to_run()
+    run = run_from_simulation(simulate_run(bicycle, scenario, name="r"))
     measurements = [m for m in measure_run(run) if m.usable]
     assert measurements and all(m.shape is None for m in measurements)
 
 
 def test_settle_leaves_the_start_of_each_window_out():
     bicycle = load_bicycle("benchmark")
-    run = simulate_run(bicycle, RunScenario(speed=6.0, seed=1, n_pushes=2), name="r").to_run()
+    run = run_from_simulation(simulate_run(bicycle, RunScenario(speed=6.0, seed=1, n_pushes=2), name="r"))
     plain = [m for m in measure_run(run) if m.usable]
     settled = [m for m in measure_run(run, settle=0.3) if m.usable]
     assert plain and len(settled) == len(plain)

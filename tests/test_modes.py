@@ -1,4 +1,4 @@
-"""Tracking eigenvalues over speed and naming the modes: whipple.modes.
+"""Tracking eigenvalues over speed and naming the modes: whipple.stability.modes.
 
 Benchmark matrices: Meijaard, Papadopoulos, Ruina & Schwab (2007), Proc. R. Soc. A 463,
 Appendix A (K0 published without g), as reproduced in
@@ -10,10 +10,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from whipple import modes
-from whipple.critical import critical_speeds
-from whipple.linear import LinearModel, second_order_model
-from whipple.stability import eigen_analysis
+from whipple.model.linear import LinearModel, second_order_model
+from whipple.stability import modes
+from whipple.stability.critical import critical_speeds
+from whipple.stability.eigen import eigen_analysis
 
 G = 9.81
 M = [[80.81722, 2.31941332208709], [2.31941332208709, 0.29784188199686]]

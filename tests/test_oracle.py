@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from meijaard_oracle import meijaard_matrices, meijaard_matrices_scalar, random_physical_parameters
 
-from whipple.parameters import PARAMETER_NAMES, validate
+from whipple.model.parameters import PARAMETER_NAMES, validate
 
 NAMES = ("M", "C1", "K0", "K2")
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from whipple.errors import BicycleFileError, InputError, ParameterError
-from whipple.parameters import (
+from whipple.model.parameters import (
     OPTIONAL_PARAMETERS,
     PARAMETER_DESCRIPTIONS,
     PARAMETER_NAMES,

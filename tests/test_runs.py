@@ -8,10 +8,10 @@ import hashlib
 import numpy as np
 import pytest
 
-from whipple.bundled import bundled_folder, bundled_reference_windows, bundled_runs
 from whipple.errors import InputError, RunFileError
-from whipple.run_layouts import builtin_layouts, load_layout
-from whipple.runs import read_run
+from whipple.measurement.bundled import bundled_folder, bundled_reference_windows, bundled_runs
+from whipple.measurement.layouts import builtin_layouts, load_layout
+from whipple.measurement.runs import read_run
 
 HEADER = "# sample_rate: 100\n# wheel_radius: 0.35\n# pulses_per_revolution: 20\n"
 

@@ -9,13 +9,14 @@ import pytest
 from scipy.linalg import expm
 
 from whipple.cli import main
-from whipple.discretization import expm_batch
 from whipple.errors import InputError
-from whipple.linear import LinearModel
-from whipple.model import linear_model
-from whipple.parameters import load_bicycle
-from whipple.runs import read_run
-from whipple.scenario import (
+from whipple.measurement.runs import read_run, run_from_simulation
+from whipple.measurement.speedometer import speed_regression, speedometer_speed
+from whipple.model.assembly import linear_model
+from whipple.model.linear import LinearModel
+from whipple.model.parameters import load_bicycle
+from whipple.simulation.discretization import expm_batch
+from whipple.simulation.scenario import (
     PERFECT_SENSORS,
     SIGNALS,
     Push,
@@ -24,8 +25,7 @@ from whipple.scenario import (
     Sensor,
     Sensors,
 )
-from whipple.simulation import parse_true_windows, simulate_run, write_run_csv
-from whipple.speedometer import speed_regression, speedometer_speed
+from whipple.simulation.simulator import parse_true_windows, simulate_run, write_run_csv
 
 
 @pytest.fixture(scope="module")
@@ -161,7 +161,7 @@ def test_round_trip_through_read_run(bike, tmp_path):
     assert float(read.metadata["wheel_radius"]) == bike.parameters["rR"]
     np.testing.assert_allclose(parse_true_windows(read.metadata["true_windows"]), run.segments,
                                rtol=1e-5)
-    direct = run.to_run()
+    direct = run_from_simulation(run)
     np.testing.assert_allclose(direct.speed(), read.speed(), rtol=1e-6)
     assert direct.metadata == read.metadata
 
@@ -272,7 +272,7 @@ def test_bad_simulations_raise_input_errors(bike):
 
 
 def test_every_signal_name_is_a_run_file_column():
-    from whipple.run_layouts import SPEC_COLUMNS
+    from whipple.measurement.layouts import SPEC_COLUMNS
 
     assert set(SIGNALS) <= set(SPEC_COLUMNS)
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from whipple.errors import InputError
-from whipple.speedometer import speed_regression, speedometer_speed
+from whipple.measurement.speedometer import speed_regression, speedometer_speed
 
 RADIUS = 0.35
 PULSES = 20  # a 10-magnet ring: 20 zero crossings per revolution

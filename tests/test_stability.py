@@ -1,4 +1,4 @@
-"""Eigenvalues over speed: whipple.stability (and the figure of whipple.plotting_stability).
+"""Eigenvalues over speed: whipple.stability.eigen (and the figure of whipple.stability.plots).
 
 Benchmark numbers are published facts: Meijaard, Papadopoulos, Ruina & Schwab (2007),
 "Linearized dynamics equations for the balance and steer of a bicycle: a benchmark and
@@ -13,10 +13,10 @@ import io
 import numpy as np
 import pytest
 
-from whipple.critical import critical_speeds
 from whipple.errors import InputError
-from whipple.linear import LinearModel, second_order_model
-from whipple.stability import eigen_analysis, eigenvalue_table, weave_eigenvalue
+from whipple.model.linear import LinearModel, second_order_model
+from whipple.stability.critical import critical_speeds
+from whipple.stability.eigen import eigen_analysis, eigenvalue_table, weave_eigenvalue
 
 G = 9.81
 M = [[80.81722, 2.31941332208709], [2.31941332208709, 0.29784188199686]]
@@ -140,7 +140,7 @@ def test_bad_input_raises_input_error() -> None:
 def test_figure_is_returned_not_shown() -> None:
     import matplotlib.pyplot as plt
 
-    from whipple.plotting_stability import plot_eigenvalues
+    from whipple.stability.plots import plot_eigenvalues
 
     model = benchmark()
     result = eigen_analysis(model, np.linspace(0.0, 10.0, 201))

@@ -1,4 +1,4 @@
-"""The tyre-compliance model (derivation/tyre.py, whipple.tyre).
+"""The tyre-compliance model (derivation/tyre.py, whipple.model.tyre).
 
 References: the Whipple model's eigenvalues (generated code, itself checked against Meijaard
 et al. 2007 Table 2) as the stiff-tyre limit; Bulsink et al. (2015) and Doria et al. (2019)
@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from whipple.model import build_linear_model, casadi_state_function, linear_model
-from whipple.parameters import Extensions, TyreCompliance, load_bicycle
+from whipple.model.assembly import build_linear_model, casadi_state_function, linear_model
+from whipple.model.parameters import Extensions, TyreCompliance, load_bicycle
 
 SPEEDS = np.array([2.0, 4.0, 6.0])
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from whipple.errors import AnalysisError, InputError
-from whipple.weavefit import NoOscillationError, WeaveFit, fit_weave
+from whipple.measurement.weavefit import NoOscillationError, WeaveFit, fit_weave
 
 # A window like the seed paper's run 1202: lambda = -1.32 +- 5.96i over 1.6 s at 100 Hz.
 D, W = -1.32, 5.96

@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from whipple.bundled import bundled_reference_windows, bundled_runs
 from whipple.errors import RunFileError
-from whipple.linear import second_order_model
-from whipple.reference_windows import compare_windows, read_windows, write_windows
-from whipple.runs import Run, read_run
-from whipple.weavefit import fit_window
-from whipple.windows import Window, find_windows
+from whipple.measurement.bundled import bundled_reference_windows, bundled_runs
+from whipple.measurement.reference_windows import compare_windows, read_windows, write_windows
+from whipple.measurement.runs import Run, read_run
+from whipple.measurement.weavefit import fit_window
+from whipple.measurement.windows import Window, find_windows
+from whipple.model.linear import second_order_model
 
 # The instrumented bicycle of the seed paper (Kooijman & Schwab 2009, eq. 2).
 SEED_MODEL = second_order_model(

@@ -5,8 +5,8 @@ Run from anywhere:  python docs/figures/make_figures.py
 Figures:
 
 - stability_<bicycle>.png for the built-in bicycles benchmark, kooijman2008 and sbw2024:
-  eigenvalues against speed (whipple.plotting_stability.plot_eigenvalues) with the crossings
-  found by whipple.critical.critical_speeds, as `whipple stability --plot` draws them.
+  eigenvalues against speed (whipple.stability.plots.plot_eigenvalues) with the crossings
+  found by whipple.stability.critical.critical_speeds, as `whipple stability --plot` draws them.
 - conditions_benchmark.png: the two scalar stability conditions of the benchmark bicycle over
   speed (the Hopf condition prod_(i<j) (lambda_i + lambda_j) and det A), each taken to the
   root of its degree so that both are in 1/s and keep their sign.
@@ -27,14 +27,14 @@ import numpy as np  # noqa: E402
 from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from whipple.analysis import analyse_bicycle  # noqa: E402
 from whipple.atomic import atomic_path  # noqa: E402
-from whipple.characteristic import hopf_condition, real_condition  # noqa: E402
-from whipple.critical import critical_speeds, critical_speeds_batch  # noqa: E402
-from whipple.model import build_linear_model, linear_model  # noqa: E402
-from whipple.parameters import PARAMETER_UNITS, load_bicycle  # noqa: E402
-from whipple.plotting_stability import plot_eigenvalues  # noqa: E402
-from whipple.stability import eigen_analysis  # noqa: E402
+from whipple.model.assembly import build_linear_model, linear_model  # noqa: E402
+from whipple.model.parameters import PARAMETER_UNITS, load_bicycle  # noqa: E402
+from whipple.stability.characteristic import hopf_condition, real_condition  # noqa: E402
+from whipple.stability.critical import critical_speeds, critical_speeds_batch  # noqa: E402
+from whipple.stability.eigen import eigen_analysis  # noqa: E402
+from whipple.stability.plots import plot_eigenvalues  # noqa: E402
+from whipple.stability.report import analyse_bicycle  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 EXAMPLE = HERE.parent / "examples" / "kooijman2008-uncertain.toml"

@@ -5,7 +5,7 @@ Run from anywhere:  python docs/figures/make_run_figures.py
 Figures (the bundled treadmill runs of the steer-by-wire bicycle, model ``sbw2024``):
 
 - runs_signals.png: seed Figure 4, the signals of the 16.2 km/h run over 30 s with the free
-  coasting windows found automatically (whipple.plotting_runs.plot_run).
+  coasting windows found automatically (whipple.measurement.plots.plot_run).
 - runs_fit.png: seed Figure 5, the fit of the first window of that run, with the speed and its
   regression (plot_weave_fit).
 - runs_eigenvalues.png: seed Figure 6, every automatically found and fitted window of the five
@@ -36,19 +36,22 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from whipple.atomic import atomic_path  # noqa: E402
-from whipple.bundled import bundled_reference_windows, bundled_runs  # noqa: E402
-from whipple.critical import critical_speeds  # noqa: E402
-from whipple.model import linear_model  # noqa: E402
-from whipple.parameters import load_bicycle  # noqa: E402
-from whipple.plotting_runs import plot_measured_eigenvalues, plot_run, plot_weave_fit  # noqa: E402
-from whipple.reference_windows import compare_windows, read_windows  # noqa: E402
-from whipple.runs import read_run  # noqa: E402
-from whipple.scenario import RunScenario  # noqa: E402
-from whipple.simulation import simulate_run  # noqa: E402
-from whipple.speedometer import speed_regression  # noqa: E402
-from whipple.stability import eigen_analysis, weave_eigenvalue  # noqa: E402
-from whipple.weavefit import NoOscillationError, fit_weave, fit_window  # noqa: E402
-from whipple.windows import find_windows  # noqa: E402
+from whipple.measurement.bundled import bundled_reference_windows, bundled_runs  # noqa: E402
+from whipple.measurement.plots import plot_measured_eigenvalues, plot_run, plot_weave_fit  # noqa: E402
+from whipple.measurement.reference_windows import compare_windows, read_windows  # noqa: E402
+from whipple.measurement.runs import (
+    read_run,  # noqa: E402
+    run_from_simulation,
+)
+from whipple.measurement.speedometer import speed_regression  # noqa: E402
+from whipple.measurement.weavefit import NoOscillationError, fit_weave, fit_window  # noqa: E402
+from whipple.measurement.windows import find_windows  # noqa: E402
+from whipple.model.assembly import linear_model  # noqa: E402
+from whipple.model.parameters import load_bicycle  # noqa: E402
+from whipple.simulation.scenario import RunScenario  # noqa: E402
+from whipple.simulation.simulator import simulate_run  # noqa: E402
+from whipple.stability.critical import critical_speeds  # noqa: E402
+from whipple.stability.eigen import eigen_analysis, weave_eigenvalue  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 DPI = 120
@@ -161,7 +164,7 @@ def simulated_figure() -> None:
     scenario = RunScenario(speed=5.0, setting="ground", sample_rate=500.0, seed=0,
                            columns=("roll_rate", "yaw_rate", "steer_angle", "speedometer"))
     simulated = simulate_run(bicycle, scenario)
-    run = simulated.to_run()
+    run = run_from_simulation(simulated)
     search = find_windows(run)
     figure = plot_run(run, search.windows, rejected=search.rejected)
     axis = figure.axes[1]
@@ -242,8 +245,8 @@ def simulated_bias() -> None:
     for the constant (seed) and quadratic baselines, the median error of the fitted eigenvalue
     relative to the model's |lambda| and in units of the reported standard deviation.
     """
-    from whipple.reference_windows import compare_windows
-    from whipple.windows import Window
+    from whipple.measurement.reference_windows import compare_windows
+    from whipple.measurement.windows import Window
 
     bicycle = load_bicycle("benchmark")
     model = linear_model(bicycle)
@@ -256,7 +259,7 @@ def simulated_bias() -> None:
         on_true: list[complex] = []
         for seed in range(5):
             simulated = simulate_run(bicycle, RunScenario(speed=speed, seed=seed))
-            run = simulated.to_run()
+            run = run_from_simulation(simulated)
             search = find_windows(run)
             true = [Window(run.name, a, b, -1, -1) for a, b in simulated.segments]
             comparison = compare_windows(search.windows, true)

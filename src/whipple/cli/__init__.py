@@ -1,33 +1,36 @@
 """The ``whipple`` command line: a thin layer over the library.
 
-Each subcommand lives in its own module ``whipple.cli.<name>`` exposing ``HELP`` (one line),
-``add_arguments(parser)`` and ``run(args) -> int``. Library errors caused by bad input
-(:class:`whipple.errors.InputError`) become a one-line message and exit code 2; failed
-analyses (:class:`whipple.errors.AnalysisError`) exit with 1.
+Each subcommand lives in its own module ``whipple.cli.<name>`` exposing ``add_arguments(parser)``
+and ``run(args) -> int``; its one-line help is in :data:`COMMANDS`. Only the module of the
+command being run is imported, so that a quick command (``whipple sweep`` on a table, say)
+does not pay for loading SciPy, CasADi and matplotlib it never uses.
+
+Library errors caused by bad input (:class:`whipple.errors.InputError`) become a one-line
+message and exit code 2; failed analyses (:class:`whipple.errors.AnalysisError`) exit with 1;
+an output that cannot be written (a read-only folder, a path that is a folder) is bad input.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
-import importlib.util
 import os
 import sys
 from collections.abc import Sequence
 
 from whipple.errors import AnalysisError, InputError
 
-# Order of appearance in ``whipple --help``.
-COMMANDS = (
-    "check",
-    "stability",
-    "sweep",
-    "verify",
-    "regenerate",
-    "fit",
-    "simulate",
-    "diagnose",
-)
+#: Subcommands in order of appearance in ``whipple --help``, with their one-line help.
+COMMANDS = {
+    "check": "validate a bicycle, print its matrices and stable speed range",
+    "stability": "eigenvalues versus speed: figure and table",
+    "sweep": "critical speeds and stable ranges of many parameter sets (CSV)",
+    "verify": "compare the generated equations with published matrices",
+    "regenerate": "re-derive the equations and rewrite (or --check) the generated code",
+    "fit": "find free-coasting windows in measured runs and fit their weave eigenvalues",
+    "simulate": "simulate realistic measured runs (push, coast, catch, sensor noise) as run files",
+    "diagnose": "find what the model gets wrong on measured runs and which cause explains it",
+}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -37,16 +40,22 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Assemble the parser from the subcommand modules that are installed."""
-    parser = _Parser(prog="whipple", description=__doc__.splitlines()[0])
+def _requested(argv: Sequence[str]) -> str | None:
+    """The subcommand named in `argv` (its first word that is one), if any."""
+    return next((word for word in argv if word in COMMANDS), None)
+
+
+def build_parser(argv: Sequence[str] = ()) -> argparse.ArgumentParser:
+    """The parser; the arguments of the subcommand named in `argv` are filled in."""
+    parser = _Parser(prog="whipple", description=(__doc__ or "").splitlines()[0])
     subparsers = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for name in COMMANDS:
-        module_name = f"whipple.cli.{name}"
-        if importlib.util.find_spec(module_name) is None:
+    chosen = _requested(argv)
+    for name, text in COMMANDS.items():
+        if name != chosen:
+            subparsers.add_parser(name, help=text)
             continue
-        module = importlib.import_module(module_name)
-        sub = subparsers.add_parser(name, help=module.HELP, description=module.__doc__)
+        module = importlib.import_module(f"whipple.cli.{name}")
+        sub = subparsers.add_parser(name, help=text, description=module.__doc__)
         module.add_arguments(sub)
         sub.set_defaults(run=module.run)
     return parser
@@ -54,8 +63,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``whipple`` console script."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    arguments = list(sys.argv[1:] if argv is None else argv)
+    args = build_parser(arguments).parse_args(arguments)
     try:
         return int(args.run(args))
     except InputError as error:

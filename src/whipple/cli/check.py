@@ -10,29 +10,17 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 
+from whipple.cli.arguments import speed_range
 from whipple.errors import InputError
-
-HELP = "validate a bicycle, print its matrices and stable speed range"
-
-
-def parse_speed_range(text: str) -> tuple[float, float]:
-    """``LOW:HIGH`` in m/s, with 0 <= LOW < HIGH."""
-    try:
-        low_text, high_text = text.split(":")
-        low, high = float(low_text), float(high_text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected LOW:HIGH in m/s, got {text!r}") from None
-    if not (math.isfinite(low) and math.isfinite(high) and 0 <= low < high):
-        raise argparse.ArgumentTypeError(f"need 0 <= LOW < HIGH (finite), got {text!r}")
-    return low, high
+from whipple.model.parameters import load_bicycle
+from whipple.stability.report import analyse_bicycle
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("bicycle", metavar="PARAMS",
                         help="bicycle file (.toml or BicycleParameters *Benchmark.txt) or built-in name")
-    parser.add_argument("--speeds", type=parse_speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
+    parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
                         help="speed interval searched for critical speeds, m/s (default 0:10)")
     parser.add_argument("--json", action="store_true", help="print a JSON object instead of text")
 
@@ -43,9 +31,6 @@ def _matrix_lines(name: str, matrix) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from whipple.analysis import analyse_bicycle
-    from whipple.parameters import load_bicycle
-
     bicycle = load_bicycle(args.bicycle)
     try:
         report = analyse_bicycle(bicycle, speed_range=args.speeds)

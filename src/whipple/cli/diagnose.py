@@ -9,9 +9,21 @@ speeds. The bicycle file carries the controller, if any.
 from __future__ import annotations
 
 import argparse
+import json
+import shlex
+import sys
 from pathlib import Path
 
-HELP = "find what the model gets wrong on measured runs and which cause explains it"
+from whipple.atomic import atomic_path, refuse_input_overwrite, write_text_atomic
+from whipple.diagnosis.markdown import report_markdown
+from whipple.diagnosis.plots import report_figures
+from whipple.diagnosis.report import assemble, report_json
+from whipple.errors import InputError
+from whipple.measurement.bundled import bundled_runs
+from whipple.measurement.experiment import FitOptions, measure_run
+from whipple.measurement.reference_windows import read_windows
+from whipple.measurement.runs import read_run
+from whipple.model.parameters import load_bicycle, write_bicycle_toml
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -37,25 +49,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import json
-    import shlex
-    import sys
-
-    from whipple.atomic import atomic_path, refuse_input_overwrite, write_text_atomic
-    from whipple.diagnosis_report import assemble, report_json, report_markdown
-    from whipple.errors import InputError
-    from whipple.experiment import measure_run
-    from whipple.parameters import load_bicycle, write_bicycle_toml
-    from whipple.reference_windows import read_windows
-    from whipple.runs import read_run
-
-    if not 0.0 <= args.settle < 10.0:  # also rejects NaN
-        raise InputError(f"--settle must be between 0 and 10 s, got {args.settle}")
-    sources: list = list(args.runs)
-    if args.bundled:
-        from whipple.bundled import bundled_runs
-
-        sources += bundled_runs()
+    options = FitOptions(baseline=args.baseline, settle=args.settle)
+    sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
     if not sources:
         raise InputError("no run files given (name files, or use --bundled)")
     inputs = [s for s in sources if isinstance(s, Path)] + [args.bicycle]
@@ -67,9 +62,7 @@ def run(args: argparse.Namespace) -> int:
     bicycle = load_bicycle(args.bicycle)
     runs = [read_run(source, args.layout) for source in sources]
     windows = read_windows(args.windows, runs) if args.windows is not None else None
-    measurements = []
-    for run_ in runs:
-        measurements += measure_run(run_, windows, baseline=args.baseline, settle=args.settle)
+    measurements = [m for run_ in runs for m in measure_run(run_, windows, options)]
     report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters)
     data = report_json(report)
     diagnosis = report.diagnosis
@@ -79,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     for name, estimate in data["estimate"].items():
         print(f"  {name} = {estimate['value']:.6g} +/- {estimate['std']:.3g} {estimate['unit']}")
     print("ranking: " + ", ".join(f"{cause} {evidence:.1f}" for cause, evidence in diagnosis.ranking()[:5]))
-    for note in data["caveats"]:
+    for note in report.caveats:
         print(f"caveat: {note}")
     if report.gain is not None:
         g = report.gain
@@ -90,19 +83,11 @@ def run(args: argparse.Namespace) -> int:
         write_text_atomic(args.json, json.dumps(data, indent=2) + "\n")
         print(f"wrote {args.json}")
     if args.report is not None:
-        from whipple import plotting_diagnosis as plots
-
-        makers = {"eigenvalues": plots.plot_eigenvalues, "residuals": plots.plot_residuals,
-                  "time": plots.plot_time_overlay, "ranking": plots.plot_ranking}
-        if report.diagnosis.n_shapes:
-            makers["shapes"] = plots.plot_mode_shapes
         figures = {}
-        for key, make in makers.items():
-            figure = make(report)
-            name = f"{key}.png"
-            with atomic_path(args.report / name) as temporary:
+        for key, figure in report_figures(report).items():
+            figures[key] = f"{key}.png"
+            with atomic_path(args.report / figures[key]) as temporary:
                 figure.savefig(temporary, dpi=120)
-            figures[key] = name
         command = "whipple " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:] else ""
         write_text_atomic(args.report / "report.md", report_markdown(report, figures, command))
         print(f"wrote {args.report / 'report.md'}")

@@ -12,7 +12,11 @@ import sys
 import time
 from pathlib import Path
 
-HELP = "re-derive the equations and rewrite (or --check) the generated code"
+import sympy
+
+import whipple.generated
+from whipple.atomic import write_text_atomic
+from whipple.derivation.regenerate import MANIFEST, differences, generate
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -23,17 +27,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _default_folder() -> Path:
-    import whipple.generated
-
     return Path(whipple.generated.__file__).resolve().parent
 
 
 def run(args: argparse.Namespace) -> int:
-    import sympy
-
-    from whipple.atomic import write_text_atomic
-    from whipple.derivation.regenerate import MANIFEST, differences, generate
-
     folder = args.output or _default_folder()
     started = time.perf_counter()
     files = generate()

@@ -15,20 +15,13 @@ import math
 import re
 from pathlib import Path
 
+from whipple.atomic import refuse_input_overwrite
+from whipple.cli.arguments import speed_list
 from whipple.errors import InputError
-
-HELP = "simulate realistic measured runs (push, coast, catch, sensor noise) as run files"
-
-
-def _speed_list(text: str) -> list[float]:
-    try:
-        speeds = [float(item) for item in text.split(",") if item.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected speeds like 2,3.5,5 (m/s), got {text!r}"
-                                         ) from None
-    if not speeds:
-        raise argparse.ArgumentTypeError("no speeds given")
-    return speeds
+from whipple.model.assembly import linear_model
+from whipple.model.parameters import load_bicycle
+from whipple.simulation.scenario import RunScenario, Sensors
+from whipple.simulation.simulator import simulate_run, write_run_csv
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -36,7 +29,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="bicycle file (.toml or BicycleParameters *.txt) or built-in name")
     speeds = parser.add_mutually_exclusive_group(required=True)
     speeds.add_argument("--speed", type=float, metavar="V", help="true forward speed, m/s")
-    speeds.add_argument("--speeds", type=_speed_list, metavar="V1,V2,...",
+    speeds.add_argument("--speeds", type=speed_list, metavar="V1,V2,...",
                         help="several speeds, m/s: one run file each")
     parser.add_argument("--sample-rate", type=float, default=100.0, metavar="HZ",
                         help="sample rate, Hz (default 100)")
@@ -68,12 +61,6 @@ def _file_name(bicycle: str, setting: str, speed: float) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from whipple.atomic import refuse_input_overwrite
-    from whipple.model import linear_model
-    from whipple.parameters import load_bicycle
-    from whipple.scenario import RunScenario, Sensors
-    from whipple.simulation import simulate_run, write_run_csv
-
     speeds = args.speeds if args.speeds is not None else [args.speed]
     bad = [v for v in speeds if not (math.isfinite(v) and v > 0)]
     if bad:

@@ -7,17 +7,26 @@ and the stable band shaded. The CSV table lists every eigenvalue with its mode a
 from __future__ import annotations
 
 import argparse
+import csv
+import io
 import json
 from pathlib import Path
 
-from whipple.cli.check import parse_speed_range
+import numpy as np
 
-HELP = "eigenvalues versus speed: figure and table"
+from whipple.atomic import atomic_path, refuse_input_overwrite, write_text_atomic
+from whipple.cli.arguments import speed_range
+from whipple.errors import InputError
+from whipple.model.assembly import linear_model
+from whipple.model.parameters import load_bicycle
+from whipple.stability.critical import critical_speeds
+from whipple.stability.eigen import eigen_analysis, eigenvalue_table
+from whipple.stability.plots import plot_eigenvalues
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("bicycle", metavar="PARAMS", help="bicycle file or built-in name")
-    parser.add_argument("--speeds", type=parse_speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
+    parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
                         help="speed interval, m/s (default 0:10)")
     parser.add_argument("--points", type=int, default=1001, help="speeds in the table and figure (default 1001)")
     parser.add_argument("--plot", type=Path, metavar="FILE.png", help="write the figure")
@@ -26,18 +35,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    import csv
-    import io
-
-    import numpy as np
-
-    from whipple.atomic import atomic_path, refuse_input_overwrite, write_text_atomic
-    from whipple.critical import critical_speeds
-    from whipple.errors import InputError
-    from whipple.model import linear_model
-    from whipple.parameters import load_bicycle
-    from whipple.stability import eigen_analysis, eigenvalue_table
-
     if args.points < 2:
         raise InputError(f"--points must be at least 2, got {args.points}")
     for output in (args.plot, args.csv):
@@ -56,20 +53,16 @@ def run(args: argparse.Namespace) -> int:
         writer.writerows(rows)
         write_text_atomic(args.csv, buffer.getvalue())
     if args.plot is not None:
-        from whipple.plotting_stability import plot_eigenvalues
 
         figure = plot_eigenvalues(result, critical, title=bicycle.name or str(args.bicycle))
         with atomic_path(args.plot) as temporary:
             figure.savefig(temporary, dpi=150)
-    summary = {"bicycle": bicycle.name, "weave_speed": critical.weave_speed,
-               "capsize_speed": critical.capsize_speed,
-               "stable_speed_ranges": [list(r) for r in critical.stable_speed_ranges]}
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print(json.dumps({"bicycle": bicycle.name, **critical.to_dict()}, indent=2))
     else:
-        ranges = ", ".join(f"{a:.6g}-{b:.6g}" for a, b in critical.stable_speed_ranges) or "none"
-        print(f"{bicycle.name}: weave speed {critical.weave_speed}, capsize speed {critical.capsize_speed}, "
-              f"stable speed ranges (m/s): {ranges}")
+        print(f"bicycle: {bicycle.name or args.bicycle}")
+        for line in critical.summary():
+            print(line)
         for output in (args.plot, args.csv):
             if output is not None:
                 print(f"wrote {output}")

@@ -9,11 +9,17 @@ input columns and adds ``weave_speed``, ``capsize_speed``, ``stable_speed_ranges
 from __future__ import annotations
 
 import argparse
+import csv
+import io
+import sys
 from pathlib import Path
 
-from whipple.cli.check import parse_speed_range
+from tqdm import tqdm
 
-HELP = "critical speeds and stable ranges of many parameter sets (CSV)"
+from whipple.atomic import refuse_input_overwrite, write_text_atomic
+from whipple.cli.arguments import speed_range
+from whipple.model.parameters import load_bicycle
+from whipple.stability.sweep import read_parameter_table, sweep
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -21,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--output", "-o", type=Path, required=True, metavar="OUT.csv", help="results table")
     parser.add_argument("--bicycle", default="benchmark", metavar="PARAMS",
                         help="bicycle supplying absent columns, extensions and controller (default benchmark)")
-    parser.add_argument("--speeds", type=parse_speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
+    parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
                         help="speed interval searched, m/s (default 0:10)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
@@ -31,16 +37,6 @@ def _format(value: float | None) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    import csv
-    import io
-    import sys
-
-    from tqdm import tqdm
-
-    from whipple.atomic import refuse_input_overwrite, write_text_atomic
-    from whipple.parameters import load_bicycle
-    from whipple.sweep import read_parameter_table, sweep
-
     refuse_input_overwrite(args.output, [args.table, args.bicycle])
     table = read_parameter_table(args.table)
     base = load_bicycle(args.bicycle)

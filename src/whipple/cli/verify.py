@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import json
 
-HELP = "compare the generated equations with published matrices"
+from whipple.model.verification import reference_sets, verify
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -19,8 +19,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from whipple.verification import reference_sets, verify
-
     results = [verify(reference) for reference in reference_sets()]
     if args.json:
         print(json.dumps({"passed": all(r.passed for r in results),

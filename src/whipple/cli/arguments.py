@@ -1,0 +1,29 @@
+"""Argument types shared by several subcommands (speeds in m/s)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+
+def speed_range(text: str) -> tuple[float, float]:
+    """``LOW:HIGH`` in m/s, with 0 <= LOW < HIGH."""
+    try:
+        low_text, high_text = text.split(":")
+        low, high = float(low_text), float(high_text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected LOW:HIGH in m/s, got {text!r}") from None
+    if not (math.isfinite(low) and math.isfinite(high) and 0 <= low < high):
+        raise argparse.ArgumentTypeError(f"need 0 <= LOW < HIGH (finite), got {text!r}")
+    return low, high
+
+
+def speed_list(text: str) -> list[float]:
+    """``V1,V2,...`` in m/s (at least one)."""
+    try:
+        speeds = [float(item) for item in text.split(",") if item.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected speeds like 2,3.5,5 (m/s), got {text!r}") from None
+    if not speeds:
+        raise argparse.ArgumentTypeError("no speeds given")
+    return speeds

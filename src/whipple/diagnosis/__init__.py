@@ -1,0 +1,17 @@
+"""What the model gets wrong on measured data, the physical cause, the extended model, the gain.
+
+Modules
+-------
+observations
+    One window's measured weave eigenvalue and mode shape, and the model's nearest mode.
+causes
+    Candidate causes: each a model change with one or two physical parameters.
+evidence
+    Each cause fitted to all observations; evidence and verdict.
+gain
+    The extended model's error on held-out speeds.
+report
+    The report as plain data, JSON and Markdown.
+plots
+    The report's figures.
+"""

@@ -1,0 +1,77 @@
+"""The diagnosis report in Markdown, for people: what the model gets wrong, the cause, the
+extended model and the gain, with the figures beside it."""
+
+from __future__ import annotations
+
+from whipple.diagnosis.report import EVIDENCE_DEFINITION, DiagnosisReport, report_json
+from whipple.stability.critical import CriticalSpeeds
+
+
+def _speeds(critical: CriticalSpeeds) -> str:
+    """The critical speeds' summary in one line."""
+    return "; ".join(" ".join(line.split()) for line in critical.summary())
+
+
+def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: str = "") -> str:
+    """The human-readable report; ``figures`` maps figure keys to file names beside it."""
+    data = report_json(report)
+    diagnosis = report.diagnosis
+    lines = [f"# Diagnosis of {report.bicycle.name or 'the bicycle'}", ""]
+    if command:
+        lines += [f"Produced by `{command}`.", ""]
+    lines += [f"{len(report.used)} windows with a fitted weave eigenvalue were used "
+              f"({len(report.measurements) - len(report.used)} skipped, listed at the end), from "
+              f"{len({m.run.name for m in report.measurements})} runs.", "",
+              "## 1. What the model gets wrong", "", f"**{report.residual_summary[0]}.**", ""]
+    lines += [f"- {line}" for line in report.residual_summary[1:]]
+    lines += ["", f"![eigenvalues]({figures['eigenvalues']})", "", f"![residuals]({figures['residuals']})", ""]
+    if "shapes" in figures:
+        lines += ["Mode shape: the steer angle's amplitude and phase relative to the roll rate in each window "
+                  "whose eigenvalue a weave of the base model matches:", "", f"![mode shapes]({figures['shapes']})", ""]
+    lines += ["Time domain: each window explained by the model's weave eigenvalue (amplitude, phase and "
+              "baseline fitted):", "", f"![time domain]({figures['time']})", "", "## 2. The cause", ""]
+    verdict = {"named": f"The cause is **{diagnosis.cause}**: it clearly beats the base model and the runner-up.",
+               "ambiguous": f"**Ambiguous**: {diagnosis.cause} explains the data best, but the runner-up about "
+                            "as well; the evidence does not single out one cause.",
+               "none": "**None**: no cause explains the data clearly better than the base model."}[diagnosis.verdict]
+    lines += [verdict, ""]
+    lines += [f"- Caveat: {note}." for note in data["caveats"]]
+    lines += ["", "| cause | evidence |", "|---|---|"]
+    lines += [f"| {cause} | {evidence:.1f} |" for cause, evidence in diagnosis.ranking()[:12]]
+    lines += ["", f"Evidence: {EVIDENCE_DEFINITION}. Dispersion (reduced chi2 of the best model): "
+              f"{diagnosis.scale:.2f} for eigenvalues, {diagnosis.shape_scale:.2f} for mode shapes "
+              f"({diagnosis.n_shapes} windows with a shape).", "", f"![ranking]({figures['ranking']})", "",
+              "## 3. The extended model", ""]
+    if diagnosis.best is not None:
+        lines += ["| parameter | value | std | unit |", "|---|---|---|---|"]
+        lines += [f"| {name} | {e['value']:.6g} | {e['std']:.3g} | {e['unit']} |"
+                  for name, e in data["estimate"].items()]
+        lines += ["", f"- base model: {_speeds(report.base_critical)}",
+                  f"- extended model: {_speeds(report.extended_critical)}"]
+        if "matrices" in data["extended_model"]:
+            lines += ["", "Extended equations, M q'' + (v C1 + D) q' + (K0 + v^2 K2) q = f (from the generated "
+                      "code of derivation/, model whipple_extended):", ""]
+            for name, matrix in data["extended_model"]["matrices"].items():
+                lines.append(f"- {name} = [[{matrix[0][0]:.6g}, {matrix[0][1]:.6g}], "
+                             f"[{matrix[1][0]:.6g}, {matrix[1][1]:.6g}]]")
+        else:
+            lines += ["", "Extended equations: the tyre-compliance model of derivation/tyre.py "
+                      "(generated/tyre_numpy.py, descriptor form E x' = (A0 + v A1) x + B f)."]
+    else:
+        lines += ["No extension: the base model stands.", f"- base model: {_speeds(report.base_critical)}"]
+    lines += ["", "## 4. The gain", ""]
+    if report.gain is not None:
+        g = report.gain
+        lines += [f"Leave-one-speed-out ({g.folds} folds): the cause is refitted without each speed and "
+                  "predicts it.", "", "| metric | base | extended |", "|---|---|---|",
+                  f"| {g.metric} | {g.base:.3f} | {g.extended:.3f} |"]
+        if g.time_base is not None and g.time_extended is not None:
+            lines.append("| median rms roll-rate residual / window rms (held out) | "
+                         f"{g.time_base:.3f} | {g.time_extended:.3f} |")
+    else:
+        lines.append(report.gain_note or "No gain computed.")
+    skipped = data["skipped_windows"]
+    if skipped:
+        lines += ["", "## Skipped windows", "", "| run | start [s] | stop [s] | reason |", "|---|---|---|---|"]
+        lines += [f"| {s['run']} | {s['start']:.2f} | {s['stop']:.2f} | {s['reason']} |" for s in skipped]
+    return "\n".join(lines) + "\n"

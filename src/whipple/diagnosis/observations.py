@@ -1,0 +1,186 @@
+"""Observations: one window's measured weave eigenvalue and mode shape, and the model's nearest mode.
+
+The diagnosis compares each observation with the mode of the bicycle's model nearest to it at the
+window's speed (the measured speed divided by the bicycle's ``speed_scale``), rather than with a
+labelled weave: that keeps the comparison meaningful for models with extra modes and below the
+speed where the weave forms.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from whipple.measurement.experiment import WindowMeasurement
+from whipple.model.assembly import linear_model
+from whipple.model.parameters import Bicycle
+
+
+@dataclass(frozen=True)
+class Observation:
+    """One window's measured weave eigenvalue.
+
+    Attributes
+    ----------
+    run : str
+        Run name.
+    start, stop : float
+        Window [s].
+    speed : float
+        Measured mean speed over the window [m/s].
+    speed_range : tuple of float
+        Speed at the window's start and end from the linear regression [m/s].
+    eigenvalue : complex
+        Fitted weave eigenvalue d + i w [1/s].
+    covariance : ndarray, shape (2, 2)
+        Covariance of (d, w) [1/s^2].
+    shape : complex or None
+        The weave's mode shape where a second signal was measured: the complex amplitude of
+        ``shape_signals[0]`` relative to ``shape_signals[1]`` (see
+        :func:`whipple.measurement.mode_shape.amplitude_ratio`); e.g. steer angle per roll rate [s].
+    shape_covariance : ndarray, shape (2, 2), or None
+        Covariance of the shape's (real, imaginary) part.
+    shape_signals : tuple of str
+        The two signals of the shape, each a state of the model (see MODE_SHAPE_STATES).
+    """
+
+    run: str
+    start: float
+    stop: float
+    speed: float
+    speed_range: tuple[float, float]
+    eigenvalue: complex
+    covariance: NDArray[np.float64]
+    shape: complex | None = None
+    shape_covariance: NDArray[np.float64] | None = None
+    shape_signals: tuple[str, str] = ("steer_angle", "roll_rate")
+
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """A model's mode nearest each observation.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray of complex, shape (N,)
+        The model eigenvalue [1/s] (upper half plane) nearest each measured one.
+    shapes : ndarray of complex, shape (N,)
+        Its eigenvector's ratio of the observation's ``shape_signals`` (NaN where the
+        observation has no shape).
+    """
+
+    eigenvalues: NDArray[np.complex128]
+    shapes: NDArray[np.complex128]
+
+    @classmethod
+    def of(cls, bicycle: Bicycle, observations: Sequence[Observation]) -> Prediction:
+        """The prediction of a bicycle's model (see :func:`predicted_modes`)."""
+        return cls(*predicted_modes(bicycle, observations))
+
+
+#: Model states a mode shape can relate: the first four states of every model.
+MODE_SHAPE_STATES = {"roll_angle": 0, "steer_angle": 1, "roll_rate": 2, "steer_rate": 3}
+
+
+def predicted_weave(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArray[np.complex128]:
+    """For each observation, the model eigenvalue (upper half plane) nearest the measured one.
+
+    The measured oscillation is one of the model's modes; matching the nearest one (rather
+    than a label) keeps the comparison meaningful for models with extra modes and below the
+    speed where the weave forms.
+    """
+    return predicted_modes(bicycle, observations)[0]
+
+
+def predicted_modes(bicycle: Bicycle, observations: Sequence[Observation]
+                    ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """The model's eigenvalue nearest each measured one (as :func:`predicted_weave`), and its
+    mode shape: the eigenvector's ratio of the observation's ``shape_signals`` (NaN where the
+    observation has no shape)."""
+    observations = tuple(observations)
+    speeds = np.array([o.speed for o in observations])
+    targets = np.array([o.eigenvalue for o in observations])
+    signals = [o.shape_signals if _has_shape(o) else None for o in observations]
+    return nearest_modes(bicycle, speeds, targets, signals)
+
+
+def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
+                  signals: Sequence[tuple[str, str] | None]
+                  ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """At each measured speed [m/s] (speed_scale applied), the model eigenvalue (upper half
+    plane) nearest ``targets`` [1/s], and its eigenvector's ratio of two signals
+    (MODE_SHAPE_STATES; NaN where ``signals`` is None)."""
+    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(bicycle.model_speed(speeds)))
+    lower = values.imag < 0
+    values = np.where(lower, np.conj(values), values)
+    vectors = np.where(lower[:, None, :], np.conj(vectors), vectors)
+    nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
+    shapes = np.full(len(nearest), np.nan, dtype=complex)
+    for n, pair in enumerate(signals):
+        if pair is not None:
+            vector = vectors[n, :, nearest[n]]
+            shapes[n] = vector[MODE_SHAPE_STATES[pair[0]]] / vector[MODE_SHAPE_STATES[pair[1]]]
+    return np.asarray(values[np.arange(len(nearest)), nearest], dtype=complex), shapes
+
+
+def _has_shape(observation: Observation) -> bool:
+    return (observation.shape is not None and observation.shape_covariance is not None
+            and all(name in MODE_SHAPE_STATES for name in observation.shape_signals))
+
+
+
+#: A window's mode shape is compared only where the base model has an oscillatory mode within
+#: this fraction of the measured eigenvalue's magnitude: a "weave" fitted to a catch or to
+#: noise (strongly damped, far from every model mode) has no mode shape to speak of, and the
+#: shape of whichever real mode lies nearest would make it a huge outlier.
+SHAPE_MATCH = 0.3
+
+
+def compared_shapes(bicycle: Bicycle, observations: Sequence[Observation],
+                    predicted: NDArray[np.complex128] | None = None) -> NDArray[np.bool_]:
+    """Which windows' mode shapes are compared with the model: those with a shape whose
+    eigenvalue the bicycle's model matches with an oscillatory mode (see SHAPE_MATCH).
+
+    ``predicted`` is the model's eigenvalue nearest each observation (:func:`predicted_weave`)
+    when already at hand.
+    """
+    if predicted is None:
+        predicted = predicted_weave(bicycle, observations)
+    measured = np.array([o.eigenvalue for o in observations])
+    matched = (predicted.imag > 0) & (np.abs(measured - predicted) < SHAPE_MATCH * np.abs(measured))
+    return np.array([_has_shape(o) for o in observations], dtype=bool) & matched
+
+
+
+def speed_groups(observations: Sequence[Observation], gap: float = 0.3) -> list[list[int]]:
+    """Indices of observations grouped by speed: a new group where sorted speeds jump > gap [m/s]."""
+    order = np.argsort([o.speed for o in observations])
+    groups: list[list[int]] = [[int(order[0])]]
+    for previous, current in zip(order[:-1], order[1:], strict=True):
+        if observations[current].speed - observations[previous].speed > gap:
+            groups.append([])
+        groups[-1].append(int(current))
+    return groups
+
+
+def observation(measurement: WindowMeasurement) -> Observation:
+    """The diagnosis' view of a usable window."""
+    if measurement.fit is None or measurement.speed is None:
+        raise ValueError("window has no fit")
+    speed, shape = measurement.speed, measurement.shape
+    return Observation(measurement.run.name, measurement.window.start, measurement.window.stop, float(speed.mean),
+                       (float(speed.start_speed), float(speed.stop_speed)), complex(measurement.fit.eigenvalue),
+                       np.asarray(measurement.fit.covariance, dtype=float),
+                       None if shape is None else complex(shape.ratio),
+                       None if shape is None else np.asarray(shape.covariance, dtype=float),
+                       ("steer_angle", "roll_rate") if shape is None else (shape.signal, shape.reference))
+
+
+def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]:
+    """Observations of all usable windows."""
+    return [observation(m) for m in measurements if m.usable]
+

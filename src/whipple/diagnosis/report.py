@@ -1,0 +1,337 @@
+"""The diagnosis report: what the model gets wrong, the cause, the extended model, the gain.
+
+Assembles the pieces (measurements, diagnosis, held-out gain, critical speeds) into plain data,
+the JSON of the shared spec ``diagnosis-report.md`` and a Markdown report.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
+from whipple.diagnosis.evidence import (
+    EIGENVALUE_FLOOR,
+    MARGIN,
+    NAMED_THRESHOLD,
+    ROBUST_SCALE,
+    Diagnosis,
+    diagnose_observations,
+)
+from whipple.diagnosis.gain import Gain, held_out_gain
+from whipple.diagnosis.observations import (
+    Observation,
+    Prediction,
+    compared_shapes,
+    observation,
+    speed_groups,
+)
+from whipple.errors import AnalysisError, InputError
+from whipple.measurement.experiment import WindowMeasurement
+from whipple.model.assembly import extended_matrices, linear_model
+from whipple.model.parameters import Bicycle
+from whipple.stability.critical import CriticalSpeeds, critical_speeds
+
+EVIDENCE_DEFINITION = (
+    "approximate natural-log Bayes factor of the cause against the base model: "
+    "(chi2_base - chi2_cause) / 2 - (k/2) ln(n) + ln(prior), with chi2 a soft-L1 sum (scale "
+    f"{ROBUST_SCALE}) of squared whitened residuals of the weave eigenvalue (its covariance with a floor of "
+    f"{100 * EIGENVALUE_FLOOR:g}% of |eigenvalue| for the fitting function's bias) and, where a steer signal was "
+    "measured, of the weave mode shape (steer per roll rate), each kind divided by its own s^2 >= 1, "
+    "the best model's reduced chi2 on that kind; n residuals, k fitted values, "
+    "prior 1 per named cause (shared by its forms) and "
+    f"1/(number of parameters) per parameter:<key>; 'named' needs evidence >= {NAMED_THRESHOLD} "
+    f"and a lead of {MARGIN} over the runner-up")
+
+
+@dataclass(frozen=True)
+class ShapeComparison:
+    """Measured over model mode shape in the windows whose shapes are compared.
+
+    Attributes
+    ----------
+    compared : ndarray of bool, shape (N,)
+        Which observations' shapes are compared with the base model
+        (:func:`whipple.diagnosis.observations.compared_shapes`).
+    ratios : ndarray of complex
+        Measured over base-model shape, for the compared windows with a finite model shape.
+    signals : tuple of str
+        The shape's two signals (those of the first such window).
+    """
+
+    compared: NDArray[np.bool_]
+    ratios: NDArray[np.complex128]
+    signals: tuple[str, str]
+
+
+@dataclass(frozen=True)
+class DiagnosisReport:
+    """Everything the report shows, each computed once.
+
+    Attributes
+    ----------
+    bicycle, extended : Bicycle
+        The base bicycle and the bicycle extended by the named cause (the base when none).
+    measurements, used : tuple of WindowMeasurement
+        Every window, and the usable ones (the observations, in the same order).
+    diagnosis : Diagnosis
+        Verdict, ranking and fits.
+    cause : Cause or None
+        The form of the named cause used to extend the model.
+    gain : Gain or None
+        Held-out errors of base and extended model; ``gain_note`` says why there is none.
+    base_critical, extended_critical : CriticalSpeeds
+        Critical speeds of both models.
+    base_prediction, extended_prediction : Prediction
+        Each model's mode nearest every observation (eigenvalue and mode shape).
+    shapes : ShapeComparison
+        Measured against base-model mode shapes.
+    residual_summary : tuple of str
+        What the model gets wrong, in sentences (the first is the headline).
+    caveats : tuple of str
+        What the verdict does not say.
+    baseline : str
+        The window fits' non-oscillating part.
+    """
+
+    bicycle: Bicycle
+    measurements: tuple[WindowMeasurement, ...]
+    used: tuple[WindowMeasurement, ...]
+    diagnosis: Diagnosis
+    extended: Bicycle
+    cause: Cause | None
+    gain: Gain | None
+    gain_note: str
+    base_critical: CriticalSpeeds
+    extended_critical: CriticalSpeeds
+    base_prediction: Prediction
+    extended_prediction: Prediction
+    shapes: ShapeComparison
+    residual_summary: tuple[str, ...]
+    caveats: tuple[str, ...]
+    baseline: str
+
+    @property
+    def observations(self) -> tuple[Observation, ...]:
+        """The observations (one per usable window)."""
+        return self.diagnosis.observations
+
+
+def describe_residuals(observations: Sequence[Observation], predicted: np.ndarray) -> tuple[str, ...]:
+    """Sentences on how measured weave eigenvalues differ from a model's, over speed."""
+    lines = []
+    frequency_errors, damping_errors, damping_noise = [], [], []
+    for group in speed_groups(observations):
+        measured = np.array([observations[i].eigenvalue for i in group])
+        model = predicted[group]
+        std = np.array([np.sqrt(np.diag(observations[i].covariance)) for i in group])
+        # Where the model has no oscillation near the measured one, the frequency is compared
+        # with the eigenvalue's magnitude instead.
+        relative = (measured.imag - model.imag) / np.maximum(np.abs(model.imag), np.abs(model))
+        damping = measured.real - model.real
+        # Standard error of the group mean from the scatter (at least the stated uncertainty).
+        se_d = max(np.std(damping, ddof=1) / np.sqrt(len(group)) if len(group) > 1 else 0.0,
+                   float(np.sqrt(np.mean(std[:, 0] ** 2) / len(group))))
+        speeds = [observations[i].speed for i in group]
+        frequency_errors.append(float(np.mean(relative)))
+        damping_errors.append(float(np.mean(damping)))
+        damping_noise.append(se_d)
+        lines.append(f"at {np.mean(speeds):.2f} m/s ({len(group)} windows): frequency "
+                     f"{100 * np.mean(relative):+.0f}%, real part {np.mean(damping):+.2f} +/- {se_d:.2f} 1/s "
+                     "(measured minus model)")
+    f = np.array(frequency_errors)
+    summary = []
+    if np.all(np.abs(f) < 0.03):
+        summary.append("frequency within 3% of the model at all speeds")
+    elif np.all(f < 0) or np.all(f > 0):
+        side = "low" if f[0] < 0 else "high"
+        summary.append(f"frequency {100 * np.min(np.abs(f)):.0f}-{100 * np.max(np.abs(f)):.0f}% {side} at all speeds")
+    else:
+        summary.append(f"frequency off by {100 * np.min(f):+.0f}% to {100 * np.max(f):+.0f}% depending on speed")
+    d, noise = np.array(damping_errors), np.array(damping_noise)
+    if np.all(np.abs(d) <= 2 * noise):
+        summary.append("damping within noise")
+    else:
+        more = d < -2 * noise
+        less = d > 2 * noise
+        parts = []
+        if more.any():
+            parts.append(f"more damped than the model at {int(more.sum())} of {len(d)} speeds")
+        if less.any():
+            parts.append(f"less damped at {int(less.sum())} of {len(d)} speeds")
+        summary.append("measured weave " + " and ".join(parts)
+                       + f" (real part differences {np.min(d):+.2f} to {np.max(d):+.2f} 1/s)")
+    return tuple(["; ".join(summary)] + lines)
+
+
+def compare_shapes(observations: Sequence[Observation], prediction: Prediction,
+                   bicycle: Bicycle) -> ShapeComparison:
+    """Measured over the model's mode shape, for the windows whose shapes are compared."""
+    shapes = prediction.shapes
+    compared = compared_shapes(bicycle, observations, prediction.eigenvalues)
+    index = [int(n) for n in np.flatnonzero(compared) if np.isfinite(shapes[n])]
+    signals = observations[index[0]].shape_signals if index else observations[0].shape_signals
+    ratios = np.array([complex(observations[n].shape or 0.0) / shapes[n] for n in index], dtype=complex)
+    return ShapeComparison(compared, ratios, signals)
+
+
+def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | None:
+    """A sentence on how the measured mode shapes differ from a model's (``ratios``: measured
+    over model, see :func:`compare_shapes`); None without shapes."""
+    if ratios.size == 0:
+        return None
+    magnitude, phase = 100 * (np.abs(ratios) - 1), np.degrees(np.angle(ratios))
+    # Standard error of the median-ish summary from the scatter between windows.
+    se_magnitude = 1.2533 * np.std(magnitude, ddof=1) / np.sqrt(ratios.size) if ratios.size > 1 else np.inf
+    se_phase = 1.2533 * np.std(phase, ddof=1) / np.sqrt(ratios.size) if ratios.size > 1 else np.inf
+    size, angle = float(np.median(magnitude)), float(np.median(phase))
+    within = abs(size) <= 2 * se_magnitude and abs(angle) <= 2 * se_phase
+    verdict = "within noise" if within else "off"
+    return (f"weave mode shape ({signals[0]} per {signals[1]}, {ratios.size} windows) {verdict}: magnitude "
+            f"{size:+.0f}% +/- {se_magnitude:.0f}%, phase {angle:+.1f} +/- {se_phase:.1f} deg (median, measured "
+            "relative to model)")
+
+
+def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
+             include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0)) -> DiagnosisReport:
+    """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain."""
+    used = tuple(m for m in measurements if m.usable)
+    if len(used) < 2:
+        raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue; need at least 2")
+    observations = [observation(m) for m in used]
+    causes = candidate_causes(bicycle, include_parameters)
+    diagnosis = diagnose_observations(bicycle, observations, causes)
+    chosen = None
+    if diagnosis.best is not None:
+        forms = [c for c in causes if c.name == diagnosis.best.cause]
+        chosen = max(forms, key=lambda c: len(c.parameters))
+    extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle
+    gain, note = None, ""
+    if chosen is not None:
+        series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
+        try:
+            gain = held_out_gain(bicycle, chosen, observations, series)
+        except AnalysisError as error:
+            note = str(error)
+    else:
+        note = "no cause named: nothing to extend"
+    base_prediction = Prediction.of(bicycle, observations)
+    extended_prediction = Prediction.of(extended, observations)
+    shapes = compare_shapes(observations, base_prediction, bicycle)
+    summary = describe_residuals(observations, base_prediction.eigenvalues)
+    shape_summary = describe_mode_shapes(shapes.ratios, shapes.signals)
+    if shape_summary is not None:
+        summary += (shape_summary,)
+    return DiagnosisReport(
+        bicycle, tuple(measurements), used, diagnosis, extended, chosen, gain, note,
+        critical_speeds(linear_model(bicycle), *speed_range), critical_speeds(linear_model(extended), *speed_range),
+        base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes)), baseline)
+
+
+#: Reduced chi-square of the best model above which the report warns that no candidate
+#: explains the data within the stated uncertainty.
+DISPERSION_WARNING = 2.0
+#: Causes within this much evidence of the named one are listed as close alternatives.
+CLOSE_EVIDENCE = 5.0
+
+
+#: Median phase difference between measured and model mode shapes beyond which the report
+#: suspects a steer signal of the opposite sign [deg].
+FLIPPED_PHASE = 120.0
+
+
+def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
+    """What the verdict does not say: residual misfit, close alternatives, a suspect steer sign."""
+    notes = []
+    ratios, signals = shapes.ratios, shapes.signals
+    # Median phase of measured over model shape [deg].
+    offset = np.degrees(np.angle(np.median(ratios.real) + 1j * np.median(ratios.imag))) if ratios.size else 0.0
+    if abs(offset) > FLIPPED_PHASE:
+        notes.append(f"the measured {signals[0]} is {abs(offset):.0f} degrees out of phase with the model's mode "
+                     f"shape: its sign is probably opposite to the convention of Meijaard et al. (2007) (check the "
+                     "layout's scale factor); the mode shapes then carry little weight in the evidence")
+    if diagnosis.scale > DISPERSION_WARNING:
+        notes.append(f"even the best-fitting model leaves eigenvalue residuals {np.sqrt(diagnosis.scale):.1f} times "
+                     f"the stated uncertainties (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the "
+                     "candidates, but none explains all of the disagreement")
+    if diagnosis.shape_scale > DISPERSION_WARNING:
+        notes.append(f"the best-fitting model leaves mode-shape residuals {np.sqrt(diagnosis.shape_scale):.1f} "
+                     f"times their stated uncertainties (reduced chi2 {diagnosis.shape_scale:.1f}); they count "
+                     "correspondingly less in the evidence")
+    if diagnosis.best is not None:
+        close = [f"{fit.cause} ({fit.evidence:.1f})" for fit in diagnosis.fits[1:]
+                 if fit.evidence > diagnosis.best.evidence - CLOSE_EVIDENCE]
+        if close:
+            notes.append(f"close alternatives to {diagnosis.best.cause} ({diagnosis.best.evidence:.1f}): "
+                         + ", ".join(close))
+    return notes
+
+
+def _pair(value: complex) -> list[float]:
+    return [float(value.real), float(value.imag)]
+
+
+def report_json(report: DiagnosisReport) -> dict[str, Any]:
+    """The JSON object of the shared spec diagnosis-report.md (and more)."""
+    diagnosis = report.diagnosis
+    best = diagnosis.best
+    estimate = {}
+    if best is not None:
+        estimate = {name: {"value": value, "std": std, "unit": unit}
+                    for name, value, std, unit in zip(best.parameters, best.values, best.std, best.units, strict=True)}
+    observations = diagnosis.observations
+    base, base_shapes = report.base_prediction.eigenvalues, report.base_prediction.shapes
+    extended, extended_shapes = report.extended_prediction.eigenvalues, report.extended_prediction.shapes
+    compared = report.shapes.compared
+    windows = []
+    for n, (m, o) in enumerate(zip(report.used, observations, strict=True)):
+        window = {"run": o.run, "start": o.start, "stop": o.stop, "speed": list(o.speed_range),
+                  "speed_mean": o.speed, "eigenvalue": _pair(o.eigenvalue),
+                  "eigenvalue_std": [float(np.sqrt(o.covariance[0, 0])), float(np.sqrt(o.covariance[1, 1]))],
+                  "model_eigenvalue": _pair(base[n]), "extended_eigenvalue": _pair(extended[n]),
+                  "r_squared": m.fit.r_squared if m.fit else None}
+        if o.shape is not None and o.shape_covariance is not None and np.isfinite(base_shapes[n]):
+            window["mode_shape"] = {
+                "signals": list(o.shape_signals), "value": _pair(o.shape),
+                "std": [float(np.sqrt(o.shape_covariance[0, 0])), float(np.sqrt(o.shape_covariance[1, 1]))],
+                "model": _pair(base_shapes[n]), "extended": _pair(extended_shapes[n]),
+                "compared": bool(compared[n])}
+        windows.append(window)
+    skipped = [{"run": m.run.name, "start": m.window.start, "stop": m.window.stop, "reason": m.skipped}
+               for m in report.measurements if not m.usable]
+    gain: dict[str, Any] | None = None
+    if report.gain is not None:
+        g = report.gain
+        gain = {"metric": g.metric, "base": g.base, "extended": g.extended, "held_out": g.held_out,
+                "folds": g.folds,
+                "time_domain": {"metric": "median over held-out windows of rms roll-rate residual / window rms",
+                                "base": g.time_base, "extended": g.time_extended}}
+    result: dict[str, Any] = {
+        "cause": diagnosis.cause,
+        "verdict": diagnosis.verdict,
+        "estimate": estimate,
+        "ranking": [{"cause": cause, "evidence": evidence} for cause, evidence in diagnosis.ranking()],
+        "gain": gain,
+        "gain_note": report.gain_note,
+        "windows": windows,
+        "skipped_windows": skipped,
+        "summary": list(report.residual_summary),
+        "caveats": list(report.caveats),
+        "evidence_definition": EVIDENCE_DEFINITION,
+        "dispersion": diagnosis.scale,
+        "dispersion_mode_shape": diagnosis.shape_scale,
+        "mode_shape_windows": diagnosis.n_shapes,
+        "bicycle": report.bicycle.name,
+        "base_model": report.base_critical.to_dict(),
+        "extended_model": report.extended_critical.to_dict(),
+        "fit_baseline": report.baseline,
+    }
+    if report.bicycle.extensions.tyre_compliance is None and report.extended.extensions.tyre_compliance is None:
+        matrices = extended_matrices(report.extended.parameters, report.extended.extensions)
+        result["extended_model"]["matrices"] = {name: getattr(matrices, name).tolist()
+                                                for name in ("M", "C1", "D", "K0", "K2")}
+    return result

@@ -1,0 +1,342 @@
+"""From measured runs to weave eigenvalues: windows, fits and speeds, window by window.
+
+This is the one measurement loop behind ``whipple fit`` and ``whipple diagnose``: every window
+of a run (found automatically, or read from a windows file) either yields a fitted eigenvalue
+at a speed range, or is rejected with a reason; stretches the window finder turned down are
+listed too. A fitted window that is too poor to use as an observation (low R^2, under a weave
+cycle) keeps its fit and says why in ``quality``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, overload
+
+import numpy as np
+
+from whipple.errors import InputError
+from whipple.measurement.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
+from whipple.measurement.runs import Run
+from whipple.measurement.speedometer import SpeedRange, speed_regression
+from whipple.measurement.weavefit import BASELINES, NoOscillationError, WeaveFit, fit_window
+from whipple.measurement.windows import Window, WindowSearch, find_windows
+
+#: Fits explaining less of the window's variance than this are not used as observations.
+MIN_R_SQUARED = 0.5
+#: Nor fits covering less of a weave period than this (cycles = w * length / 2 pi).
+MIN_CYCLES = 0.75
+#: With baseline "auto", windows of at least this many weave cycles get a quadratic baseline
+#: (enough data to separate the slow capsize mode from the weave); shorter ones the constant.
+AUTO_QUADRATIC_CYCLES = 2.0
+
+#: Columns of :meth:`WindowMeasurement.csv_row`.
+CSV_COLUMNS = ("run", "window", "start", "stop", "speed_low", "speed_high", "speed_mean",
+               "damping", "damping_std", "frequency", "frequency_std", "r_squared", "samples",
+               "skipped", "notes")
+
+
+@dataclass(frozen=True)
+class FitOptions:
+    """How the windows of a run are fitted.
+
+    Attributes
+    ----------
+    signals : tuple of str
+        Signals fitted jointly, sharing one eigenvalue (the first one is the reference of the
+        mode shape).
+    baseline : str
+        The fitted function's non-oscillating part (see :func:`whipple.measurement.weavefit.fit_weave`):
+        the seed paper's constant, a polynomial that follows the slow capsize mode, or
+        ``"auto"``: the constant, and the quadratic when the window holds at least
+        :data:`AUTO_QUADRATIC_CYCLES` weave cycles (in shorter windows the extra terms would
+        trade off against the weave itself).
+    noise : str
+        Covariance estimate of the eigenvalue (``auto``, ``white`` or ``correlated``).
+    shape_signal : str or None
+        Where the run holds this signal (and it is not among ``signals``), each usable window
+        also gets the weave's mode shape: that signal's amplitude relative to the first of
+        ``signals`` (:func:`whipple.measurement.mode_shape.amplitude_ratio`).
+    settle : float
+        Seconds [s] left out at the start of each window: a window starts at the end of a
+        push, while the fast castering mode still moves the bicycle, which the fitting
+        function does not hold. The seed paper fits from the push's end (0).
+    """
+
+    signals: tuple[str, ...] = ("roll_rate",)
+    baseline: str = "constant"
+    noise: str = "auto"
+    shape_signal: str | None = "steer_angle"
+    settle: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.baseline != "auto" and self.baseline not in BASELINES:
+            raise InputError(f"unknown baseline '{self.baseline}' (auto or one of {', '.join(BASELINES)})")
+        if not self.signals:
+            raise InputError("no signal to fit")
+        if not 0.0 <= self.settle < 10.0:  # also rejects NaN
+            raise InputError(f"settle time must be between 0 and 10 s, got {self.settle}")
+
+
+@dataclass(frozen=True)
+class WindowMeasurement:
+    """One window of a run: its fit and speed, or why there is none.
+
+    Attributes
+    ----------
+    run : Run
+        The run.
+    window : Window
+        The window (for a rejected stretch, its reason starts with ``rejected:``).
+    fit : WeaveFit or None
+        The fitted weave, None when rejected.
+    speed : SpeedRange or None
+        Linear regression of the speed over the window [m/s].
+    rejected : str or None
+        Why there is no fit: turned down by the window finder, outside the run, no
+        oscillation, ...
+    quality : str or None
+        Why a fit is not used as an observation (low R^2, too short, covariance not finite).
+    shape : AmplitudeRatio or None
+        The weave's mode shape, where measured.
+    number : int
+        1-based position of the window in its run, by start time.
+    """
+
+    run: Run
+    window: Window
+    fit: WeaveFit | None
+    speed: SpeedRange | None
+    rejected: str | None = None
+    quality: str | None = None
+    shape: AmplitudeRatio | None = None
+    number: int = 0
+
+    @property
+    def skipped(self) -> str | None:
+        """Why the window is not an observation (rejected, or too poor a fit); None if usable."""
+        return self.rejected or self.quality
+
+    @property
+    def usable(self) -> bool:
+        """Whether the window is an observation: fitted, and good enough."""
+        return self.fit is not None and self.skipped is None
+
+    @property
+    def notes(self) -> str:
+        """The window's reason and quality notes, in one line."""
+        return "; ".join((self.window.reason, *self.window.notes))
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: run, times [s], speed range [m/s], eigenvalue [1/s] with its std and
+        covariance, R^2, why skipped, and where the window came from."""
+        fit, speed = self.fit, self.speed
+        return {
+            "run": self.run.name,
+            "start": self.window.start,
+            "stop": self.window.stop,
+            "speed": None if speed is None else [speed.low, speed.high],
+            "speed_mean": None if speed is None else speed.mean,
+            "eigenvalue": None if fit is None else [fit.damping, fit.frequency],
+            "eigenvalue_std": None if fit is None else list(fit.eigenvalue_std),
+            "r_squared": None if fit is None else fit.r_squared,
+            "skipped": self.rejected,
+            "quality": self.quality,
+            "eigenvalue_covariance": None if fit is None else fit.covariance.tolist(),
+            "samples": None if fit is None else fit.n_samples,
+            "signals": None if fit is None else list(fit.signal_names),
+            "noise_model": None if fit is None else fit.noise_model,
+            "baseline": None if fit is None else fit.baseline,
+            "notes": self.notes,
+            "window": self.number,
+            "source": self.run.source,
+        }
+
+    def csv_row(self) -> list[object]:
+        """One row of :data:`CSV_COLUMNS` (numbers to 6 significant digits, blanks for none)."""
+        fit, speed = self.fit, self.speed
+        values: list[object] = [self.run.name, self.number, self.window.start, self.window.stop]
+        values += [speed.low, speed.high, speed.mean] if speed else [None] * 3
+        values += ([fit.damping, fit.eigenvalue_std[0], fit.frequency, fit.eigenvalue_std[1],
+                    fit.r_squared, fit.n_samples] if fit else [None] * 6)
+        values += [self.rejected, self.notes]
+        return [("" if v is None else f"{v:.6g}" if isinstance(v, float) else v) for v in values]
+
+
+@dataclass(frozen=True)
+class RunMeasurement(Sequence[WindowMeasurement]):
+    """Every window of one run, by start time, and the run's noise figures.
+
+    Iterating (or indexing) gives the :class:`WindowMeasurement` of each window.
+
+    Attributes
+    ----------
+    run : Run
+        The run.
+    windows : tuple of WindowMeasurement
+        Fitted, failed and rejected windows, by start time.
+    search : WindowSearch
+        What the window finder found in the run (its windows, rejected stretches and noise
+        figures), whether or not its windows were the ones fitted.
+    from_file : bool
+        Whether the windows came from a windows file rather than the window finder.
+    """
+
+    run: Run
+    windows: tuple[WindowMeasurement, ...]
+    search: WindowSearch
+    from_file: bool = False
+
+    @property
+    def noise(self) -> float:
+        """Standard deviation of the roll rate's noise [rad/s]."""
+        return self.search.noise
+
+    @property
+    def frequency(self) -> float:
+        """Dominant frequency of the roll rate [Hz]."""
+        return self.search.frequency
+
+    @overload
+    def __getitem__(self, index: int) -> WindowMeasurement: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> Sequence[WindowMeasurement]: ...
+
+    def __getitem__(self, index: int | slice) -> WindowMeasurement | Sequence[WindowMeasurement]:
+        return self.windows[index]
+
+    def __len__(self) -> int:
+        return len(self.windows)
+
+    def __iter__(self) -> Iterator[WindowMeasurement]:
+        return iter(self.windows)
+
+    @property
+    def fitted(self) -> tuple[WindowMeasurement, ...]:
+        """The windows with a fit."""
+        return tuple(m for m in self.windows if m.fit is not None)
+
+
+def measure_run(run: Run, windows: Sequence[Window] | None = None, options: FitOptions | None = None,
+                **settings: Any) -> RunMeasurement:
+    """Fit the weave in each window of a run (found automatically unless given).
+
+    Parameters
+    ----------
+    run : Run
+        The run.
+    windows : sequence of Window, optional
+        Windows to fit (those of other runs are ignored), e.g. from a windows file. By default
+        the window finder's (:func:`whipple.measurement.windows.find_windows`), whose rejected
+        stretches are listed as rejected windows.
+    options : FitOptions, optional
+        How to fit; keyword ``settings`` (``signals``, ``baseline``, ``noise``,
+        ``shape_signal``, ``settle``) override its fields.
+
+    Returns
+    -------
+    RunMeasurement
+        Every window, by start time; a run with no window at all gets one rejected window
+        spanning it.
+    """
+    options = replace(options or FitOptions(), **settings)
+    missing = [name for name in options.signals if name not in run.signals]
+    if missing:
+        raise InputError(f"no {', '.join(missing)} signal to fit", run.source)
+    search = find_windows(run)
+    from_file = windows is not None
+    chosen = [w for w in windows if w.run == run.name] if windows is not None else list(search.windows)
+    speed = run.speed()
+    measured = [measure_window(run, window, options, speed) for window in chosen]
+    if not from_file:
+        measured += [_rejected(run, window, window.reason.removeprefix("rejected: "), speed)
+                     for window in search.rejected]
+    if not measured:
+        whole = Window(run.name, float(run.time[0]), float(run.time[-1]), 0, run.time.size, "the whole run")
+        none = "no window of this run in the windows file" if from_file else "no free-coasting window found"
+        measured.append(_rejected(run, whole, none, speed))
+    measured.sort(key=lambda m: m.window.start)
+    numbered = tuple(replace(m, number=number) for number, m in enumerate(measured, 1))
+    return RunMeasurement(run, numbered, search, from_file)
+
+
+def measure_window(run: Run, window: Window, options: FitOptions | None = None,
+                   speed: np.ndarray | None = None) -> WindowMeasurement:
+    """Fit the weave in one window of a run; a failure is a rejected window with the reason.
+
+    Parameters
+    ----------
+    run : Run
+        The run.
+    window : Window
+        The window.
+    options : FitOptions, optional
+        How to fit (default :class:`FitOptions`).
+    speed : ndarray, optional
+        The run's speed at every sample [m/s] (default ``run.speed()``), to save recomputing it.
+    """
+    options = options or FitOptions()
+    first, last = float(run.time[0]), float(run.time[-1])
+    if window.start >= last or window.stop <= first:
+        return WindowMeasurement(run, window, None, None, f"window outside the run ({first:.2f}-{last:.2f} s)")
+    speed = run.speed() if speed is None else speed
+    try:
+        speeds = speed_regression(run.time, speed, window.start, window.stop)
+    except InputError as error:
+        return WindowMeasurement(run, window, None, None, error.problem)
+    try:
+        fitted = _settled(run, window, options.settle)
+        baseline = "constant" if options.baseline == "auto" else options.baseline
+        fit = fit_window(run, fitted, options.signals, options.noise, baseline)
+        if options.baseline == "auto" and fit.cycles >= AUTO_QUADRATIC_CYCLES:
+            fit = fit_window(run, fitted, options.signals, options.noise, "quadratic")
+    except InputError as error:
+        return WindowMeasurement(run, window, None, speeds, error.problem)
+    quality = _quality(fit)
+    shape = None
+    signal = options.shape_signal
+    if quality is None and signal is not None and signal in run.signals and signal not in options.signals:
+        shape = _mode_shape(run, fit, signal, max(SETTLE - (fit.start - window.start), 0.0))
+    return WindowMeasurement(run, window, fit, speeds, None, quality, shape)
+
+
+def _quality(fit: WeaveFit) -> str | None:
+    """Why a fit is too poor to be an observation, or None."""
+    if fit.r_squared < MIN_R_SQUARED:
+        return f"poor fit (R^2 = {fit.r_squared:.2f} < {MIN_R_SQUARED})"
+    if fit.cycles < MIN_CYCLES:
+        return f"too short ({fit.cycles:.2f} weave cycles < {MIN_CYCLES})"
+    if not np.all(np.isfinite(fit.covariance)):
+        return "eigenvalue covariance not finite"
+    return None
+
+
+def _rejected(run: Run, window: Window, reason: str, speed: np.ndarray) -> WindowMeasurement:
+    """A window with no fit, with its speed range where one can be computed."""
+    try:
+        speeds: SpeedRange | None = speed_regression(run.time, speed, window.start, window.stop)
+    except InputError:
+        speeds = None
+    return WindowMeasurement(run, window, None, speeds, reason)
+
+
+def _settled(run: Run, window: Window, settle: float) -> Window:
+    """The window without its first ``settle`` seconds (unchanged for 0)."""
+    if settle <= 0.0:
+        return window
+    first = int(np.searchsorted(run.time, window.start + settle))
+    if first >= len(run.time) or run.time[first] >= window.stop:
+        raise NoOscillationError(f"window shorter than the {settle:g} s settle time")
+    stop = window.stop_index if window.stop_index > 0 else int(np.searchsorted(run.time, window.stop, side="right"))
+    return replace(window, start=float(run.time[first]), start_index=first, stop_index=stop)
+
+
+def _mode_shape(run: Run, fit: WeaveFit, signal: str, settle: float) -> AmplitudeRatio | None:
+    first = int(np.searchsorted(run.time, fit.start))
+    values = run.signals[signal][first:first + fit.n_samples]
+    try:
+        shape = amplitude_ratio(fit, values, signal, settle=settle)
+    except NoOscillationError:
+        return None
+    return shape if np.all(np.isfinite(shape.covariance)) and np.isfinite(shape.ratio) else None

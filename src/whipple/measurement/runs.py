@@ -1,0 +1,333 @@
+"""Measured (or simulated) runs: reading run files into plain :class:`Run` objects.
+
+The native format is the CSV of the run-file spec (``# key: value`` metadata lines, a header
+line, SI units, Meijaard et al. 2007 signs). Other layouts are read through a layout file
+(:mod:`whipple.measurement.layouts`); the logs of the steer-by-wire treadmill bicycle are recognised
+by their header line. Files ending in ``.gz`` are decompressed transparently.
+"""
+
+from __future__ import annotations
+
+import gzip
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from whipple.errors import RunFileError
+from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
+from whipple.measurement.speedometer import speedometer_speed
+from whipple.simulation.simulator import SimulatedRun
+
+#: Runs shorter than this [s] are refused: they cannot hold a perturbation and its decay.
+MIN_DURATION = 2.0
+
+
+class Readable(Protocol):
+    """A file-like location: a Path or an importlib.resources Traversable."""
+
+    @property
+    def name(self) -> str: ...
+
+    def read_bytes(self) -> bytes: ...
+
+
+@dataclass(frozen=True)
+class Run:
+    """One measured or simulated run.
+
+    Attributes
+    ----------
+    name : str
+        Name of the run (the file name without ``.gz`` and extension).
+    source : str
+        Path of the file it was read from.
+    time : ndarray, shape (n,)
+        Sample times [s], strictly increasing.
+    signals : dict of str to ndarray, each shape (n,)
+        Signals by run-file column name (``roll_rate`` [rad/s], ``steer_angle`` [rad], ...),
+        in SI units; layouts may add extra signals under their own names.
+    metadata : dict of str to str
+        The file's ``# key: value`` lines and the layout's metadata.
+    sample_rate : float
+        Sample rate [Hz] (the median one when a time column is given).
+    warnings : tuple of str
+        What was ignored while reading (unknown columns); never printed by the library.
+    """
+
+    name: str
+    source: str
+    time: NDArray[np.float64]
+    signals: dict[str, NDArray[np.float64]]
+    metadata: dict[str, str]
+    sample_rate: float
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def duration(self) -> float:
+        """Time from the first to the last sample [s]."""
+        return float(self.time[-1] - self.time[0])
+
+    def speed(self) -> NDArray[np.float64]:
+        """Forward speed at every sample [m/s].
+
+        From the ``speed`` column, else from the ``speedometer`` signal (with the
+        ``wheel_radius`` and ``pulses_per_revolution`` metadata), else the constant ``speed``
+        metadata.
+        """
+        if "speed" in self.signals:
+            return self.signals["speed"]
+        if "speedometer" in self.signals:
+            radius = _metadata_number(self.metadata, "wheel_radius", self.source)
+            pulses = _metadata_number(self.metadata, "pulses_per_revolution", self.source)
+            staircase = speedometer_speed(
+                self.time, self.signals["speedometer"], radius, pulses, source=self.source
+            )
+            return staircase.sampled(self.time)
+        return np.full(self.time.shape, _metadata_number(self.metadata, "speed", self.source))
+
+
+def run_from_simulation(simulated: SimulatedRun) -> Run:
+    """The measured part of a simulated run, as if read from its run file.
+
+    Parameters
+    ----------
+    simulated : SimulatedRun
+        A run from :func:`whipple.simulation.simulator.simulate_run`.
+    """
+    return Run(name=simulated.name, source=f"<simulated {simulated.name}>", time=simulated.time,
+               signals=dict(simulated.signals), metadata=dict(simulated.metadata),
+               sample_rate=simulated.sample_rate)
+
+
+def read_run(
+    path: str | Path | Readable,
+    layout: str | Path | RunLayout | None = None,
+    min_duration: float = MIN_DURATION,
+) -> Run:
+    """Read a run file.
+
+    Parameters
+    ----------
+    path : str, Path or Traversable
+        The run file (native CSV, or a layout's format); ``.gz`` files are decompressed.
+    layout : str, Path or RunLayout, optional
+        A built-in layout name, a layout file, or a layout. By default the native format,
+        unless the first line identifies a built-in layout (e.g. the sbw-treadmill logs).
+    min_duration : float
+        Shortest acceptable run [s].
+
+    Raises
+    ------
+    RunFileError
+        If the file cannot be read, misses roll_rate, time or speed information, holds
+        non-numeric or NaN values, has non-increasing times or is too short.
+    """
+    source = str(path)
+    lines = _read_lines(Path(path) if isinstance(path, str | Path) else path, source)
+    content = [(number, line) for number, line in enumerate(lines, 1) if line.strip()]
+    if not content:
+        raise RunFileError("empty file", source)
+    if layout is None:
+        chosen = detect_layout(content[0][1])
+    elif isinstance(layout, RunLayout):
+        chosen = layout
+    else:
+        chosen = load_layout(layout)
+    native = chosen is None
+    active = chosen or RunLayout(name="native", columns={name: name for name in SPEC_COLUMNS})
+
+    metadata = dict(active.metadata)
+    rows: list[tuple[int, str]] = []
+    for number, line in content:
+        stripped = line.strip()
+        if active.comment and stripped.startswith(active.comment):
+            key, colon, value = stripped[len(active.comment):].partition(":")
+            if colon and not rows:
+                metadata[key.strip()] = value.strip()
+            continue
+        rows.append((number, stripped))
+    if active.header:
+        if not rows:
+            raise RunFileError("no header line", source)
+        header_line = rows.pop(0)[1]
+        names = [name.strip() for name in header_line.split(active.delimiter)]
+    else:
+        names = list(active.names)
+    if len(set(names)) != len(names):
+        raise RunFileError("duplicate column names in the header", source)
+    if not rows:
+        raise RunFileError("no data rows", source)
+
+    wanted = {name: active.columns[name] for name in names if name in active.columns}
+    wanted.update({name: active.extra[name] for name in names if name in active.extra})
+    unknown = [n for n in names if n not in wanted and n not in active.ignore]
+    warnings = [f"ignored unknown column(s): {', '.join(unknown)}"] if unknown else []
+    missing = [n for n in active.columns if n not in names and not native]
+    if missing:
+        warnings.append(f"layout column(s) not in the file: {', '.join(missing)}")
+    if "roll_rate" not in wanted.values():
+        raise RunFileError("missing roll_rate column", source)
+
+    signals = _parse_columns(rows, names, wanted, active.delimiter, source)
+    for name, factor in active.scale.items():
+        if name in signals:
+            signals[name] = signals[name] * factor
+    time, sample_rate = _time_base(signals, metadata, active, len(rows), source)
+    if time[-1] - time[0] < min_duration:
+        raise RunFileError(
+            f"run too short ({time[-1] - time[0]:.3g} s; at least {min_duration:g} s needed)", source
+        )
+    _check_speed_source(signals, metadata, active, source)
+    for values in signals.values():
+        values.flags.writeable = False
+    time.flags.writeable = False
+    return Run(
+        name=run_name(getattr(path, "name", source)),
+        source=source,
+        time=time,
+        signals=signals,
+        metadata=metadata,
+        sample_rate=sample_rate,
+        warnings=tuple(warnings),
+    )
+
+
+def _read_lines(path: Path | Readable, source: str) -> list[str]:
+    try:
+        data = path.read_bytes()
+    except OSError as error:
+        raise RunFileError(f"cannot read file ({error.strerror or error})", source) from None
+    if data[:2] == b"\x1f\x8b":
+        try:
+            data = gzip.decompress(data)
+        except (OSError, EOFError) as error:
+            raise RunFileError(f"corrupt gzip data ({error})", source) from None
+    try:
+        return data.decode("utf-8-sig").splitlines()
+    except UnicodeDecodeError:
+        raise RunFileError("not a text file (invalid UTF-8)", source) from None
+
+
+def _parse_columns(
+    rows: list[tuple[int, str]],
+    names: list[str],
+    wanted: dict[str, str],
+    delimiter: str | None,
+    source: str,
+) -> dict[str, NDArray[np.float64]]:
+    table = [line.split(delimiter) for _, line in rows]
+    for (number, _), fields in zip(rows, table, strict=True):
+        if len(fields) != len(names):
+            raise RunFileError(
+                f"line {number} has {len(fields)} fields, the header has {len(names)}", source
+            )
+    signals: dict[str, NDArray[np.float64]] = {}
+    for column, target in wanted.items():
+        j = names.index(column)
+        cells = [fields[j] for fields in table]
+        try:
+            values = np.array(cells, dtype=float)
+        except ValueError:
+            bad = next(i for i, cell in enumerate(cells) if not _is_number(cell))
+            raise RunFileError(
+                f"line {rows[bad][0]}, column '{column}': non-numeric value '{cells[bad].strip()}'",
+                source,
+            ) from None
+        finite = np.isfinite(values)
+        if not finite.all():
+            bad = int(np.argmin(finite))
+            raise RunFileError(
+                f"line {rows[bad][0]}, column '{column}': {cells[bad].strip()} value", source
+            )
+        signals[target] = values
+    return signals
+
+
+def _is_number(cell: str) -> bool:
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
+
+
+def _time_base(
+    signals: dict[str, NDArray[np.float64]],
+    metadata: dict[str, str],
+    layout: RunLayout,
+    n: int,
+    source: str,
+) -> tuple[NDArray[np.float64], float]:
+    if "time" in signals:
+        time = signals.pop("time")
+        steps = np.diff(time)
+        if steps.size and not (steps > 0).all():
+            bad = int(np.argmin(steps > 0)) + 1
+            raise RunFileError(
+                f"time is not strictly increasing at data row {bad} (t = {time[bad]:g} s)", source
+            )
+        return time, float(1.0 / np.median(steps)) if steps.size else 0.0
+    if "sample_rate" in metadata:
+        rate = _metadata_number(metadata, "sample_rate", source)
+    elif layout.sample_rate is not None:
+        rate = layout.sample_rate
+    else:
+        raise RunFileError("no time column and no sample_rate", source)
+    return np.arange(n) / rate, rate
+
+
+def _check_speed_source(
+    signals: dict[str, NDArray[np.float64]],
+    metadata: dict[str, str],
+    layout: RunLayout,
+    source: str,
+) -> None:
+    settings = layout.speed
+    if settings.get("source") == "constant":
+        if "value" not in settings:
+            raise RunFileError("bad layout file: [speed] source = \"constant\" needs value", source)
+        metadata.setdefault("speed", str(settings["value"]))
+    for key in ("wheel_radius", "pulses_per_revolution"):
+        if key in settings:
+            metadata.setdefault(key, str(settings[key]))
+    if "speed" in signals:
+        return
+    if "speedometer" in signals:
+        for key in ("wheel_radius", "pulses_per_revolution"):
+            _metadata_number(metadata, key, source)
+        return
+    if "speed" in metadata:
+        _metadata_number(metadata, "speed", source)
+        return
+    raise RunFileError(
+        "missing speed information: needs a speed column, a speedometer column with "
+        "wheel_radius and pulses_per_revolution, or speed metadata", source
+    )
+
+
+def _metadata_number(metadata: dict[str, str], key: str, source: str) -> float:
+    if key not in metadata:
+        raise RunFileError(f"missing metadata '{key}'", source)
+    try:
+        value = float(metadata[key])
+    except ValueError:
+        raise RunFileError(f"metadata '{key}' is not a number: '{metadata[key]}'", source) from None
+    if not np.isfinite(value) or value <= 0:
+        raise RunFileError(f"metadata '{key}' must be positive, got {metadata[key]}", source)
+    return value
+
+
+def run_name(file_name: str) -> str:
+    """The name of the run in a file: its name without folder, ``.gz`` and extension.
+
+    Only a short alphabetic extension is removed (``.csv``, ``.log``), so names with dots in
+    them (``..._12.6kph``) survive.
+    """
+    name = Path(file_name.strip()).name
+    if name.endswith(".gz"):
+        name = name[:-3]
+    return re.sub(r"\.[A-Za-z]{1,4}$", "", name)

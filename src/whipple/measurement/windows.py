@@ -1,0 +1,350 @@
+"""Free-coasting windows: where a run's roll rate oscillates freely after a perturbation.
+
+The roll rate is cut into swings (:mod:`whipple.measurement.swings`), the moves between successive
+extremes of the low-passed signal. A free oscillation with eigenvalue ``d + i w`` changes its
+swing height by a steady factor ``r = exp(d pi / w)`` per swing, and its half periods last
+alike; pushes and catches break that pattern. From the swings:
+
+* A **push** is a swing at least a quarter as high as the record's large swings (or twice
+  its typical swing) that starts from rest, or at least doubles the swings of the period
+  before it. Doubling is the most a free swing can do from rest (from ``-A`` to ``+r A``)
+  unless the oscillation is growing, which the next swings reveal.
+* The **window** starts at the extreme that ends the push (the roll rate turns back: the push
+  is over) and runs while the swings follow one decay (or growth) factor. It ends when the
+  oscillation sinks below the background (one period after its last clear extreme), comes to
+  rest, stops oscillating (a swing lasting over two half periods), when a swing outgrows the
+  trend or is over in under half the time of its neighbours (outside forcing: a new push, a
+  hand), when a swing collapses far below the trend (a catch), when the signal saturates, or
+  at the end of the record.
+* An unstable run may grow out of the noise and be caught within a swing or two, with no
+  visible push: the swings that grew up to the catch form the window.
+* A stretch with no free swing, or a single swing back followed by stillness (a push or a
+  catch and its return), is rejected: no oscillation.
+
+Every level comes from the record itself: the noise from the median absolute deviation of the
+high-passed roll rate, the background from its typical swing, the filter and the periods from
+its dominant frequency. Nothing depends on the sample rate or the bicycle. The rules use only
+the roll rate; outside forcing that leaves no mark on it (e.g. a steer torque that the
+bicycle's controller also applies) is not detected.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from whipple.errors import RunFileError
+from whipple.measurement.runs import Run
+from whipple.measurement.swings import Swings, swings_of
+
+#: Largest ratio of a free swing to the swing before it when starting from rest.
+PUSH_RATIO = 2.0
+#: A swing outgrowing the window's decay trend by more than this factor is forced.
+TREND_TOLERANCE = 1.3
+#: Successive swing ratios above this mean the oscillation is growing (unstable).
+GROWTH = 1.2
+
+
+@dataclass(frozen=True)
+class Window:
+    """A stretch of a run to fit.
+
+    Attributes
+    ----------
+    run : str
+        Name of the run.
+    start, stop : float
+        First and last sample time [s].
+    start_index, stop_index : int
+        Sample indices: ``run.time[start_index:stop_index]`` (stop exclusive).
+    reason : str
+        Why the window starts and ends (or, for a rejected stretch, why it was rejected).
+    notes : tuple of str
+        Quality notes (growing oscillation, saturation, ...).
+    """
+
+    run: str
+    start: float
+    stop: float
+    start_index: int
+    stop_index: int
+    reason: str = ""
+    notes: tuple[str, ...] = ()
+
+    @property
+    def duration(self) -> float:
+        """Length of the window [s]."""
+        return self.stop - self.start
+
+
+@dataclass(frozen=True)
+class WindowSearch:
+    """Result of :func:`find_windows`.
+
+    Attributes
+    ----------
+    run : str
+        Name of the run.
+    windows : tuple of Window
+        Accepted free-coasting windows, in time order.
+    rejected : tuple of Window
+        Candidate stretches that were rejected, with the reason.
+    noise : float
+        Standard deviation of the roll rate's noise [rad/s].
+    background : float
+        Median swing of the low-passed roll rate [rad/s].
+    frequency : float
+        Dominant frequency of the roll rate [Hz].
+    """
+
+    run: str
+    windows: tuple[Window, ...]
+    rejected: tuple[Window, ...]
+    noise: float
+    background: float
+    frequency: float
+
+
+def find_windows(run: Run, signal: str = "roll_rate") -> WindowSearch:
+    """Find the free-coasting windows of a run automatically.
+
+    Parameters
+    ----------
+    run : Run
+        The run; its `signal` (default the roll rate [rad/s]) is analysed.
+    signal : str
+        Name of the oscillating signal to use.
+
+    Raises
+    ------
+    RunFileError
+        If the run has no such signal.
+    """
+    if signal not in run.signals:
+        raise RunFileError(f"no {signal} signal to find windows in", run.source)
+    x = np.asarray(run.signals[signal], dtype=float)
+    swings = swings_of(x, run.sample_rate)
+    if swings.heights.size == 0:
+        return WindowSearch(run.name, (), (), swings.noise, swings.background, swings.frequency)
+    windows, rejected = _Finder(run, x, swings).search()
+    return WindowSearch(run.name, tuple(windows), tuple(rejected), swings.noise,
+                        swings.background, swings.frequency)
+
+
+class _Finder:
+    """Scan the swings of one run for windows (the state of one search)."""
+
+    def __init__(self, run: Run, x: NDArray[np.float64], swings: Swings):
+        self.run, self.x, self.smooth = run, x, swings.smooth
+        # Swing j runs from extremes[j] to extremes[j + 1]; it starts from rest at a wake,
+        # where rest[j] is the sample the still stretch began.
+        self.extremes, self.rest = swings.extremes, swings.rest
+        self.wakes = self.rest >= 0
+        self.swings = swings.heights
+        self.noise, self.quiet, self.loud = swings.threshold, swings.background, swings.loud
+        self.margin = max(1, int(run.sample_rate / (4 * swings.cutoff)))
+        self.ratios = self.swings[1:] / np.maximum(self.swings[:-1], 1e-300)
+        self.durations = np.diff(self.extremes)
+        limit = 0.98 * np.max(np.abs(x))
+        flat = np.r_[False, x[1:] == x[:-1]] & (np.abs(x) >= limit)
+        # Three equal samples at the top of the range: the sensor (or the bicycle) hit a stop.
+        self.saturated = np.flatnonzero(flat[1:] & flat[:-1])
+
+    def ratio(self, j: int) -> float:
+        return float(self.ratios[j - 1]) if j >= 1 else np.inf
+
+    def sustained(self, j: int) -> bool:
+        """Whether swing j's growth goes on (an unstable oscillation rather than a push).
+
+        After a push, a free swing at most doubles; more than that, or growth over the next
+        two swings, is the oscillation's own growth.
+        """
+        nxt = [self.ratio(i) for i in (j + 1, j + 2) if i < self.swings.size]
+        if not nxt or self.abrupt(j + 1):
+            return False
+        return nxt[0] > PUSH_RATIO or (len(nxt) == 2 and min(nxt) > GROWTH)
+
+    def abrupt(self, j: int) -> bool:
+        """Whether swing j is over in under half the time of the swings around it.
+
+        Successive half periods of one oscillation last about as long; a much quicker swing is
+        driven (a hand catching the bicycle, a push).
+        """
+        if not 1 <= j < self.swings.size:
+            return False
+        around = self.durations[j - 1:j + 2:2]
+        return bool(self.durations[j] < 0.5 * around.min())
+
+    def forced(self, j: int) -> bool:
+        return self.ratio(j) > PUSH_RATIO and not self.sustained(j)
+
+    def is_push(self, j: int) -> bool:
+        """Whether a window starts after swing j (a push, or the rise of an unstable one)."""
+        # The push stands out from the motion before it (two swings: about a period), or
+        # starts from rest.
+        previous = 0.0 if self.wakes[j] else self.swings[max(j - 2, 0):j].max(initial=0.0)
+        return self.swings[j] >= self.loud and (
+            previous < self.quiet
+            or self.swings[j] > PUSH_RATIO * previous
+            or (self.ratio(j) > GROWTH and self.sustained(j))
+        )
+
+    def held(self, j: int) -> bool:
+        """Whether the two swings after swing j are no more than noise (the bicycle held)."""
+        after = self.swings[j + 1:j + 3]
+        return after.size > 0 and bool((after < 2 * self.noise).all())
+
+    def is_growth(self, j: int) -> bool:
+        """Whether swing j rises out of a growing oscillation rather than from rest."""
+        previous = self.swings[j - 1] if j >= 1 else 0.0
+        return previous >= self.quiet and self.sustained(j)
+
+    def onset(self, j: int) -> int:
+        """Sample at which forced swing j leaves the extreme it starts from."""
+        a, b = self.extremes[j], self.extremes[j + 1]
+        departure = np.abs(self.smooth[a:b + 1] - self.smooth[a])
+        calm = np.flatnonzero(departure <= 0.1 * self.swings[j])
+        return int(max(a, a + calm[-1] - self.margin))
+
+    def search(self) -> tuple[list[Window], list[Window]]:
+        windows: list[Window] = []
+        rejected: list[Window] = []
+        j = 0
+        while j < self.swings.size:
+            if not self.is_push(j):
+                j += 1
+                continue
+            window, following = self.follow(j)
+            if window.reason.startswith("rejected"):
+                # Nothing free follows: the push was a catch, or the swing before one, perhaps
+                # of an oscillation that grew.
+                earliest = windows[-1].stop_index if windows else 0
+                catch = min(following, self.swings.size - 1)
+                window = self.growth_before(catch, earliest) or window
+            (windows if not window.reason.startswith("rejected") else rejected).append(window)
+            j = max(following, j + 1)
+        return windows, rejected
+
+    def growth_before(self, catch: int, earliest: int) -> Window | None:
+        """The growing oscillation that catch swing `catch` ends, if any (not before sample
+        `earliest`).
+
+        Below the weave speed the oscillation grows out of the noise and is caught within a
+        swing or two: the push that started it is too small to see.
+        """
+        first = catch - 1
+        if first < 1 or self.swings[first] < self.loud:
+            return None
+        # Back through the swings that grew clearly (by half at least), down to twice the
+        # background and four times the noise floor.
+        floor = max(2 * self.quiet, 4 * self.noise)
+        while (first > 0 and self.extremes[first - 1] >= earliest
+               and floor <= self.swings[first - 1] < self.swings[first] / 1.5):
+            first -= 1
+        if first == catch - 1:
+            return None
+        start, end = int(self.extremes[first]), self.onset(catch)
+        if end - start < 3:
+            return None
+        time = self.run.time
+        return Window(self.run.name, float(time[start]), float(time[end - 1]), start, end,
+                      f"growth from {time[start]:.2f} s; ends: caught at {time[end]:.2f} s",
+                      (f"growing oscillation caught after {catch - first} swing(s)",))
+
+    def follow(self, push: int) -> tuple[Window, int]:
+        """The window after push swing `push`, and the swing to resume the scan at."""
+        start = int(self.extremes[push + 1])
+        # After a push the first free swing starts from rest; out of a growing oscillation it
+        # simply continues the growth.
+        growth = self.is_growth(push)
+        trend: list[float] = [self.ratio(push)] if growth else []
+        j = push + 1
+        end, why, resume, tail = self.x.size, "end of record", self.swings.size, False
+        # The oscillation has died out when its swings sink into the background, or below a
+        # tenth of where they began when the record's background is itself oscillation.
+        first = self.swings[push:push + 2].max()
+        level = max(self.noise, min(self.quiet, 0.1 * first))
+        while j < self.swings.size:
+            a = self.swings[j]
+            half = np.median(np.diff(self.extremes[push + 1:j + 1])) if j > push + 1 else 0
+            # The first free swing starts from rest: from -A to +r A it is (1 + r) times the
+            # push, the first estimate of the swing factor r; a decaying oscillation is allowed
+            # a factor of 1 until two free swings give the trend.
+            factor = float(np.median(trend)) if trend else max(1.0, self.ratio(push + 1) - 1)
+            if (j > push + 1 or growth) and factor > GROWTH and self.ratio(j) < 1:
+                # A growing oscillation that shrinks has been caught at the extreme before.
+                end, why = int(self.extremes[j]) - self.margin, "caught (growth stops)"
+                resume = j + 1
+                break
+            if trend and factor <= GROWTH and a < factor * self.swings[j - 1] / 3 and (
+                factor * self.swings[j - 1] > 2 * level
+            ):
+                # A clear swing collapses far below the decay trend: the bicycle was caught.
+                end, why = int(self.extremes[j]) - self.margin, "collapsed (a catch?)"
+                resume = j + 1
+                break
+            # The first free swing may be quick after a slow push; quick and followed by
+            # stillness it is a catch (the bicycle grabbed and held).
+            if self.abrupt(j) and a >= level and (j > push + 1 or growth or self.held(j + 1)):
+                end, resume = self.onset(j), j
+                why = f"abrupt swing at {self.run.time[end]:.2f} s"
+                break
+            if self.wakes[j]:
+                end, why, resume = int(max(self.rest[j], start + 1)), "came to rest", j
+                break
+            if a < level:
+                end, why = int(self.extremes[j] + 2 * half), "decayed into the background"
+                resume, tail = j, True
+                break
+            if j > push + 1 and self.extremes[j + 1] - self.extremes[j] > 2 * half:
+                end, why = int(self.extremes[j] + 2 * half), "oscillation stops (slow swing)"
+                resume, tail = j, True
+                break
+            if j == push + 1 and not growth:
+                expected = PUSH_RATIO * self.swings[push]
+            else:
+                expected = TREND_TOLERANCE * factor * self.swings[j - 1] + 0.25 * level
+            if a > expected and not self.sustained(j):
+                end, resume = self.onset(j), j
+                why = f"forcing at {self.run.time[end]:.2f} s"
+                break
+            if j > push + 1 or growth:
+                trend.append(self.ratio(j))
+            j += 1
+        else:
+            # No swing above the noise after the last extreme: the rest is quiet.
+            half = np.median(np.diff(self.extremes[push:]))
+            end, why = int(self.extremes[-1] + 2 * half), "decayed into the noise"
+        # A tail added after the last clear extreme must not reach into the next push.
+        later = next((i for i in range(j, self.swings.size) if self.is_push(i)), None)
+        if tail and later is not None and self.onset(later) < end:
+            end = self.onset(later)
+            why = f"next push at {self.run.time[end]:.2f} s"
+        # Nothing moves while the bicycle is held: a still stretch ends the window.
+        rests = self.rest[self.wakes & (self.rest > start) & (self.rest < end)]
+        if rests.size:
+            end, why = int(rests[0]), "came to rest"
+        clipped = self.saturated[(self.saturated > start) & (self.saturated < end)]
+        if clipped.size:
+            end, why = int(clipped[0]), "signal saturates"
+        end = min(end, self.x.size)
+        notes = []
+        if trend and np.median(trend) > 1:
+            notes.append(f"growing oscillation (swing ratio {np.median(trend):.2f})")
+        time = self.run.time
+        # Free swings: those ending inside the window and standing out from the background.
+        inside = np.flatnonzero((self.extremes[1:] > start) & (self.extremes[1:] < end))
+        free = np.count_nonzero(self.swings[inside] >= level)
+        reason = f"perturbation at {time[self.extremes[push]]:.2f} s; ends: {why}"
+        # One swing back and then stillness is a push (or a catch) and its return, unless the
+        # swing back overshoots where the push began: a heavily damped oscillation.
+        still = why.startswith(("decayed", "came to rest")) or self.held(j)
+        overshoot = self.swings[push + 1] - self.swings[push] if push + 1 < self.swings.size else 0
+        if free < 1 or (free == 1 and still and overshoot <= 2 * self.noise) or end - start < 3:
+            reason = f"rejected: no oscillation after {time[self.extremes[push]]:.2f} s"
+        window = Window(self.run.name, float(time[start]), float(time[max(end, start + 1) - 1]),
+                        start, max(end, start + 1), reason, tuple(notes))
+        return window, resume
+

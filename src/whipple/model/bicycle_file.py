@@ -1,0 +1,348 @@
+"""Reading and writing bicycle files: TOML (parameter-file spec) and BicycleParameters text.
+
+The format rules are strict: numbers only and never evaluated, no unknown keys, every error a
+one-line BicycleFileError naming the file. Physical checks follow reading
+(:func:`whipple.model.parameter_set.check_physical`, a ParameterError naming the file). Import the
+public functions from :mod:`whipple.model.parameters`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import difflib
+import os
+import re
+import tomllib
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import tomli_w
+
+from whipple import __version__
+from whipple.atomic import refuse_input_overwrite, write_text_atomic
+from whipple.errors import BicycleFileError
+from whipple.model.parameter_set import (
+    CONTROLLER_STATES,
+    OPTIONAL_PARAMETERS,
+    PARAMETER_NAMES,
+    Bicycle,
+    Controller,
+    Extensions,
+    Payload,
+    TyreCompliance,
+    check_physical,
+)
+
+# A decimal number as BicycleParameters writes it (optionally nan or inf); deliberately narrower
+# than float(), which would also accept "1_0" or "infinity".
+_NUMBER = r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|nan|inf)"
+_TEXT_LINE = re.compile(rf"^\s*(\w+)\s*=\s*({_NUMBER})\s*(?:\+/-\s*({_NUMBER}))?\s*$")
+
+
+def _kind(value: object) -> str:
+    """The TOML name of a value's type, for error messages."""
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, int | float):
+        return "a number"
+    if isinstance(value, str):
+        return f"a string ({value[:30]!r})"
+    if isinstance(value, list):
+        return "an array"
+    if isinstance(value, dict):
+        return "a table"
+    if isinstance(value, datetime.date | datetime.time):
+        return "a date/time"
+    return type(value).__name__
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+@dataclass(frozen=True)
+class StrictTable:
+    """One table of a bicycle file, with what is needed to name it in an error.
+
+    Attributes
+    ----------
+    values : Mapping
+        The table's keys and values as parsed.
+    where : str
+        How to name the table in a message, e.g. ``"[parameters]"`` or ``"the top level"``.
+    source : str
+        The file (or built-in name) the table was read from.
+    """
+
+    values: Mapping[str, Any]
+    where: str
+    source: str
+
+    def error(self, message: str) -> BicycleFileError:
+        """A BicycleFileError for this file."""
+        return BicycleFileError(message, self.source)
+
+    def check_keys(self, allowed: Iterable[str], required: Iterable[str] = ()) -> None:
+        """Raise BicycleFileError on the first unknown key or on missing required keys."""
+        allowed = tuple(allowed)
+        for key in self.values:
+            if key not in allowed:
+                raise self.error(f"unknown key {key!r} in {self.where}{_suggestion(key, allowed)}")
+        missing = [key for key in required if key not in self.values]
+        if missing:
+            plural = "s" if len(missing) > 1 else ""
+            raise self.error(f"missing key{plural} in {self.where}: {', '.join(missing)}")
+
+    def table(self, key: str) -> StrictTable | None:
+        """The subtable `key`, or None when absent; an error if it is not a table."""
+        if key not in self.values:
+            return None
+        value = self.values[key]
+        where = f"[{key}]" if self.where.startswith("the") else f"{self.where[:-1]}.{key}]"
+        if not isinstance(value, dict):
+            raise self.error(f"{where} must be a table, got {_kind(value)}")
+        return StrictTable(value, where, self.source)
+
+    def number(self, key: str) -> float:
+        """The number under `key` (integers become floats; booleans are not numbers)."""
+        value = self.values[key]
+        if not _is_number(value):
+            raise self.error(f"{key!r} in {self.where} must be a number, got {_kind(value)}")
+        return float(value)
+
+    def numbers(self, key: str) -> tuple[float, ...]:
+        """A non-empty array of numbers under `key` (a single number is a one-element array)."""
+        value = self.values[key]
+        if _is_number(value):
+            return (float(value),)
+        if not isinstance(value, list) or not value or not all(map(_is_number, value)):
+            raise self.error(
+                f"{key!r} in {self.where} must be a non-empty array of numbers, got {_kind(value)}"
+            )
+        return tuple(float(item) for item in value)
+
+    def string(self, key: str, default: str = "") -> str:
+        """The string under `key`, or `default` when absent."""
+        value = self.values.get(key, default)
+        if not isinstance(value, str):
+            raise self.error(f"{key!r} in {self.where} must be a string, got {_kind(value)}")
+        return value
+
+
+def _suggestion(key: str, allowed: tuple[str, ...]) -> str:
+    by_case = [name for name in allowed if name.lower() == key.lower()]
+    close = by_case or difflib.get_close_matches(key, allowed, n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _read_text(path: str | os.PathLike[str]) -> str:
+    try:
+        return Path(path).read_text(encoding="utf-8-sig")  # tolerate a byte-order mark
+    except UnicodeDecodeError:
+        raise BicycleFileError("not a UTF-8 text file", os.fspath(path)) from None
+    except OSError as error:
+        problem = f"cannot read file: {error.strerror or error}"
+        raise BicycleFileError(problem, os.fspath(path)) from None
+
+
+def parse_toml(text: str, source: str) -> StrictTable:
+    """Parse TOML text; a syntax error becomes a one-line BicycleFileError naming `source`."""
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        # The message already ends with "(at line L, column C)".
+        raise BicycleFileError(f"TOML syntax error: {error}", source) from None
+    return StrictTable(document, "the top level", source)
+
+
+def _read_toml(path: str | os.PathLike[str]) -> StrictTable:
+    """Read and parse a TOML file; any failure is a one-line BicycleFileError."""
+    return parse_toml(_read_text(path), str(path))
+
+
+def _read_benchmark_text(
+    path: str | os.PathLike[str],
+) -> tuple[StrictTable, dict[str, float]]:
+    """Read a BicycleParameters ``<Name>Benchmark.txt`` file.
+
+    Each non-blank line is ``name = value`` or ``name = value+/-uncertainty``; lines starting
+    with ``#`` are comments.
+
+    Returns
+    -------
+    values : StrictTable
+        The values by name (key checks are left to the caller).
+    uncertainties : dict
+        The non-zero uncertainties (one standard deviation) by name.
+    """
+    source = str(path)
+    values: dict[str, float] = {}
+    uncertainties: dict[str, float] = {}
+    for number, line in enumerate(_read_text(path).splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        match = _TEXT_LINE.match(line)
+        if match is None:
+            raise BicycleFileError(
+                f"line {number}: expected 'name = value' or 'name = value+/-uncertainty', "
+                f"got {line.strip()[:60]!r}",
+                source,
+            )
+        name, value, uncertainty = match.groups()
+        if name in values:
+            raise BicycleFileError(f"line {number}: {name!r} given twice", source)
+        values[name] = float(value)
+        if uncertainty is not None and float(uncertainty) != 0.0:
+            uncertainties[name] = float(uncertainty)
+    return StrictTable(values, "the file", source), uncertainties
+
+
+def _write_toml(document: Mapping[str, Any], path: str | os.PathLike[str], header: str) -> None:
+    """Write `document` as TOML atomically, preceded by `header` as comment lines.
+
+    Floats are written with ``repr`` precision (by tomli_w), so reading them back is exact.
+    """
+    comments = "".join(f"# {line}\n".replace("# \n", "#\n") for line in header.splitlines())
+    write_text_atomic(Path(path), comments + "\n" + tomli_w.dumps(document))
+
+
+_REQUIRED = tuple(name for name in PARAMETER_NAMES if name not in OPTIONAL_PARAMETERS)
+_TOP_LEVEL = ("name", "description", "parameters", "uncertainty", "extensions", "controller")
+_EXTENSION_SCALARS = ("steer_damping", "steer_inertia", "speed_scale")
+
+
+def read_bicycle_toml(path: str | os.PathLike[str]) -> Bicycle:
+    """Read a bicycle TOML file (the name defaults to the file's stem).
+
+    Raises
+    ------
+    BicycleFileError
+        Unreadable file, TOML syntax error, unknown or missing key, value of the wrong type.
+    ParameterError
+        The values are not physically possible (see :func:`check_physical`).
+    """
+    return bicycle_from_toml(_read_toml(path), Path(path).stem)
+
+
+def bicycle_from_toml(document: StrictTable, default_name: str) -> Bicycle:
+    """Build and check a bicycle from a parsed TOML document (see :func:`parse_toml`)."""
+    document.check_keys(_TOP_LEVEL, required=("parameters",))
+    bicycle = Bicycle(
+        _numbers(document.table("parameters"), PARAMETER_NAMES, _REQUIRED),
+        name=document.string("name", default_name),
+        description=document.string("description"),
+        uncertainty=_numbers(document.table("uncertainty"), PARAMETER_NAMES),
+        extensions=_read_extensions(document.table("extensions")),
+        controller=_read_controller(document.table("controller")),
+        source=document.source,
+    )
+    check_physical(bicycle)
+    return bicycle
+
+
+def _numbers(
+    table: StrictTable | None, allowed: tuple[str, ...], required: tuple[str, ...] = ()
+) -> dict[str, float]:
+    if table is None:
+        return {}
+    table.check_keys(allowed, required)
+    return {key: table.number(key) for key in allowed if key in table.values}
+
+
+def _read_extensions(table: StrictTable | None) -> Extensions:
+    if table is None:
+        return Extensions()
+    table.check_keys((*_EXTENSION_SCALARS, "payload", "tyre_compliance"))
+    scalars = {key: table.number(key) for key in _EXTENSION_SCALARS if key in table.values}
+    payload_table, tyre_table = table.table("payload"), table.table("tyre_compliance")
+    payload = tyre = None
+    if payload_table is not None:
+        payload = Payload(**_numbers(payload_table, ("mass", "x", "z"), ("mass", "x", "z")))
+    if tyre_table is not None:
+        names = tuple(f.name for f in dataclasses.fields(TyreCompliance))
+        tyre = TyreCompliance(**_numbers(tyre_table, names, names[:3]))
+    return Extensions(**scalars, payload=payload, tyre_compliance=tyre)
+
+
+def _read_controller(table: StrictTable | None) -> Controller:
+    if table is None:
+        return Controller()
+    table.check_keys(("steer", "roll"))
+    gains = {}
+    for row in ("steer", "roll"):
+        sub = table.table(row)
+        if sub is not None:
+            sub.check_keys(CONTROLLER_STATES)
+            gains[row] = {s: sub.numbers(s) for s in CONTROLLER_STATES if s in sub.values}
+    return Controller(**gains)
+
+
+def _state_order(state: str) -> tuple[int, str]:
+    known = state in CONTROLLER_STATES
+    return (CONTROLLER_STATES.index(state) if known else len(CONTROLLER_STATES), state)
+
+
+def read_benchmark_txt(path: str | os.PathLike[str]) -> Bicycle:
+    """Read a BicycleParameters ``<Name>Benchmark.txt`` file.
+
+    Each non-blank line is ``name = value`` or ``name = value+/-uncertainty`` (one standard
+    deviation; zero uncertainties are dropped); lines starting with ``#`` are comments. The
+    bicycle's name is the file name without ``Benchmark.txt``.
+
+    Raises
+    ------
+    BicycleFileError, ParameterError
+        As :func:`read_bicycle_toml`.
+    """
+    values, uncertainty = _read_benchmark_text(path)
+    values.check_keys(PARAMETER_NAMES, _REQUIRED)
+    stem = Path(path).stem
+    name = stem.removesuffix("Benchmark") or stem
+    bicycle = Bicycle(dict(values.values), name=name, uncertainty=uncertainty, source=str(path))
+    check_physical(bicycle)
+    return bicycle
+
+
+def write_bicycle_toml(bicycle: Bicycle, path: str | os.PathLike[str]) -> None:
+    """Write a bicycle as TOML, atomically; reading it back gives an equal Bicycle.
+
+    Uncertainty, extensions and controller tables are written only when not empty or default.
+    The file the bicycle was read from (its ``source``) is never overwritten.
+    """
+    if bicycle.source:
+        refuse_input_overwrite(Path(path), [bicycle.source])
+    document: dict[str, Any] = {}
+    if bicycle.name:
+        document["name"] = bicycle.name
+    if bicycle.description:
+        document["description"] = bicycle.description
+    order = [*PARAMETER_NAMES, *(k for k in bicycle.parameters if k not in PARAMETER_NAMES)]
+    document["parameters"] = {k: bicycle.parameters[k] for k in order if k in bicycle.parameters}
+    if bicycle.uncertainty:
+        document["uncertainty"] = {
+            k: bicycle.uncertainty[k] for k in order if k in bicycle.uncertainty
+        }
+    if not bicycle.extensions.is_base():
+        extensions: dict[str, Any] = {}
+        for f in dataclasses.fields(Extensions):
+            value = getattr(bicycle.extensions, f.name)
+            if isinstance(value, Payload | TyreCompliance):
+                extensions[f.name] = dataclasses.asdict(value)
+            elif value != f.default and value is not None:
+                extensions[f.name] = value
+        document["extensions"] = extensions
+    if not bicycle.controller.is_empty():
+        rows = (("steer", bicycle.controller.steer), ("roll", bicycle.controller.roll))
+        document["controller"] = {
+            row: {s: list(gains[s]) for s in sorted(gains, key=_state_order)}
+            for row, gains in rows
+            if gains
+        }
+    header = (
+        f"Bicycle parameter file written by whipple {__version__}.\n"
+        "Parameters in the benchmark form of Meijaard et al. (2007), SI units."
+    )
+    _write_toml(document, path, header)

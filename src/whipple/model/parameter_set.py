@@ -1,0 +1,466 @@
+"""A bicycle's parameter set: the 26 benchmark parameters, extensions, controller, and checks.
+
+The parameterisation is that of Meijaard, Papadopoulos, Ruina & Schwab (2007), "Linearized
+dynamics equations for the balance and steer of a bicycle: a benchmark and review",
+Proc. R. Soc. A 463, 1955-1982, doi:10.1098/rspa.2007.1857: SI units, benchmark frame with x
+forward from the rear contact point and z down, inertias about each body's mass centre.
+
+Import these names from :mod:`whipple.model.parameters`, which also reads and writes bicycle files.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from numbers import Real
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from whipple.errors import ParameterError
+
+_PARAMETERS = (  # name, unit, description
+    ("w", "m", "wheelbase"),
+    ("c", "m", "trail"),
+    ("lam", "rad", "steer axis tilt from vertical"),
+    ("g", "m/s^2", "acceleration due to gravity"),
+    ("rR", "m", "rear wheel radius"),
+    ("mR", "kg", "rear wheel mass"),
+    ("IRxx", "kg m^2", "rear wheel moment of inertia about a diameter"),
+    ("IRyy", "kg m^2", "rear wheel moment of inertia about its axle"),
+    ("xB", "m", "rear frame mass centre, forward of the rear contact"),
+    ("zB", "m", "rear frame mass centre, z down (negative above ground)"),
+    ("mB", "kg", "rear frame mass"),
+    ("IBxx", "kg m^2", "rear frame moment of inertia about x"),
+    ("IByy", "kg m^2", "rear frame moment of inertia about y"),
+    ("IBzz", "kg m^2", "rear frame moment of inertia about z"),
+    ("IBxz", "kg m^2", "rear frame product of inertia xz"),
+    ("xH", "m", "front frame (fork and handlebar) mass centre, forward of the rear contact"),
+    ("zH", "m", "front frame mass centre, z down (negative above ground)"),
+    ("mH", "kg", "front frame mass"),
+    ("IHxx", "kg m^2", "front frame moment of inertia about x"),
+    ("IHyy", "kg m^2", "front frame moment of inertia about y"),
+    ("IHzz", "kg m^2", "front frame moment of inertia about z"),
+    ("IHxz", "kg m^2", "front frame product of inertia xz"),
+    ("rF", "m", "front wheel radius"),
+    ("mF", "kg", "front wheel mass"),
+    ("IFxx", "kg m^2", "front wheel moment of inertia about a diameter"),
+    ("IFyy", "kg m^2", "front wheel moment of inertia about its axle"),
+)
+
+#: The 26 benchmark parameters in the order of Meijaard et al. (2007), Table 1.
+PARAMETER_NAMES: tuple[str, ...] = tuple(name for name, _, _ in _PARAMETERS)
+#: Parameters that do not enter the linear model; they may be absent.
+OPTIONAL_PARAMETERS: tuple[str, ...] = ("IByy", "IHyy")
+#: SI unit of each parameter.
+PARAMETER_UNITS: dict[str, str] = {name: unit for name, unit, _ in _PARAMETERS}
+#: One-line description of each parameter, with its unit in brackets.
+PARAMETER_DESCRIPTIONS: dict[str, str] = {
+    name: f"{text} [{unit}]" for name, unit, text in _PARAMETERS
+}
+
+#: States a controller may feed back, in the order of the Whipple state vector.
+CONTROLLER_STATES = ("roll", "steer", "roll_rate", "steer_rate")
+# Triangle inequality of principal moments, excess as a fraction of their sum: up to _EXACT is
+# floating-point rounding (an ideal thin disc sits exactly on the limit); up to _ROUNDING is
+# within the rounding of values published to three or four digits, so only a warning.
+_EXACT, _ROUNDING = 1e-9, 5e-3
+#: Inertia keys of each body: xx, yy, zz, xz (wheels: zz = xx, no product of inertia).
+_BODIES: tuple[tuple[str, str, str, str, str | None], ...] = (
+    ("rear wheel", "IRxx", "IRyy", "IRxx", None),
+    ("rear frame", "IBxx", "IByy", "IBzz", "IBxz"),
+    ("front frame", "IHxx", "IHyy", "IHzz", "IHxz"),
+    ("front wheel", "IFxx", "IFyy", "IFxx", None),
+)
+
+
+def _as_float(value: Any) -> Any:
+    return float(value) if isinstance(value, Real) and not isinstance(value, bool) else value
+
+
+@dataclass(frozen=True)
+class Payload:
+    """A point mass rigidly attached to the rear frame.
+
+    Attributes
+    ----------
+    mass : float
+        Mass [kg].
+    x, z : float
+        Position in the benchmark frame [m]: forward of the rear contact, and down.
+    """
+
+    mass: float
+    x: float
+    z: float
+
+
+@dataclass(frozen=True)
+class TyreCompliance:
+    """Linear tyre forces with relaxation, normalised by the static wheel load Fz.
+
+    Attributes
+    ----------
+    cornering_stiffness : float
+        C_alpha [1/rad]: lateral force per unit load per slip angle.
+    camber_stiffness : float
+        C_gamma [1/rad]: lateral force per unit load per camber angle.
+    relaxation_length : float
+        sigma [m]: distance rolled for a force to build up.
+    pneumatic_trail : float
+        [m]; self-aligning moment ``-Fz * pneumatic_trail * C_alpha * alpha``.
+    """
+
+    cornering_stiffness: float
+    camber_stiffness: float
+    relaxation_length: float
+    pneumatic_trail: float = 0.0
+
+
+@dataclass(frozen=True)
+class Extensions:
+    """Effects beyond the Whipple model (TOML table ``[extensions]``).
+
+    Attributes
+    ----------
+    steer_damping : float
+        Viscous damping about the steer axis [N m s/rad].
+    steer_inertia : float
+        Extra moment of inertia about the steer axis [kg m^2].
+    speed_scale : float
+        Measured speed / true speed [-].
+    payload : Payload or None
+        A point mass on the rear frame.
+    tyre_compliance : TyreCompliance or None
+        Tyre slip instead of knife-edge wheels.
+    """
+
+    steer_damping: float = 0.0
+    steer_inertia: float = 0.0
+    speed_scale: float = 1.0
+    payload: Payload | None = None
+    tyre_compliance: TyreCompliance | None = None
+
+    def is_base(self) -> bool:
+        """True when the extensions change nothing in the Whipple model."""
+        return self == Extensions()
+
+    def model_values(self) -> dict[str, float]:
+        """Values of the derived models' extension parameters (zero when absent).
+
+        Keys: ``payload_mass`` [kg], ``payload_x``, ``payload_z`` [m], ``steer_inertia``
+        [kg m^2], ``steer_damping`` [N m s/rad], ``pneumatic_trail`` [m], and with tyre
+        compliance ``cornering_stiffness``, ``camber_stiffness`` [1/rad],
+        ``relaxation_length`` [m].
+        """
+        values = {"payload_mass": 0.0, "payload_x": 0.0, "payload_z": 0.0,
+                  "steer_inertia": self.steer_inertia, "steer_damping": self.steer_damping,
+                  "pneumatic_trail": 0.0}
+        if self.payload is not None:
+            values.update(payload_mass=self.payload.mass, payload_x=self.payload.x, payload_z=self.payload.z)
+        tyre = self.tyre_compliance
+        if tyre is not None:
+            values.update(cornering_stiffness=tyre.cornering_stiffness, camber_stiffness=tyre.camber_stiffness,
+                          relaxation_length=tyre.relaxation_length, pneumatic_trail=tyre.pneumatic_trail)
+        return values
+
+
+@dataclass(frozen=True)
+class Controller:
+    """Linear state feedback whose gains are polynomials in the forward speed v.
+
+    Attributes
+    ----------
+    steer, roll : dict of str to tuple of float
+        For the steer torque and the roll torque: state name (``roll`` [rad], ``steer`` [rad],
+        ``roll_rate`` [rad/s], ``steer_rate`` [rad/s]) to the gain's polynomial coefficients
+        in v [m/s], constant first; e.g. ``{"roll_rate": (13.0, -2.0)}`` is
+        ``T_steer = (13 - 2 v) * roll_rate`` [N m].
+    """
+
+    steer: dict[str, tuple[float, ...]] = field(default_factory=dict)
+    roll: dict[str, tuple[float, ...]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for row in ("steer", "roll"):
+            gains = {
+                key: (float(value),) if isinstance(value, Real) else tuple(map(float, value))
+                for key, value in getattr(self, row).items()
+            }
+            object.__setattr__(self, row, gains)
+
+    def is_empty(self) -> bool:
+        """True when there is no feedback term at all."""
+        return not self.steer and not self.roll
+
+    def feedback_coefficients(self) -> list[NDArray[np.float64]]:
+        """Gain matrices F_k, shape (2, 4), with ``f = sum_k v^k F_k x``.
+
+        ``x = [roll, steer, roll_rate, steer_rate]`` and the rows of f are the roll torque and
+        the steer torque [N m]. An empty controller gives ``[]``.
+        """
+        rows = ((0, self.roll), (1, self.steer))
+        order = max((len(c) for _, gains in rows for c in gains.values()), default=0)
+        matrices = [np.zeros((2, 4)) for _ in range(order)]
+        for row, gains in rows:
+            for state, coefficients in gains.items():
+                if state not in CONTROLLER_STATES:
+                    raise ParameterError(f"controller: unknown state {state!r}")
+                for k, value in enumerate(coefficients):
+                    matrices[k][row, CONTROLLER_STATES.index(state)] = value
+        return matrices
+
+
+@dataclass(frozen=True)
+class Bicycle:
+    """One bicycle: benchmark parameters, their uncertainty, extensions and controller.
+
+    Attributes
+    ----------
+    parameters : dict of str to float
+        Benchmark parameters by name (see PARAMETER_DESCRIPTIONS for units).
+    name, description : str
+        Free text.
+    uncertainty : dict of str to float
+        One standard deviation of some parameters, same keys and units.
+    extensions : Extensions
+        Effects beyond the Whipple model.
+    controller : Controller
+        State feedback acting on the bicycle.
+    source : str
+        Where the bicycle was read from (a path or a built-in name); not part of equality.
+    """
+
+    parameters: dict[str, float]
+    name: str = ""
+    description: str = ""
+    uncertainty: dict[str, float] = field(default_factory=dict)
+    extensions: Extensions = Extensions()
+    controller: Controller = field(default_factory=Controller)
+    source: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        # Copies, so that changing the caller's dict never changes the bicycle; anything that
+        # is not a real number is kept as given, for validate() to report.
+        for name in ("parameters", "uncertainty"):
+            values = {k: _as_float(v) for k, v in getattr(self, name).items()}
+            object.__setattr__(self, name, values)
+
+    def with_parameters(self, **changes: float) -> Bicycle:
+        """A copy with some parameters changed (unknown names are a ParameterError)."""
+        unknown = sorted(set(changes) - set(PARAMETER_NAMES))
+        if unknown:
+            raise ParameterError(f"unknown parameter(s): {', '.join(unknown)}")
+        return dataclasses.replace(self, parameters={**self.parameters, **changes})
+
+    def with_extensions(self, **changes: Any) -> Bicycle:
+        """A copy with some fields of the extensions changed."""
+        return dataclasses.replace(self, extensions=dataclasses.replace(self.extensions, **changes))
+
+    def with_controller(self, controller: Controller) -> Bicycle:
+        """A copy with another controller."""
+        return dataclasses.replace(self, controller=controller)
+
+    def model_speed(self, measured: ArrayLike) -> NDArray[np.float64]:
+        """The model's (true) forward speed [m/s] at a measured speed [m/s].
+
+        A speedometer or treadmill may misreport the speed by the factor ``speed_scale`` of
+        the extensions (measured speed = speed_scale * true speed).
+        """
+        return np.asarray(measured, dtype=float) / self.extensions.speed_scale
+
+    def measured_speed(self, true: ArrayLike) -> NDArray[np.float64]:
+        """The speed [m/s] a measurement reports at the model's (true) speed [m/s]."""
+        return np.asarray(true, dtype=float) * self.extensions.speed_scale
+
+
+@dataclass(frozen=True)
+class ValidationReport:
+    """Outcome of :func:`validate`.
+
+    Attributes
+    ----------
+    problems : tuple of str
+        What makes the parameter set unusable, one line each.
+    warnings : tuple of str
+        Checks that were skipped or values that are suspicious but usable.
+    """
+
+    problems: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def ok(self) -> bool:
+        """True when there are no problems."""
+        return not self.problems
+
+
+class _Findings:
+    """Problems and warnings collected over a batch of parameter sets (any broadcast shape)."""
+
+    def __init__(self) -> None:
+        self.problems: list[str] = []
+        self.warnings: list[str] = []
+
+    def flag(self, bad: ArrayLike, text: str, warning: bool = False) -> None:
+        bad = np.asarray(bad)
+        if not bad.any():
+            return
+        if bad.ndim:
+            index = tuple(int(i) for i in np.argwhere(bad)[0])
+            first = index[0] if len(index) == 1 else index
+            text += f" (in {int(bad.sum())} of {bad.size} sets, first at index {first})"
+        (self.warnings if warning else self.problems).append(text)
+
+
+def _show(name: str, value: NDArray[np.float64]) -> str:
+    """``name = value`` for one set, just ``name`` for a batch."""
+    return f"{name} = {float(value):.6g}" if value.ndim == 0 else name
+
+
+def validate(bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike]) -> ValidationReport:
+    """Check that a parameter set describes a physically possible bicycle.
+
+    Parameters
+    ----------
+    bicycle_or_parameters : Bicycle or mapping
+        A bicycle (its uncertainty, extensions and controller are checked too), or parameters
+        by name; values may be arrays that broadcast together (a batch of sets).
+
+    Returns
+    -------
+    ValidationReport
+        Problems (unusable) and warnings (checks skipped, values within rounding of a limit).
+    """
+    found = _Findings()
+    if isinstance(bicycle_or_parameters, Bicycle):
+        _check_additions(bicycle_or_parameters, found)
+        parameters: Mapping[str, ArrayLike] = bicycle_or_parameters.parameters
+    else:
+        parameters = bicycle_or_parameters
+    unknown = [key for key in parameters if key not in PARAMETER_NAMES]
+    found.flag(bool(unknown), f"unknown parameter(s): {', '.join(map(str, unknown))}")
+    missing = [n for n in PARAMETER_NAMES if n not in parameters and n not in OPTIONAL_PARAMETERS]
+    found.flag(bool(missing), f"missing parameter(s): {', '.join(missing)}")
+    p: dict[str, NDArray[np.float64]] = {}
+    for name in PARAMETER_NAMES:
+        if name in parameters:
+            value = np.asarray(parameters[name])
+            if value.dtype.kind in "iuf":  # booleans and strings are not numbers
+                p[name] = value.astype(float)
+            else:
+                found.flag(True, f"{name} is not a number: {parameters[name]!r}")
+    for name, value in p.items():
+        found.flag(~np.isfinite(value), f"{_show(name, value)} is not finite")
+    finite = {name: np.where(np.isfinite(value), value, np.nan) for name, value in p.items()}
+    for name in ("w", "g", "rR", "rF", "mR", "mB", "mH", "mF"):
+        if name in finite:
+            found.flag(finite[name] <= 0, f"{_show(name, finite[name])} must be positive")
+    if "lam" in finite:
+        lam = finite["lam"]
+        found.flag(np.abs(lam) >= math.pi / 2, f"{_show('lam', lam)} must be in (-pi/2, pi/2)")
+    for label, xx, yy, zz, xz in _BODIES:
+        _check_inertia(label, (xx, yy, zz, xz), finite, found)
+    return ValidationReport(tuple(found.problems), tuple(found.warnings))
+
+
+def _check_inertia(
+    label: str,
+    keys: tuple[str, str, str, str | None],
+    p: Mapping[str, NDArray[np.float64]],
+    found: _Findings,
+) -> None:
+    """Positive definiteness and the triangle inequality of one body's principal moments."""
+    xx, yy, zz, xz = keys
+    if any(key is not None and key not in p for key in (xx, zz, xz)):
+        return  # reported as missing
+    ixx, izz = p[xx], p[zz]
+    ixz = p[xz] if xz is not None else np.zeros_like(ixx)
+    # Principal moments in the xz plane; y is a principal axis (lateral symmetry).
+    mean, radius = (ixx + izz) / 2, np.hypot((ixx - izz) / 2, ixz)
+    in_plane = (mean + radius, mean - radius)
+    names = ", ".join(key for key in dict.fromkeys(keys) if key is not None)
+    if yy not in p:
+        found.flag(in_plane[1] <= 0, f"{label} inertia ({names}) is not positive definite")
+        if yy in OPTIONAL_PARAMETERS:
+            found.warnings.append(f"{yy} absent: {label} inertia checks needing it were skipped")
+        return
+    moments = np.stack(np.broadcast_arrays(*in_plane, p[yy]))
+    shown = (
+        ""
+        if moments.ndim > 1
+        else " (principal moments " + ", ".join(f"{m:.6g}" for m in moments) + ")"
+    )
+    found.flag(
+        moments.min(axis=0) <= 0, f"{label} inertia ({names}) is not positive definite" + shown
+    )
+    total = moments.sum(axis=0)
+    excess = (2 * moments.max(axis=0) - total) / np.where(total > 0, total, np.nan)
+    text = f"{label} inertia ({names}) violates the triangle inequality of principal moments"
+    found.flag(excess > _ROUNDING, text + shown)
+    rounding = (excess > _EXACT) & (excess <= _ROUNDING)
+    if rounding.any():
+        worst = float(np.max(excess[rounding]))
+        found.flag(rounding, f"{text} by {worst:.2%} of their sum (taken as rounding)", True)
+
+
+def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
+    """Uncertainty, extensions and controller of a bicycle."""
+    for name, sigma in bicycle.uncertainty.items():
+        found.flag(name not in PARAMETER_NAMES, f"uncertainty of unknown parameter {name!r}")
+        found.flag(
+            not sigma >= 0 or math.isinf(sigma),
+            f"uncertainty of {name} = {sigma:.6g} must be finite and >= 0",
+        )
+    ext = bicycle.extensions
+    checks = [
+        ("steer_damping", ext.steer_damping, -math.inf, False),
+        ("steer_inertia", ext.steer_inertia, 0.0, True),
+        ("speed_scale", ext.speed_scale, 0.0, False),
+    ]
+    if ext.payload is not None:
+        checks += [
+            ("payload mass", ext.payload.mass, 0.0, False),
+            ("payload x", ext.payload.x, -math.inf, False),
+            ("payload z", ext.payload.z, -math.inf, False),
+        ]
+    if ext.tyre_compliance is not None:
+        tyre = ext.tyre_compliance
+        checks += [
+            ("cornering_stiffness", tyre.cornering_stiffness, 0.0, False),
+            ("camber_stiffness", tyre.camber_stiffness, 0.0, True),
+            ("relaxation_length", tyre.relaxation_length, 0.0, False),
+            ("pneumatic_trail", tyre.pneumatic_trail, -math.inf, False),
+        ]
+    for name, value, low, inclusive in checks:
+        bound = "" if low == -math.inf else f" and {'>=' if inclusive else '>'} {low:g}"
+        inside = value >= low if inclusive else value > low
+        found.flag(
+            not (math.isfinite(value) and inside),
+            f"extension {name} = {value:.6g} must be finite{bound}",
+        )
+    for row, gains in (("steer", bicycle.controller.steer), ("roll", bicycle.controller.roll)):
+        for state, coefficients in gains.items():
+            found.flag(state not in CONTROLLER_STATES, f"controller.{row}: unknown state {state!r}")
+            found.flag(
+                not all(map(math.isfinite, coefficients)),
+                f"controller.{row}.{state} has a coefficient that is not finite",
+            )
+
+
+def check_physical(
+    bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike], source: str | None = None
+) -> ValidationReport:
+    """Like :func:`validate`, but raise ParameterError (one line, every problem) on problems.
+
+    `source` names the file in the message; it defaults to a bicycle's own source.
+    """
+    report = validate(bicycle_or_parameters)
+    if source is None and isinstance(bicycle_or_parameters, Bicycle):
+        source = bicycle_or_parameters.source or None
+    if report.problems:
+        raise ParameterError("; ".join(report.problems), source)
+    return report

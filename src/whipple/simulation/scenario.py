@@ -1,0 +1,271 @@
+"""What happens in a simulated run: speed, pushes, catches, sensors (plain, validated data).
+
+A run follows the procedure of the seed paper (Kooijman & Schwab 2009, sections 4.1-4.4): the
+bicycle is held upright (launch), released, pushed sideways, left to coast freely, caught, held
+upright again, and pushed again. :func:`whipple.simulation.simulator.simulate_run` turns a
+:class:`RunScenario` into signals.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from whipple.errors import InputError
+
+#: Signals a simulated run can hold, in the order they are drawn and written.
+SIGNALS = ("roll_rate", "yaw_rate", "steer_angle", "steer_rate", "roll_angle", "speed",
+           "speedometer")
+SETTINGS = ("treadmill", "ground")
+
+
+class ScenarioError(InputError):
+    """A run scenario with impossible values (negative speed, zero sample rate, ...)."""
+
+
+@dataclass(frozen=True)
+class Push:
+    """A lateral push: half-sine torque pulses on roll and steer.
+
+    Attributes
+    ----------
+    time : float
+        Start of the pulse [s].
+    roll_impulse : float or None
+        Time integral of the roll torque [N m s] (a lateral force at the saddle times its
+        height). None: sized so that the push changes the roll rate by the scenario's
+        ``push_roll_rate`` [rad/s] (``roll_impulse = push_roll_rate / B[roll_rate, roll]``).
+    steer_impulse : float
+        Time integral of the steer torque [N m s].
+    duration : float
+        Length of the pulse [s].
+    """
+
+    time: float
+    roll_impulse: float | None = None
+    steer_impulse: float = 0.0
+    duration: float = 0.1
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """A sensor's errors: white noise and a constant bias, in the signal's unit.
+
+    Attributes
+    ----------
+    noise : float
+        Standard deviation of the noise per sample (independent between samples).
+    bias : float
+        Constant offset added to the true value.
+    """
+
+    noise: float = 0.0
+    bias: float = 0.0
+
+
+@dataclass(frozen=True)
+class Sensors:
+    """Errors of every signal; noise is per sample, whatever the sample rate.
+
+    Defaults are typical of a MEMS rate gyro (0.015 rad/s), a steer potentiometer (0.005 rad,
+    noisier than the gyros relative to its signal), a speed from an encoder (0.02 m/s) and a
+    magnet pick-up of 1 V amplitude (0.02 V).
+    """
+
+    roll_rate: Sensor = Sensor(0.015, 0.004)  # rad/s
+    yaw_rate: Sensor = Sensor(0.015, -0.003)  # rad/s
+    steer_angle: Sensor = Sensor(0.005, 0.008)  # rad
+    steer_rate: Sensor = Sensor(0.05, 0.0)  # rad/s
+    roll_angle: Sensor = Sensor(0.003, 0.005)  # rad
+    speed: Sensor = Sensor(0.02, 0.0)  # m/s
+    speedometer: Sensor = Sensor(0.02, 0.1)  # V
+
+    def scaled(self, noise: float = 1.0, bias: float = 1.0) -> Sensors:
+        """A copy with every noise level multiplied by `noise` and every bias by `bias`."""
+        if not (math.isfinite(noise) and math.isfinite(bias) and noise >= 0 and bias >= 0):
+            raise ScenarioError(f"noise and bias scales must be >= 0, got {noise}, {bias}")
+        return Sensors(**{name: Sensor(getattr(self, name).noise * noise,
+                                       getattr(self, name).bias * bias) for name in SIGNALS})
+
+
+#: Sensors without noise or bias.
+PERFECT_SENSORS = Sensors(**{name: Sensor() for name in SIGNALS})
+
+
+@dataclass(frozen=True)
+class RunScenario:
+    """One simulated run.
+
+    Attributes
+    ----------
+    speed : float
+        True forward speed at t = 0 [m/s].
+    sample_rate : float
+        [Hz].
+    duration : float or None
+        Length of the record [s]; None: just long enough for the pushes and their coasting.
+    setting : {"treadmill", "ground"}
+        Treadmill: constant belt speed. Ground: the speed decays as
+        ``speed - deceleration * t`` (rolling resistance and drag).
+    deceleration : float
+        [m/s^2], ground setting only (0.05: rolling resistance of ~0.004 plus the drag of a
+        riderless bicycle at ~5 m/s).
+    pushes : tuple of Push, or None
+        Explicit pushes; None: ``n_pushes`` pushes of alternating direction, the first at
+        ``release``, spaced by ``push_duration + max_coast + catch_duration + settle``.
+    n_pushes : int or None
+        Number of automatic pushes; None: 3, or as many as fit in ``duration``.
+    push_roll_rate : float
+        Roll-rate change of an automatic push [rad/s].
+    push_duration : float
+        Pulse length of automatic pushes [s].
+    release : float
+        End of the launch hold [s]; the bicycle is held upright before it.
+    max_coast : float
+        Longest free coasting before a scheduled catch [s].
+    settle : float
+        Shortest hold between a scheduled catch and the next push [s].
+    catch_duration : float
+        Time in which the catch brings the state to within 0.5 % of its value [s]. The catch
+        and hold act like a stiff critically damped spring on roll and steer, natural
+        frequency ``7.5 / catch_duration`` [rad/s].
+    roll_limit, roll_rate_limit : float
+        The catch comes as soon as |roll| [rad] or |roll rate| [rad/s] exceeds these (keeps
+        runs at unstable speeds in the linear range).
+    hold_std : float
+        Standard deviation of roll and steer [rad] while held (the hand is not perfectly
+        still).
+    sensors : Sensors
+        Noise and bias of each signal.
+    columns : tuple of str
+        Measured signals to output (``roll_rate`` is required; see ``SIGNALS``). A
+        ``speedometer`` column is a raw magnet-ring signal instead of a speed.
+    pulses_per_revolution : int
+        Zero crossings of the speedometer signal per wheel revolution (twice the magnets).
+    seed : int
+        Seed of the random generator: equal scenarios give identical runs.
+    """
+
+    speed: float = 5.0
+    sample_rate: float = 100.0
+    duration: float | None = None
+    setting: str = "treadmill"
+    deceleration: float = 0.05
+    pushes: tuple[Push, ...] | None = None
+    n_pushes: int | None = None
+    push_roll_rate: float = 0.5
+    push_duration: float = 0.1
+    release: float = 1.0
+    max_coast: float = 5.0
+    settle: float = 1.0
+    catch_duration: float = 0.3
+    roll_limit: float = 0.25
+    roll_rate_limit: float = 1.5
+    hold_std: float = 0.001
+    sensors: Sensors = Sensors()
+    columns: tuple[str, ...] = ("roll_rate", "yaw_rate", "steer_angle", "speed")
+    pulses_per_revolution: int = 20
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        positive = ("speed", "sample_rate", "push_duration", "max_coast", "catch_duration",
+                    "roll_limit", "roll_rate_limit")
+        for name in positive:
+            _check(name, getattr(self, name), lambda x: x > 0, "positive")
+        for name in ("deceleration", "push_roll_rate", "release", "settle", "hold_std"):
+            _check(name, getattr(self, name), lambda x: x >= 0, ">= 0")
+        if self.duration is not None:
+            _check("duration", self.duration, lambda x: x > 0, "positive")
+        if self.setting not in SETTINGS:
+            raise ScenarioError(f"setting must be one of {', '.join(SETTINGS)}, "
+                                f"got {self.setting!r}")
+        if self.n_pushes is not None and (not isinstance(self.n_pushes, int)
+                                          or self.n_pushes < 1):
+            raise ScenarioError(f"n_pushes must be a positive integer, got {self.n_pushes!r}")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ScenarioError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if not isinstance(self.pulses_per_revolution, int) or self.pulses_per_revolution < 2:
+            raise ScenarioError("pulses_per_revolution must be an integer >= 2, "
+                                f"got {self.pulses_per_revolution!r}")
+        unknown = [name for name in self.columns if name not in SIGNALS]
+        if unknown or "roll_rate" not in self.columns or len(set(self.columns)) < len(
+                self.columns):
+            raise ScenarioError(f"columns must be distinct names from {', '.join(SIGNALS)} "
+                                f"including roll_rate, got {', '.join(self.columns)}")
+        for name in SIGNALS:
+            sensor = getattr(self.sensors, name)
+            _check(f"{name} noise", sensor.noise, lambda x: x >= 0, ">= 0")
+            _check(f"{name} bias", sensor.bias, lambda x: True, "finite")
+        if self.setting == "ground" and not {"speed", "speedometer"} & set(self.columns):
+            raise ScenarioError("a ground run needs a speed or speedometer column (its speed "
+                                "is not constant)")
+        if self.pushes is not None and self.n_pushes is not None:
+            raise ScenarioError("give pushes or n_pushes, not both")
+        if self.pushes is not None:
+            object.__setattr__(self, "pushes", tuple(self.pushes))
+            self._check_pushes(self.pushes)
+        end = self.end_time()
+        if self.setting == "ground" and self.speed - self.deceleration * end <= 0:
+            raise ScenarioError(f"the speed {self.speed:g} m/s decaying by "
+                                f"{self.deceleration:g} m/s^2 reaches 0 before the end "
+                                f"of the run ({end:.3g} s)")
+
+    def _check_pushes(self, pushes: tuple[Push, ...]) -> None:
+        if not pushes:
+            raise ScenarioError("pushes must not be empty (use None for automatic pushes)")
+        for push in pushes:
+            _check("push time", push.time, lambda x: x >= self.release, f">= release "
+                   f"({self.release:g} s)")
+            _check("push duration", push.duration, lambda x: x > 0, "positive")
+            _check("push steer_impulse", push.steer_impulse, lambda x: True, "finite")
+            if push.roll_impulse is not None:
+                _check("push roll_impulse", push.roll_impulse, lambda x: True, "finite")
+        for first, second in zip(pushes, pushes[1:], strict=False):
+            if second.time - self.settle <= first.time + first.duration:
+                raise ScenarioError(
+                    f"push at {second.time:g} s leaves no coasting after the push at "
+                    f"{first.time:g} s (needs a gap > push duration + settle "
+                    f"= {first.duration + self.settle:g} s)")
+
+    @property
+    def push_spacing(self) -> float:
+        """Time between automatic pushes [s]."""
+        return self.push_duration + self.max_coast + self.catch_duration + self.settle
+
+    def resolved_pushes(self) -> tuple[Push, ...]:
+        """The pushes of the run (automatic ones with ``roll_impulse=None``)."""
+        if self.pushes is not None:
+            return self.pushes
+        count = self.n_pushes
+        if count is None:
+            if self.duration is None:
+                count = 3
+            else:
+                room = self.duration - self.release - self.push_duration - self.max_coast
+                count = max(1, int(math.floor(room / self.push_spacing + 1e-9)) + 1)
+        # Rounded to 1 ns so that e.g. 1.0 + 6.4 gives 7.4, not 7.3999999999999995.
+        return tuple(Push(round(self.release + i * self.push_spacing, 9), None, 0.0,
+                          self.push_duration) for i in range(count))
+
+    def end_time(self) -> float:
+        """Time of the last sample's bound: ``duration`` or the automatic length [s]."""
+        pushes = self.resolved_pushes()
+        last = pushes[-1]
+        if self.duration is None:
+            return last.time + last.duration + self.max_coast + self.catch_duration + 0.5
+        if last.time + last.duration >= self.duration:
+            raise ScenarioError(f"push at {last.time:g} s does not end before the end of the "
+                                f"run ({self.duration:g} s)")
+        return self.duration
+
+    def replace(self, **changes: object) -> RunScenario:
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)  # type: ignore[arg-type]
+
+
+def _check(name: str, value: object, ok: Callable[[float], bool], requirement: str) -> None:
+    if (isinstance(value, bool) or not isinstance(value, int | float)
+            or not math.isfinite(value) or not ok(value)):
+        raise ScenarioError(f"{name} must be a finite number, {requirement}; got {value!r}")

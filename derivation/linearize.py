@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import sympy as sm
 from sympy.physics.vector import Vector
 
-from .symbols import pitch, roll, steer, v
+from .symbols import pitch, roll, spin_rear, steer, v
 from .whipple import BicycleSystem
 
 
@@ -274,8 +274,6 @@ class LinearEquations:
 
 def linearize(system: BicycleSystem, rear_radius: sm.Symbol) -> LinearEquations:
     """Linearized equations of the Whipple-type ``system`` (knife-edge wheels) at speed v."""
-    from .symbols import spin_rear
-
     result = kane_linearize(system, {spin_rear.diff(): -v / rear_radius},
                             (roll.diff(), steer.diff()), system.inputs)
     return _coefficient_matrices(result, system.inputs)

@@ -16,13 +16,13 @@ from dataclasses import dataclass
 import sympy as sm
 
 from .linearize import LinearEquations, linearize
-from .symbols import BENCHMARK_PARAMETERS, EXTENSION_PARAMETERS, TYRE_PARAMETERS, parameter_symbols
+from .symbols import BENCHMARK_PARAMETERS, EXTENSION_PARAMETERS, PITCH_INERTIAS, TYRE_PARAMETERS, parameter_symbols
 from .tidy import tidy
 from .tyre import derive_tyre_equations
 from .whipple import add_payload, add_steer_damping, add_steer_inertia, build_bicycle
 
 # IByy and IHyy are carried through the dynamics and must drop out (checked below).
-_PITCH_INERTIAS = ("IByy", "IHyy")
+_PITCH_INERTIAS = PITCH_INERTIAS
 
 
 @dataclass(frozen=True)

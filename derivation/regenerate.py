@@ -12,6 +12,8 @@ from pathlib import Path
 
 import sympy as sm
 
+from whipple.model import parameter_table
+
 from .emit import emit_casadi, emit_numpy
 from .models import MODELS
 
@@ -20,9 +22,9 @@ MANIFEST = "manifest.json"
 
 
 def source_hashes() -> dict[str, str]:
-    """sha256 of every derivation source file, by file name."""
-    return {path.name: hashlib.sha256(path.read_bytes()).hexdigest()
-            for path in sorted(DERIVATION_DIR.glob("*.py"))}
+    """sha256 of every derivation source file, and of the parameter table it reads, by file name."""
+    sources = [*sorted(DERIVATION_DIR.glob("*.py")), Path(parameter_table.__file__)]
+    return {path.name: hashlib.sha256(path.read_bytes()).hexdigest() for path in sources}
 
 
 def combined_hash(hashes: dict[str, str]) -> str:

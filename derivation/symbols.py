@@ -1,7 +1,7 @@
 """Symbols of the derivation: the benchmark parameters and the model's variables.
 
 Parameter names follow Meijaard et al. (2007), Table 1, as in the bicycle parameter file.
-Every symbol carries a description with its unit.
+Every symbol carries a description with its unit, from ``whipple.model.parameter_table``.
 """
 
 from __future__ import annotations
@@ -9,51 +9,17 @@ from __future__ import annotations
 import sympy as sm
 from sympy.physics.mechanics import dynamicsymbols
 
-# name: description [unit]. IByy and IHyy are absent: they do not enter the linear model
-# (the frames do not pitch to first order), which the derivation confirms by construction.
-BENCHMARK_PARAMETERS = {
-    "w": "wheelbase [m]",
-    "c": "trail [m]",
-    "lam": "steer axis tilt from vertical [rad]",
-    "g": "gravitational acceleration [m/s^2]",
-    "rR": "rear wheel radius [m]",
-    "mR": "rear wheel mass [kg]",
-    "IRxx": "rear wheel moment of inertia about a diameter [kg m^2]",
-    "IRyy": "rear wheel moment of inertia about its axle [kg m^2]",
-    "xB": "rear frame mass centre, forward of the rear contact [m]",
-    "zB": "rear frame mass centre, vertical (z down) [m]",
-    "mB": "rear frame mass [kg]",
-    "IBxx": "rear frame moment of inertia about x [kg m^2]",
-    "IBzz": "rear frame moment of inertia about z [kg m^2]",
-    "IBxz": "rear frame product of inertia xz [kg m^2]",
-    "xH": "front frame mass centre, forward of the rear contact [m]",
-    "zH": "front frame mass centre, vertical (z down) [m]",
-    "mH": "front frame mass [kg]",
-    "IHxx": "front frame moment of inertia about x [kg m^2]",
-    "IHzz": "front frame moment of inertia about z [kg m^2]",
-    "IHxz": "front frame product of inertia xz [kg m^2]",
-    "rF": "front wheel radius [m]",
-    "mF": "front wheel mass [kg]",
-    "IFxx": "front wheel moment of inertia about a diameter [kg m^2]",
-    "IFyy": "front wheel moment of inertia about its axle [kg m^2]",
-}
+from whipple.model.parameter_table import BY_NAME, names
 
+# Descriptions with units come from the package's one parameter table. IByy and IHyy are left
+# out of the models' parameters: they do not enter the linear model (the frames do not pitch to
+# first order), which the derivation confirms by construction.
+PITCH_INERTIAS = ("IByy", "IHyy")
+BENCHMARK_PARAMETERS = {name: BY_NAME[name].described for name in names("benchmark") if name not in PITCH_INERTIAS}
 # Extensions of the Whipple model that keep its two degrees of freedom.
-EXTENSION_PARAMETERS = {
-    "payload_mass": "point mass rigidly attached to the rear frame [kg]",
-    "payload_x": "payload position, forward of the rear contact [m]",
-    "payload_z": "payload position, vertical (z down) [m]",
-    "steer_inertia": "extra moment of inertia of the front frame about the steer axis [kg m^2]",
-    "steer_damping": "viscous damping torque about the steer axis per steer rate [N m s/rad]",
-}
-
+EXTENSION_PARAMETERS = {name: BY_NAME[name].described for name in names("extension")}
 # Parameters of the tyre-compliance extension (loads are computed from the mass distribution).
-TYRE_PARAMETERS = {
-    "cornering_stiffness": "lateral force per static wheel load per rad of slip angle [1/rad]",
-    "camber_stiffness": "lateral force per static wheel load per rad of camber [1/rad]",
-    "relaxation_length": "distance rolled for the lateral force to build up [m]",
-    "pneumatic_trail": "self-aligning moment arm of the lateral slip force [m]",
-}
+TYRE_PARAMETERS = {name: BY_NAME[name].described for name in names("tyre")}
 
 ALL_DESCRIPTIONS = {**BENCHMARK_PARAMETERS, **EXTENSION_PARAMETERS, **TYRE_PARAMETERS}
 

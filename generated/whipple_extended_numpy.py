@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple_extended``).
 
-Derivation sources sha256: 7e5610caec39e93d856b1839e0ae0ee3431d83bfeb2b93c7cf6ce3152beb9ddb
+Derivation sources sha256: 3d021de25dd9364fa0fa55d6f6f686193821c4c323e8c73d1a2314221c66c2a8
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]; K0 includes gravity.
@@ -12,19 +12,19 @@ Parameters (SI units):
     w: wheelbase [m]
     c: trail [m]
     lam: steer axis tilt from vertical [rad]
-    g: gravitational acceleration [m/s^2]
+    g: acceleration due to gravity [m/s^2]
     rR: rear wheel radius [m]
     mR: rear wheel mass [kg]
     IRxx: rear wheel moment of inertia about a diameter [kg m^2]
     IRyy: rear wheel moment of inertia about its axle [kg m^2]
     xB: rear frame mass centre, forward of the rear contact [m]
-    zB: rear frame mass centre, vertical (z down) [m]
+    zB: rear frame mass centre, z down (negative above ground) [m]
     mB: rear frame mass [kg]
     IBxx: rear frame moment of inertia about x [kg m^2]
     IBzz: rear frame moment of inertia about z [kg m^2]
     IBxz: rear frame product of inertia xz [kg m^2]
-    xH: front frame mass centre, forward of the rear contact [m]
-    zH: front frame mass centre, vertical (z down) [m]
+    xH: front frame (fork and handlebar) mass centre, forward of the rear contact [m]
+    zH: front frame mass centre, z down (negative above ground) [m]
     mH: front frame mass [kg]
     IHxx: front frame moment of inertia about x [kg m^2]
     IHzz: front frame moment of inertia about z [kg m^2]
@@ -35,7 +35,7 @@ Parameters (SI units):
     IFyy: front wheel moment of inertia about its axle [kg m^2]
     payload_mass: point mass rigidly attached to the rear frame [kg]
     payload_x: payload position, forward of the rear contact [m]
-    payload_z: payload position, vertical (z down) [m]
+    payload_z: payload position, z down (negative above ground) [m]
     steer_inertia: extra moment of inertia of the front frame about the steer axis [kg m^2]
     steer_damping: viscous damping torque about the steer axis per steer rate [N m s/rad]
 """

@@ -4,7 +4,7 @@ Published values used (facts, not code):
 
 * benchmark bicycle: Meijaard, Papadopoulos, Ruina & Schwab (2007), Proc. R. Soc. A 463,
   1955-1982 — matrices of Appendix A (K0 without g) and the weave and capsize speeds of
-  Table 2(a), as reproduced in ../shared/reference/meijaard2007-benchmark.toml;
+  Table 2(a), as reproduced in src/whipple/data/reference/meijaard2007-benchmark.toml;
 * seed bicycle: Kooijman & Schwab (2009), DETC2009-86965, matrices of eq. (2) (K0 with g) and
   the weave (about 4.0 m/s) and capsize (about 7.9 m/s) speeds of Figure 6.
 """

@@ -20,10 +20,10 @@ from whipple.derivation.regenerate import differences, generate
 from whipple.model.assembly import (
     EXTENDED_PARAMETERS,
     MODEL_PARAMETERS,
-    casadi_matrices,
     extended_matrices,
     whipple_matrices,
 )
+from whipple.model.casadi_model import casadi_matrices
 from whipple.model.verification import reference_sets, verify
 
 NAMES = ("M", "C1", "K0", "K2")

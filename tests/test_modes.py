@@ -2,7 +2,7 @@
 
 Benchmark matrices: Meijaard, Papadopoulos, Ruina & Schwab (2007), Proc. R. Soc. A 463,
 Appendix A (K0 published without g), as reproduced in
-../shared/reference/meijaard2007-benchmark.toml.
+src/whipple/data/reference/meijaard2007-benchmark.toml.
 """
 
 from __future__ import annotations

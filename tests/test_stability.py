@@ -3,7 +3,7 @@
 Benchmark numbers are published facts: Meijaard, Papadopoulos, Ruina & Schwab (2007),
 "Linearized dynamics equations for the balance and steer of a bicycle: a benchmark and
 review", Proc. R. Soc. A 463, 1955-1982 — matrices M, C1, K0 (without g), K2 of Appendix A
-and the eigenvalues of Table 2, as reproduced in ../shared/reference/meijaard2007-benchmark.toml.
+and the eigenvalues of Table 2, as reproduced in src/whipple/data/reference/meijaard2007-benchmark.toml.
 """
 
 from __future__ import annotations

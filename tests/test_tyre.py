@@ -11,7 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from whipple.model.assembly import build_linear_model, casadi_state_function, linear_model
+from whipple.model.assembly import build_linear_model, linear_model
+from whipple.model.casadi_model import casadi_state_function
 from whipple.model.parameters import Extensions, TyreCompliance, load_bicycle
 
 SPEEDS = np.array([2.0, 4.0, 6.0])

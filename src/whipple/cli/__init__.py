@@ -41,12 +41,12 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _requested(argv: Sequence[str]) -> str | None:
-    """The subcommand named in `argv` (its first word that is one), if any."""
+    """Return the subcommand named in `argv` (its first word that is one), if any."""
     return next((word for word in argv if word in COMMANDS), None)
 
 
 def build_parser(argv: Sequence[str] = ()) -> argparse.ArgumentParser:
-    """The parser; the arguments of the subcommand named in `argv` are filled in."""
+    """Return the parser; the arguments of the subcommand named in `argv` are filled in."""
     parser = _Parser(prog="whipple", description=(__doc__ or "").splitlines()[0])
     subparsers = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     chosen = _requested(argv)

@@ -18,6 +18,7 @@ from whipple.stability.report import analyse_bicycle
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options of this command to `parser`."""
     parser.add_argument("bicycle", metavar="PARAMS",
                         help="bicycle file (.toml or BicycleParameters *Benchmark.txt) or built-in name")
     parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
@@ -31,6 +32,7 @@ def _matrix_lines(name: str, matrix) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the command; return the exit status."""
     bicycle = load_bicycle(args.bicycle)
     try:
         report = analyse_bicycle(bicycle, speed_range=args.speeds)

@@ -27,6 +27,7 @@ from whipple.model.parameters import load_bicycle, write_bicycle_toml
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options of this command to `parser`."""
     parser.add_argument("runs", nargs="*", type=Path, metavar="RUNS", help="run files")
     parser.add_argument("--bundled", action="store_true", help="use the bundled steer-by-wire treadmill runs")
     parser.add_argument("--bicycle", required=True, metavar="PARAMS", help="bicycle file or built-in name")
@@ -49,6 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the command; return the exit status."""
     options = FitOptions(baseline=args.baseline, settle=args.settle)
     sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
     if not sources:

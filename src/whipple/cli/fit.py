@@ -45,6 +45,7 @@ BUNDLED = "bundled"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options of this command to `parser`."""
     parser.add_argument("runs", nargs="*", metavar="RUN",
                         help="run files (native CSV, a layout's format, or .gz of either)")
     parser.add_argument("--bundled", action="store_true",
@@ -82,6 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the command; return the exit status."""
     if not args.runs and not args.bundled:
         raise InputError("no runs: name run files, or use --bundled for the runs shipped with whipple")
     signals = tuple(name.strip() for name in args.signals.split(",") if name.strip())
@@ -135,13 +137,16 @@ def _check_outputs(args: argparse.Namespace, inputs: list[str]) -> None:
 
 
 def _model_eigenvalues(measured: list[RunMeasurement], bicycle: Bicycle | None) -> dict[int, complex | None]:
-    """The model's weave eigenvalue at each timed window's mean speed (by id), in one call."""
-    timed = [m for run_ in measured for m in run_ if m.speed is not None]
+    """Return the model's weave eigenvalue at each timed window's mean speed (by id), in one call."""
+    timed = [(m, m.speed.mean) for run_ in measured for m in run_ if m.speed is not None]
     if bicycle is None or not timed:
         return {}
-    speeds = bicycle.model_speed([m.speed.mean for m in timed if m.speed is not None])
-    values = weave_eigenvalue(linear_model(bicycle), speeds)
-    return {id(m): None if np.isnan(value) else complex(value) for m, value in zip(timed, values, strict=True)}
+    values = weave_eigenvalue(linear_model(bicycle), bicycle.model_speed([speed for _, speed in timed]))
+    return {id(m): None if np.isnan(value) else complex(value) for (m, _), value in zip(timed, values, strict=True)}
+
+
+def _pair(value: complex | None) -> list[float] | None:
+    return None if value is None else [value.real, value.imag]
 
 
 def _complex(value: complex | None) -> str:
@@ -219,12 +224,8 @@ def _write_outputs(args: argparse.Namespace, measured: list[RunMeasurement], mod
                    bicycle: Bicycle | None, inputs: list[str]) -> None:
     windows = [m for run_ in measured for m in run_]
     if args.json:
-        entries = []
-        for m in windows:
-            entry: dict[str, Any] = m.to_dict()
-            model = models.get(id(m))
-            entry["model_eigenvalue"] = None if model is None else [model.real, model.imag]
-            entries.append(entry)
+        entries: list[dict[str, Any]] = [
+            {**m.to_dict(), "model_eigenvalue": _pair(models.get(id(m)))} for m in windows]
         write_text_atomic(args.json, json.dumps(entries, indent=1, allow_nan=False) + "\n")
         print(f"wrote {args.json}")
     if args.csv:

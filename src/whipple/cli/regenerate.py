@@ -20,6 +20,7 @@ from whipple.derivation.regenerate import MANIFEST, differences, generate
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options of this command to `parser`."""
     parser.add_argument("--check", action="store_true",
                         help="compare with a fresh derivation instead of writing; exit 1 on any difference")
     parser.add_argument("--output", type=Path, default=None,
@@ -31,6 +32,7 @@ def _default_folder() -> Path:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the command; return the exit status."""
     folder = args.output or _default_folder()
     started = time.perf_counter()
     files = generate()

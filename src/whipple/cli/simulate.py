@@ -25,6 +25,7 @@ from whipple.simulation.simulator import simulate_run, write_run_csv
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options of this command to `parser`."""
     parser.add_argument("--bicycle", required=True, metavar="PARAMS",
                         help="bicycle file (.toml or BicycleParameters *.txt) or built-in name")
     speeds = parser.add_mutually_exclusive_group(required=True)
@@ -61,6 +62,7 @@ def _file_name(bicycle: str, setting: str, speed: float) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the command; return the exit status."""
     speeds = args.speeds if args.speeds is not None else [args.speed]
     bad = [v for v in speeds if not (math.isfinite(v) and v > 0)]
     if bad:

@@ -25,6 +25,7 @@ from whipple.stability.plots import plot_eigenvalues
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options of this command to `parser`."""
     parser.add_argument("bicycle", metavar="PARAMS", help="bicycle file or built-in name")
     parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
                         help="speed interval, m/s (default 0:10)")
@@ -35,6 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the command; return the exit status."""
     if args.points < 2:
         raise InputError(f"--points must be at least 2, got {args.points}")
     for output in (args.plot, args.csv):

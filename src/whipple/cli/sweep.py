@@ -23,6 +23,7 @@ from whipple.stability.sweep import read_parameter_table, sweep
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options of this command to `parser`."""
     parser.add_argument("table", type=Path, metavar="SETS.csv", help="parameter sets, one per row")
     parser.add_argument("--output", "-o", type=Path, required=True, metavar="OUT.csv", help="results table")
     parser.add_argument("--bicycle", default="benchmark", metavar="PARAMS",
@@ -37,6 +38,7 @@ def _format(value: float | None) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the command; return the exit status."""
     refuse_input_overwrite(args.output, [args.table, args.bicycle])
     table = read_parameter_table(args.table)
     base = load_bicycle(args.bicycle)

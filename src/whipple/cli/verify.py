@@ -15,10 +15,12 @@ from whipple.model.verification import reference_sets, verify
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add the options of this command to `parser`."""
     parser.add_argument("--json", action="store_true", help="print the results as JSON")
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the command; return the exit status."""
     results = [verify(reference) for reference in reference_sets()]
     if args.json:
         print(json.dumps({"passed": all(r.passed for r in results),

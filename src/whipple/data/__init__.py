@@ -1,0 +1,1 @@
+"""Data shipped with whipple: built-in bicycles, published references, layouts, measured runs."""

@@ -110,7 +110,7 @@ def parameter_cause(bicycle: Bicycle, key: str, share: float) -> Cause:
 
 
 def candidate_causes(bicycle: Bicycle, include_parameters: bool = True) -> list[Cause]:
-    """The candidate causes for a bicycle, with starting values and bounds."""
+    """Return the candidate causes for a bicycle, with starting values and bounds."""
     p = bicycle.parameters
     causes = [
         Cause("steer_damping", ("steer_damping",), ("N m s/rad",), (0.0,), ((0.0, 20.0),), _steer_damping,
@@ -144,7 +144,7 @@ def candidate_causes(bicycle: Bicycle, include_parameters: bool = True) -> list[
 
 
 def cause_by_name(bicycle: Bicycle, name: str) -> Cause:
-    """The candidate cause called ``name`` (including ``parameter:<key>``)."""
+    """Return the candidate cause called ``name`` (including ``parameter:<key>``)."""
     for cause in candidate_causes(bicycle):
         if cause.name == name:
             return cause
@@ -152,7 +152,7 @@ def cause_by_name(bicycle: Bicycle, name: str) -> Cause:
 
 
 def with_cause(bicycle: Bicycle, cause: Cause, values: Sequence[float]) -> Bicycle:
-    """The bicycle modified by a cause, its description noting the change."""
+    """Return the bicycle modified by a cause, its description noting the change."""
     changed = cause.apply(bicycle, [float(value) for value in values])
     note = ", ".join(f"{name} = {value:.6g}" for name, value in zip(cause.parameters, values, strict=True))
     return replace(changed, description=(bicycle.description + f" [diagnosed: {cause.name}: {note}]").strip())

@@ -88,8 +88,11 @@ class Diagnosis:
 
 @dataclass(frozen=True)
 class _Whitening:
-    """Per window: inverse Cholesky factors of the eigenvalue's and the shape's covariance,
-    and the dispersion (reduced chi-square >= 1) by which each kind of residual is scaled."""
+    """Whitening of the residuals: inverse Cholesky factors and dispersions.
+
+    Per window the inverse Cholesky factors of the eigenvalue's and the shape's covariance,
+    and the dispersion (reduced chi-square >= 1) by which each kind of residual is scaled.
+    """
 
     eigenvalue: NDArray[np.float64]
     shape_index: NDArray[np.int_]
@@ -138,8 +141,10 @@ def _whitening(observations: Sequence[Observation], bicycle: Bicycle,
 
 def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whitening: _Whitening
                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.complex128]]:
-    """Whitened eigenvalue residuals (2 per window), shape residuals (2 per window with a
-    shape), both at unit dispersion, and the predicted eigenvalues."""
+    """Return the whitened residuals at unit dispersion and the predicted eigenvalues.
+
+    Eigenvalue residuals are 2 per window, shape residuals 2 per window with a shape.
+    """
     predicted, shapes = predicted_modes(bicycle, observations)
     difference = np.array([[o.eigenvalue.real, o.eigenvalue.imag] for o in observations])
     difference -= np.column_stack([predicted.real, predicted.imag])
@@ -153,8 +158,11 @@ def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whit
 
 def _residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: _Whitening
                ) -> tuple[NDArray[np.float64], NDArray[np.complex128], tuple[float, float]]:
-    """All residuals, each kind divided by its dispersion; the predicted eigenvalues; and the
-    robust chi-square of each kind at unit dispersion (for :func:`_dispersions`)."""
+    """Return all residuals, the predicted eigenvalues and each kind's robust chi-square.
+
+    Each kind of residual is divided by its dispersion; the chi-squares are at unit dispersion
+    (for :func:`_dispersions`).
+    """
     eigenvalue, shape, predicted = _residual_blocks(bicycle, observations, whitening)
     # A model whose weave vanishes at a window's speed has no shape to compare: count it as a
     # large, finite misfit rather than stopping the fit.

@@ -1,5 +1,8 @@
-"""The diagnosis report in Markdown, for people: what the model gets wrong, the cause, the
-extended model and the gain, with the figures beside it."""
+"""The diagnosis report in Markdown, for people.
+
+What the model gets wrong, the cause, the extended model and the gain, with the figures
+beside it.
+"""
 
 from __future__ import annotations
 
@@ -8,12 +11,12 @@ from whipple.stability.critical import CriticalSpeeds
 
 
 def _speeds(critical: CriticalSpeeds) -> str:
-    """The critical speeds' summary in one line."""
+    """Return the critical speeds' summary in one line."""
     return "; ".join(" ".join(line.split()) for line in critical.summary())
 
 
 def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: str = "") -> str:
-    """The human-readable report; ``figures`` maps figure keys to file names beside it."""
+    """Return the human-readable report; ``figures`` maps figure keys to file names beside it."""
     data = report_json(report)
     diagnosis = report.diagnosis
     lines = [f"# Diagnosis of {report.bicycle.name or 'the bicycle'}", ""]

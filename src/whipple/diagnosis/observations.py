@@ -78,7 +78,7 @@ class Prediction:
 
     @classmethod
     def of(cls, bicycle: Bicycle, observations: Sequence[Observation]) -> Prediction:
-        """The prediction of a bicycle's model (see :func:`predicted_modes`)."""
+        """Return the prediction of a bicycle's model (see :func:`predicted_modes`)."""
         return cls(*predicted_modes(bicycle, observations))
 
 
@@ -98,9 +98,11 @@ def predicted_weave(bicycle: Bicycle, observations: Sequence[Observation]) -> ND
 
 def predicted_modes(bicycle: Bicycle, observations: Sequence[Observation]
                     ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """The model's eigenvalue nearest each measured one (as :func:`predicted_weave`), and its
-    mode shape: the eigenvector's ratio of the observation's ``shape_signals`` (NaN where the
-    observation has no shape)."""
+    """Return the model's eigenvalue nearest each measured one, and its mode shape.
+
+    The eigenvalue is as in :func:`predicted_weave`; the mode shape is the eigenvector's ratio
+    of the observation's ``shape_signals`` (NaN where the observation has no shape).
+    """
     observations = tuple(observations)
     speeds = np.array([o.speed for o in observations])
     targets = np.array([o.eigenvalue for o in observations])
@@ -111,9 +113,12 @@ def predicted_modes(bicycle: Bicycle, observations: Sequence[Observation]
 def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
                   signals: Sequence[tuple[str, str] | None]
                   ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """At each measured speed [m/s] (speed_scale applied), the model eigenvalue (upper half
-    plane) nearest ``targets`` [1/s], and its eigenvector's ratio of two signals
-    (MODE_SHAPE_STATES; NaN where ``signals`` is None)."""
+    """Return the model's eigenvalue nearest each target, and its eigenvector's ratio of two signals.
+
+    At each measured speed [m/s] (speed_scale applied), the model eigenvalue (upper half plane)
+    nearest ``targets`` [1/s], and its eigenvector's ratio of two signals (MODE_SHAPE_STATES;
+    NaN where ``signals`` is None).
+    """
     values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(bicycle.model_speed(speeds)))
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)
@@ -142,8 +147,10 @@ SHAPE_MATCH = 0.3
 
 def compared_shapes(bicycle: Bicycle, observations: Sequence[Observation],
                     predicted: NDArray[np.complex128] | None = None) -> NDArray[np.bool_]:
-    """Which windows' mode shapes are compared with the model: those with a shape whose
-    eigenvalue the bicycle's model matches with an oscillatory mode (see SHAPE_MATCH).
+    """Return which windows' mode shapes are compared with the model.
+
+    Those with a shape whose eigenvalue the bicycle's model matches with an oscillatory mode
+    (see SHAPE_MATCH).
 
     ``predicted`` is the model's eigenvalue nearest each observation (:func:`predicted_weave`)
     when already at hand.
@@ -157,7 +164,7 @@ def compared_shapes(bicycle: Bicycle, observations: Sequence[Observation],
 
 
 def speed_groups(observations: Sequence[Observation], gap: float = 0.3) -> list[list[int]]:
-    """Indices of observations grouped by speed: a new group where sorted speeds jump > gap [m/s]."""
+    """Return the indices of observations grouped by speed: a new group where sorted speeds jump > gap [m/s]."""
     order = np.argsort([o.speed for o in observations])
     groups: list[list[int]] = [[int(order[0])]]
     for previous, current in zip(order[:-1], order[1:], strict=True):
@@ -168,7 +175,7 @@ def speed_groups(observations: Sequence[Observation], gap: float = 0.3) -> list[
 
 
 def observation(measurement: WindowMeasurement) -> Observation:
-    """The diagnosis' view of a usable window."""
+    """Return the diagnosis' view of a usable window."""
     if measurement.fit is None or measurement.speed is None:
         raise ValueError("window has no fit")
     speed, shape = measurement.speed, measurement.shape

@@ -14,7 +14,7 @@ from whipple.stability.eigen import weave_eigenvalue
 
 
 def _weave_curve(bicycle: Bicycle, speeds: np.ndarray) -> np.ndarray:
-    """The weave eigenvalue against measured speed (speed_scale applied)."""
+    """Return the weave eigenvalue against measured speed (speed_scale applied)."""
     return weave_eigenvalue(linear_model(bicycle), bicycle.model_speed(speeds))
 
 
@@ -74,7 +74,7 @@ def plot_residuals(report: DiagnosisReport) -> Figure:
 
 
 def _shape_curve(bicycle: Bicycle, speeds: np.ndarray, signals: tuple[str, str]) -> np.ndarray:
-    """The weave's eigenvector ratio of two signals against measured speed (NaN with no weave)."""
+    """Return the weave's eigenvector ratio of two signals against measured speed (NaN with no weave)."""
     weave = _weave_curve(bicycle, speeds)
     ratio = nearest_modes(bicycle, speeds, weave, [signals] * len(speeds))[1]
     return np.where(weave.imag > 0, ratio, np.nan)
@@ -173,8 +173,11 @@ def plot_ranking(report: DiagnosisReport, count: int = 10) -> Figure:
 
 
 def report_figures(report: DiagnosisReport) -> dict[str, Figure]:
-    """Every figure of the report by key: eigenvalues, residuals, time, ranking, and with mode
-    shapes compared, shapes."""
+    """Return every figure of the report by key.
+
+    The keys are eigenvalues, residuals, time and ranking, and where mode shapes were
+    compared, shapes.
+    """
     makers = {"eigenvalues": plot_eigenvalues, "residuals": plot_residuals, "time": plot_time_overlay,
               "ranking": plot_ranking}
     if report.diagnosis.n_shapes:

@@ -180,8 +180,10 @@ def compare_shapes(observations: Sequence[Observation], prediction: Prediction,
 
 
 def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | None:
-    """A sentence on how the measured mode shapes differ from a model's (``ratios``: measured
-    over model, see :func:`compare_shapes`); None without shapes."""
+    """Return a sentence on how the measured mode shapes differ from a model's.
+
+    ``ratios`` are measured over model shapes (see :func:`compare_shapes`); None without shapes.
+    """
     if ratios.size == 0:
         return None
     magnitude, phase = 100 * (np.abs(ratios) - 1), np.degrees(np.angle(ratios))
@@ -245,7 +247,7 @@ FLIPPED_PHASE = 120.0
 
 
 def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
-    """What the verdict does not say: residual misfit, close alternatives, a suspect steer sign."""
+    """Say what the verdict does not say: residual misfit, close alternatives, a suspect steer sign."""
     notes = []
     ratios, signals = shapes.ratios, shapes.signals
     # Median phase of measured over model shape [deg].
@@ -276,7 +278,7 @@ def _pair(value: complex) -> list[float]:
 
 
 def report_json(report: DiagnosisReport) -> dict[str, Any]:
-    """The JSON object of the shared spec diagnosis-report.md (and more)."""
+    """Return the JSON object of the shared spec diagnosis-report.md (and more)."""
     diagnosis = report.diagnosis
     best = diagnosis.best
     estimate = {}

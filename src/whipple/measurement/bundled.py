@@ -13,12 +13,12 @@ _FOLDER = "sbw_treadmill"
 
 
 def bundled_folder() -> Traversable:
-    """The folder holding the bundled runs, their reference windows, README and LICENCE."""
+    """Return the folder holding the bundled runs, their reference windows, README and LICENCE."""
     return resources.files("whipple.data").joinpath(_FOLDER)
 
 
 def bundled_runs() -> list[Traversable]:
-    """The bundled run files (``*.log.gz``), sorted by belt speed.
+    """Return the bundled run files (``*.log.gz``), sorted by belt speed.
 
     Each can be passed to :func:`whipple.measurement.runs.read_run`.
     """
@@ -27,7 +27,7 @@ def bundled_runs() -> list[Traversable]:
 
 
 def bundled_reference_windows() -> Traversable:
-    """The hand-picked reference windows of the bundled runs (CSV, rows as in the logs).
+    """Return the hand-picked reference windows of the bundled runs (CSV, rows as in the logs).
 
     Read them with :func:`whipple.measurement.reference_windows.read_windows`.
     """

@@ -128,8 +128,11 @@ class WindowMeasurement:
         return "; ".join((self.window.reason, *self.window.notes))
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready: run, times [s], speed range [m/s], eigenvalue [1/s] with its std and
-        covariance, R^2, why skipped, and where the window came from."""
+        """Return the window as JSON-ready data.
+
+        Run, times [s], speed range [m/s], eigenvalue [1/s] with its std and covariance, R^2,
+        why skipped, and where the window came from.
+        """
         fit, speed = self.fit, self.speed
         return {
             "run": self.run.name,
@@ -313,7 +316,7 @@ def _quality(fit: WeaveFit) -> str | None:
 
 
 def _rejected(run: Run, window: Window, reason: str, speed: np.ndarray) -> WindowMeasurement:
-    """A window with no fit, with its speed range where one can be computed."""
+    """Return a window with no fit, with its speed range where one can be computed."""
     try:
         speeds: SpeedRange | None = speed_regression(run.time, speed, window.start, window.stop)
     except InputError:
@@ -322,7 +325,7 @@ def _rejected(run: Run, window: Window, reason: str, speed: np.ndarray) -> Windo
 
 
 def _settled(run: Run, window: Window, settle: float) -> Window:
-    """The window without its first ``settle`` seconds (unchanged for 0)."""
+    """Return the window without its first ``settle`` seconds (unchanged for 0)."""
     if settle <= 0.0:
         return window
     first = int(np.searchsorted(run.time, window.start + settle))

@@ -212,7 +212,7 @@ def parse_layout(text: str, name: str, source: str | Path) -> RunLayout:
 
 
 def detect_layout(first_line: str) -> RunLayout | None:
-    """The built-in layout whose ``detect`` prefix starts `first_line`, if any."""
+    """Return the built-in layout whose ``detect`` prefix starts `first_line`, if any."""
     for name in builtin_layouts():
         layout = load_layout(name)
         if layout.detect and first_line.strip().startswith(layout.detect):

@@ -75,7 +75,7 @@ def _basis(tau: NDArray[np.float64], slow: float, d: float, w: float) -> NDArray
 
 def _jacobian(tau: NDArray[np.float64], coefficients: NDArray[np.float64], slow: float, d: float,
               w: float) -> NDArray[np.float64]:
-    """Derivatives (k, n, 4 k + 3) of the model values w.r.t. (4 c's per signal, s, d, w)."""
+    """Return the derivatives (k, n, 4 k + 3) of the model values w.r.t. (4 c's per signal, s, d, w)."""
     k = coefficients.shape[0]
     basis = _basis(tau, slow, d, w)
     jacobian = np.zeros((k, tau.size, 4 * k + 3))
@@ -89,7 +89,7 @@ def _jacobian(tau: NDArray[np.float64], coefficients: NDArray[np.float64], slow:
 
 def amplitude_ratio(fit: WeaveFit, values: ArrayLike, signal: str, noise: str = "auto",
                     settle: float = SETTLE) -> AmplitudeRatio:
-    """The complex amplitude of ``values`` relative to the fit's first signal.
+    """Return the complex amplitude of ``values`` relative to the fit's first signal.
 
     Parameters
     ----------

@@ -315,7 +315,7 @@ def plot_measured_eigenvalues(
 
 def fit_figures(measured: Sequence[RunMeasurement], bicycle: Bicycle | None = None
                 ) -> Iterator[tuple[str, Figure]]:
-    """The figures of measured runs, one at a time, with their file names.
+    """Return the figures of measured runs, one at a time, with their file names.
 
     For each run its signals with the windows marked (``<run>_run.png``) and each fitted
     window (``<run>_window<NN>_<start>s.png``); then all measured eigenvalues against speed

@@ -30,9 +30,11 @@ class Readable(Protocol):
     """A file-like location: a Path or an importlib.resources Traversable."""
 
     @property
-    def name(self) -> str: ...
+    def name(self) -> str:
+        """File name."""
 
-    def read_bytes(self) -> bytes: ...
+    def read_bytes(self) -> bytes:
+        """Whole content."""
 
 
 @dataclass(frozen=True)
@@ -91,7 +93,7 @@ class Run:
 
 
 def run_from_simulation(simulated: SimulatedRun) -> Run:
-    """The measured part of a simulated run, as if read from its run file.
+    """Return the measured part of a simulated run, as if read from its run file.
 
     Parameters
     ----------
@@ -322,7 +324,7 @@ def _metadata_number(metadata: dict[str, str], key: str, source: str) -> float:
 
 
 def run_name(file_name: str) -> str:
-    """The name of the run in a file: its name without folder, ``.gz`` and extension.
+    """Return the name of the run in a file: its name without folder, ``.gz`` and extension.
 
     Only a short alphabetic extension is removed (``.csv``, ``.log``), so names with dots in
     them (``..._12.6kph``) survive.

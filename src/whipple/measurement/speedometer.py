@@ -51,7 +51,7 @@ class SpeedometerSpeed:
     distance_per_crossing: float
 
     def at(self, time: ArrayLike) -> NDArray[np.float64]:
-        """The staircase speed [m/s] at `time` [s] (held constant beyond the first/last step)."""
+        """Return the staircase speed [m/s] at `time` [s] (held constant beyond the first/last step)."""
         step = np.searchsorted(self.crossing_times, np.asarray(time, dtype=float), side="right") - 1
         return self.speeds[np.clip(step, 0, self.speeds.size - 1)]
 

@@ -61,7 +61,7 @@ class Swings:
 
 
 def swings_of(x: NDArray[np.float64], fs: float) -> Swings:
-    """The swings of signal `x` sampled at `fs` [Hz], with levels derived from the signal."""
+    """Return the swings of signal `x` sampled at `fs` [Hz], with levels derived from the signal."""
     frequency = _dominant_frequency(x, fs)
     cutoff = min(5 * frequency, 0.4 * fs)
     smooth = sosfiltfilt(bessel(4, cutoff, fs=fs, output="sos", norm="mag"), x)
@@ -106,7 +106,7 @@ def _dominant_frequency(x: NDArray[np.float64], fs: float) -> float:
 def _extremes(
     x: NDArray[np.float64], threshold: float, still: int
 ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """Indices of extremes, each confirmed by a retreat of more than `threshold`.
+    """Return the indices of extremes, each confirmed by a retreat of more than `threshold`.
 
     Where the signal has stayed within twice the threshold for `still` samples (the bicycle
     held, or at rest before a release), the moment it starts moving again also counts as an
@@ -144,7 +144,7 @@ def _extremes(
 
 
 def _zigzag(x: NDArray[np.float64], threshold: float) -> NDArray[np.intp]:
-    """Indices of alternating extremes, each confirmed by a retreat of more than `threshold`."""
+    """Return the indices of alternating extremes, each confirmed by a retreat of more than `threshold`."""
     found = []
     high = low = 0
     direction = 0

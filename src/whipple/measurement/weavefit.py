@@ -120,7 +120,7 @@ class WeaveFit:
         return self.frequency * (self.stop - self.start) / (2 * np.pi)
 
     def curve(self, time: ArrayLike) -> NDArray[np.float64]:
-        """The fitted curves at `time` [s], shape ``(k,) + shape(time)``."""
+        """Return the fitted curves at `time` [s], shape ``(k,) + shape(time)``."""
         tau = np.asarray(time, dtype=float) - self.start
         basis = _basis(tau.ravel(), self.damping, self.frequency, self.coefficients.shape[1] - 3)
         return (basis @ self.coefficients.T).T.reshape((-1,) + tau.shape)
@@ -241,7 +241,7 @@ def _basis(tau: NDArray[np.float64], d: float, w: float, degree: int = 0) -> NDA
 def _linear_fit(
     tau: NDArray[np.float64], Y: NDArray[np.float64], theta: NDArray[np.float64], degree: int = 0
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The c's (degree + 3, k) for given (d, w) and the fitted curves (n, k)."""
+    """Return the c's (degree + 3, k) for given (d, w) and the fitted curves (n, k)."""
     basis = _basis(tau, float(theta[0]), float(theta[1]), degree)
     coefficients = np.asarray(np.linalg.lstsq(basis, Y, rcond=None)[0], dtype=float)
     return coefficients, np.asarray(basis @ coefficients, dtype=float)
@@ -387,7 +387,7 @@ def _full_jacobian(
 def response_with_eigenvalue(
     time: ArrayLike, values: ArrayLike, eigenvalue: complex, baseline: str = "constant"
 ) -> NDArray[np.float64]:
-    """The best fit of a window with the eigenvalue held fixed (amplitude, phase, baseline free).
+    """Return the best fit of a window with the eigenvalue held fixed (amplitude, phase, baseline free).
 
     This is how a model's weave eigenvalue explains a measured window in the time domain:
     the model fixes d and w, the window's initial state fixes the linear coefficients.

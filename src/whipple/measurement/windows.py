@@ -228,8 +228,9 @@ class _Finder:
         return windows, rejected
 
     def growth_before(self, catch: int, earliest: int) -> Window | None:
-        """The growing oscillation that catch swing `catch` ends, if any (not before sample
-        `earliest`).
+        """Return the growing oscillation that catch swing `catch` ends, if any.
+
+        The oscillation starts no earlier than sample `earliest`.
 
         Below the weave speed the oscillation grows out of the noise and is caught within a
         swing or two: the push that started it is too small to see.
@@ -254,7 +255,7 @@ class _Finder:
                       (f"growing oscillation caught after {catch - first} swing(s)",))
 
     def follow(self, push: int) -> tuple[Window, int]:
-        """The window after push swing `push`, and the swing to resume the scan at."""
+        """Return the window after push swing `push`, and the swing to resume the scan at."""
         start = int(self.extremes[push + 1])
         # After a push the first free swing starts from rest; out of a growing oscillation it
         # simply continues the growth.

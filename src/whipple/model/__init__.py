@@ -8,7 +8,9 @@ parameter_set
     The data objects (:class:`Bicycle`, extensions, controller) and their physical checks.
 bicycle_file
     Reading and writing bicycle files (TOML, BicycleParameters text).
-parameters
+
+Parameters
+----------
     The public entry point: :func:`load_bicycle`, :func:`validate` and the names above.
 linear
     :class:`LinearModel`, ``x' = A(v) x + B(v) f`` with A, B polynomial in the speed.

@@ -1,34 +1,25 @@
 """From a bicycle (parameters, extensions, controller) to its linear model.
 
-The matrices come from the generated code (``whipple.generated``), which ``whipple
-regenerate`` derives from first principles in derivation/. This module only assembles them:
-it adds the controller's feedback and converts to first-order form, numerically (NumPy,
-broadcasting over many parameter sets) or symbolically (CasADi, for root finding and
-derivatives with respect to parameters).
+The matrices come from the generated NumPy code (``whipple.generated``), which ``whipple
+regenerate`` derives from first principles in derivation/. This module only assembles them,
+broadcasting over many parameter sets: it adds the controller's feedback and converts to
+first-order form (:mod:`whipple.model.first_order`). The same models as exact CasADi
+expressions are in :mod:`whipple.model.casadi_model`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING, NamedTuple
+from typing import NamedTuple
 
-import casadi
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import ParameterError
-from whipple.generated import (
-    whipple_casadi,
-    whipple_extended_casadi,
-    whipple_extended_numpy,
-    whipple_numpy,
-)
-from whipple.model.linear import LinearModel, polynomial_casadi, second_order_model
-
-if TYPE_CHECKING:
-    from whipple.model.parameters import Bicycle, Controller
-
-from whipple.model.parameters import Extensions
+from whipple.generated import whipple_extended_numpy, whipple_numpy
+from whipple.model.linear import LinearModel, second_order_model
+from whipple.model.parameters import Bicycle, Controller, Extensions
+from whipple.model.tyre import tyre_linear_model
 
 _NO_EXTENSIONS = Extensions()
 
@@ -79,7 +70,7 @@ def _gather(parameters: Mapping[str, ArrayLike], names: Sequence[str]) -> list[N
 
 
 def whipple_matrices(parameters: Mapping[str, ArrayLike]) -> Matrices:
-    """The Whipple model's matrices for one or many parameter sets.
+    """Return the Whipple model's matrices for one or many parameter sets.
 
     Parameters
     ----------
@@ -96,7 +87,8 @@ def whipple_matrices(parameters: Mapping[str, ArrayLike]) -> Matrices:
     return Matrices(M, C1, K0, K2, np.zeros_like(M))
 
 
-def _extension_values(extensions: Extensions | None) -> dict[str, float]:
+def extension_values(extensions: Extensions | None) -> dict[str, float]:
+    """Return the extended model's extension values (zero when absent), by parameter name."""
     values = (extensions if extensions is not None else _NO_EXTENSIONS).model_values()
     return {name: value for name, value in values.items() if name in EXTENDED_PARAMETERS}
 
@@ -110,7 +102,7 @@ def extended_matrices(
     ``EXTENDED_PARAMETERS`` (``payload_mass`` [kg], ``payload_x`` [m], ``payload_z`` [m],
     ``steer_inertia`` [kg m^2], ``steer_damping`` [N m s/rad]); those override ``extensions``.
     """
-    merged: dict[str, ArrayLike] = dict(_extension_values(extensions))
+    merged: dict[str, ArrayLike] = dict(extension_values(extensions))
     merged.update(parameters)
     M, C1, D, K0, K2 = _evaluate(whipple_extended_numpy.matrices,
                                  _gather(merged, EXTENDED_PARAMETERS))
@@ -123,7 +115,7 @@ def build_linear_model(
     controller: Controller | None = None,
     description: str = "",
 ) -> LinearModel:
-    """The first-order model of one or many parameter sets (arrays broadcast).
+    """Return the first-order model of one or many parameter sets (arrays broadcast).
 
     Parameters
     ----------
@@ -137,8 +129,6 @@ def build_linear_model(
     """
     tyres = extensions is not None and extensions.tyre_compliance is not None
     if tyres or "cornering_stiffness" in parameters:
-        from whipple.model.tyre import tyre_linear_model  # the tyre model has its own states
-
         return tyre_linear_model(parameters, extensions, controller, description)
     matrices = extended_matrices(parameters, extensions)
     feedback = controller.feedback_coefficients() if controller is not None else None
@@ -147,58 +137,6 @@ def build_linear_model(
 
 
 def linear_model(bicycle: Bicycle) -> LinearModel:
-    """The linear model of a bicycle, with its extensions and controller."""
+    """Return the linear model of a bicycle, with its extensions and controller."""
     return build_linear_model(bicycle.parameters, bicycle.extensions, bicycle.controller,
                               description=bicycle.name)
-
-
-def casadi_matrices(p: casadi.SX | NDArray[np.float64]) -> tuple[casadi.SX, ...]:
-    """M, C1, K0, K2 of the base model as CasADi expressions of a parameter vector p.
-
-    p holds the parameters in the order of ``MODEL_PARAMETERS``.
-    """
-    return tuple(whipple_casadi.matrices(p))
-
-
-def casadi_state_function(
-    bicycle: Bicycle, keys: Sequence[str] = ()
-) -> tuple[casadi.Function, NDArray[np.float64]]:
-    """``A(v, p)`` as a CasADi function, symbolic in the parameters named by ``keys``.
-
-    Parameters
-    ----------
-    bicycle : Bicycle
-        Supplies the values of every parameter not in ``keys``, the extensions and controller.
-    keys : sequence of str
-        Names from ``EXTENDED_PARAMETERS`` to keep symbolic (e.g. the keys of the bicycle's
-        uncertainty table).
-
-    Returns
-    -------
-    function : casadi.Function
-        ``A = function(v, p)``, with v the speed [m/s] and p the values of ``keys``.
-    p0 : ndarray
-        The bicycle's values of ``keys``.
-    """
-    if bicycle.extensions.tyre_compliance is not None:
-        from whipple.model.tyre import tyre_casadi_state_function
-
-        return tyre_casadi_state_function(bicycle, keys)
-    values = dict(_extension_values(bicycle.extensions))
-    values.update({k: float(x) for k, x in bicycle.parameters.items() if k in EXTENDED_PARAMETERS})
-    unknown = [key for key in keys if key not in EXTENDED_PARAMETERS]
-    if unknown:
-        raise ParameterError(f"cannot vary {', '.join(unknown)}: not a model parameter")
-    p = casadi.SX.sym("p", len(keys))
-    entries = [p[keys.index(name)] if name in keys else casadi.SX(values[name])
-               for name in EXTENDED_PARAMETERS]
-    M, C1, D, K0, K2 = whipple_extended_casadi.matrices(casadi.vertcat(*entries))
-    v = casadi.SX.sym("v")
-    stiffness = K0 + v**2 * K2
-    damping = v * C1 + D
-    gains = bicycle.controller.feedback_coefficients()
-    feedback = polynomial_casadi(np.array(gains).reshape(len(gains), 2, 4), v)
-    lower = casadi.solve(M, casadi.horzcat(-stiffness, -damping) + feedback)
-    A = casadi.vertcat(casadi.horzcat(casadi.SX.zeros(2, 2), casadi.SX.eye(2)), lower)
-    p0 = np.array([values[name] for name in keys], dtype=float)
-    return casadi.Function("A", [v, p], [A], ["v", "p"], ["A"]), p0

@@ -43,7 +43,7 @@ _TEXT_LINE = re.compile(rf"^\s*(\w+)\s*=\s*({_NUMBER})\s*(?:\+/-\s*({_NUMBER}))?
 
 
 def _kind(value: object) -> str:
-    """The TOML name of a value's type, for error messages."""
+    """Return the TOML name of a value's type, for error messages."""
     if isinstance(value, bool):
         return "a boolean"
     if isinstance(value, int | float):
@@ -82,7 +82,7 @@ class StrictTable:
     source: str
 
     def error(self, message: str) -> BicycleFileError:
-        """A BicycleFileError for this file."""
+        """Return a BicycleFileError for this file."""
         return BicycleFileError(message, self.source)
 
     def check_keys(self, allowed: Iterable[str], required: Iterable[str] = ()) -> None:
@@ -97,7 +97,7 @@ class StrictTable:
             raise self.error(f"missing key{plural} in {self.where}: {', '.join(missing)}")
 
     def table(self, key: str) -> StrictTable | None:
-        """The subtable `key`, or None when absent; an error if it is not a table."""
+        """Return the subtable `key`, or None when absent; an error if it is not a table."""
         if key not in self.values:
             return None
         value = self.values[key]
@@ -107,14 +107,14 @@ class StrictTable:
         return StrictTable(value, where, self.source)
 
     def number(self, key: str) -> float:
-        """The number under `key` (integers become floats; booleans are not numbers)."""
+        """Return the number under `key` (integers become floats; booleans are not numbers)."""
         value = self.values[key]
         if not _is_number(value):
             raise self.error(f"{key!r} in {self.where} must be a number, got {_kind(value)}")
         return float(value)
 
     def numbers(self, key: str) -> tuple[float, ...]:
-        """A non-empty array of numbers under `key` (a single number is a one-element array)."""
+        """Return a non-empty array of numbers under `key` (a single number is a one-element array)."""
         value = self.values[key]
         if _is_number(value):
             return (float(value),)
@@ -125,7 +125,7 @@ class StrictTable:
         return tuple(float(item) for item in value)
 
     def string(self, key: str, default: str = "") -> str:
-        """The string under `key`, or `default` when absent."""
+        """Return the string under `key`, or `default` when absent."""
         value = self.values.get(key, default)
         if not isinstance(value, str):
             raise self.error(f"{key!r} in {self.where} must be a string, got {_kind(value)}")

@@ -8,7 +8,7 @@ relaxation) share one form::
 
 Keeping the polynomial coefficients (rather than a function) makes the model plain data: it
 evaluates at many speeds at once, broadcasts over many parameter sets, and converts exactly to
-a CasADi expression in v for root finding.
+a CasADi expression in v for root finding (:mod:`whipple.model.casadi_model`).
 """
 
 from __future__ import annotations
@@ -16,9 +16,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-import casadi
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from whipple.model.first_order import second_order_coefficients
 
 #: States of the Whipple model, in order, with their units.
 WHIPPLE_STATES = ("roll", "steer", "roll_rate", "steer_rate")
@@ -81,38 +82,12 @@ class LinearModel:
         """Evaluate B at forward speeds [m/s]; shape ``batch_shape + S + (n, m)``."""
         return _evaluate_polynomial(self.B, speeds)
 
-    def casadi_state_matrix(self) -> casadi.Function:
-        """A CasADi function ``A(v)`` of the (unbatched) model, exact in v.
-
-        Raises
-        ------
-        ValueError
-            If the model holds a batch of parameter sets.
-        """
-        if self.batch_shape:
-            raise ValueError("casadi_state_matrix needs a single model, not a batch")
-        speed = casadi.SX.sym("v")
-        return casadi.Function("A", [speed], [polynomial_casadi(self.A, speed)], ["v"], ["A"])
-
     def select(self, index: int | tuple[int, ...]) -> LinearModel:
-        """The model of one parameter set of a batch."""
+        """Return the model of one parameter set of a batch."""
         return LinearModel(
             self.A[index], self.B[index], self.state_names, self.state_units,
             self.input_names, self.input_units, self.description,
         )
-
-
-def polynomial_casadi(coefficients: NDArray[np.float64], speed: casadi.SX) -> casadi.SX:
-    """``sum_k speed^k C_k`` as a CasADi expression, for coefficients of shape (K+1, r, c).
-
-    No coefficients (K+1 = 0, e.g. an empty controller) give the zero matrix.
-    """
-    if coefficients.shape[0] == 0:
-        return casadi.SX.zeros(*coefficients.shape[1:])
-    total = casadi.SX(casadi.DM(coefficients[0]))
-    for power in range(1, coefficients.shape[0]):
-        total = total + speed**power * casadi.DM(coefficients[power])
-    return total
 
 
 def _evaluate_polynomial(coefficients: NDArray[np.float64], speeds: ArrayLike) -> NDArray[np.float64]:
@@ -159,24 +134,7 @@ def second_order_model(
         States ``[roll, steer, roll_rate, steer_rate]``, inputs ``[roll_torque, steer_torque]``.
     """
     M, C1, K0, K2 = (np.asarray(matrix, dtype=float) for matrix in (M, C1, K0, K2))
-    batch = np.broadcast_shapes(M.shape[:-2], C1.shape[:-2], K0.shape[:-2], K2.shape[:-2])
-    D = np.zeros(batch + (2, 2)) if damping is None else np.asarray(damping, dtype=float)
+    D = np.zeros_like(K0) if damping is None else np.asarray(damping, dtype=float)
     gains = [np.asarray(gain, dtype=float) for gain in (feedback or [])]
-    for gain in gains:
-        batch = np.broadcast_shapes(batch, gain.shape[:-2])
-    batch = np.broadcast_shapes(batch, D.shape[:-2])
-    degree = max(2, len(gains) - 1)
-    M_inv = np.linalg.inv(np.broadcast_to(M, batch + (2, 2)))
-
-    A = np.zeros(batch + (degree + 1, 4, 4))
-    A[..., 0, 0:2, 2:4] = np.eye(2)
-    # Rows of the accelerations: q'' = M^-1 (f + F(v) x - K(v) q - C(v) q').
-    A[..., 0, 2:4, 0:2] -= M_inv @ K0
-    A[..., 2, 2:4, 0:2] -= M_inv @ K2
-    A[..., 1, 2:4, 2:4] -= M_inv @ C1
-    A[..., 0, 2:4, 2:4] -= M_inv @ D
-    for power, gain in enumerate(gains):
-        A[..., power, 2:4, :] += M_inv @ gain
-    B = np.zeros(batch + (1, 4, 2))
-    B[..., 0, 2:4, :] = M_inv
-    return LinearModel(A=A, B=B, description=description)
+    coefficients, inputs = second_order_coefficients(M, C1, D, K0, K2, gains)
+    return LinearModel(A=np.stack(coefficients, axis=-3), B=inputs[..., None, :, :], description=description)

@@ -21,46 +21,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import ParameterError
-
-_PARAMETERS = (  # name, unit, description
-    ("w", "m", "wheelbase"),
-    ("c", "m", "trail"),
-    ("lam", "rad", "steer axis tilt from vertical"),
-    ("g", "m/s^2", "acceleration due to gravity"),
-    ("rR", "m", "rear wheel radius"),
-    ("mR", "kg", "rear wheel mass"),
-    ("IRxx", "kg m^2", "rear wheel moment of inertia about a diameter"),
-    ("IRyy", "kg m^2", "rear wheel moment of inertia about its axle"),
-    ("xB", "m", "rear frame mass centre, forward of the rear contact"),
-    ("zB", "m", "rear frame mass centre, z down (negative above ground)"),
-    ("mB", "kg", "rear frame mass"),
-    ("IBxx", "kg m^2", "rear frame moment of inertia about x"),
-    ("IByy", "kg m^2", "rear frame moment of inertia about y"),
-    ("IBzz", "kg m^2", "rear frame moment of inertia about z"),
-    ("IBxz", "kg m^2", "rear frame product of inertia xz"),
-    ("xH", "m", "front frame (fork and handlebar) mass centre, forward of the rear contact"),
-    ("zH", "m", "front frame mass centre, z down (negative above ground)"),
-    ("mH", "kg", "front frame mass"),
-    ("IHxx", "kg m^2", "front frame moment of inertia about x"),
-    ("IHyy", "kg m^2", "front frame moment of inertia about y"),
-    ("IHzz", "kg m^2", "front frame moment of inertia about z"),
-    ("IHxz", "kg m^2", "front frame product of inertia xz"),
-    ("rF", "m", "front wheel radius"),
-    ("mF", "kg", "front wheel mass"),
-    ("IFxx", "kg m^2", "front wheel moment of inertia about a diameter"),
-    ("IFyy", "kg m^2", "front wheel moment of inertia about its axle"),
-)
+from whipple.model.parameter_table import BY_NAME, names
 
 #: The 26 benchmark parameters in the order of Meijaard et al. (2007), Table 1.
-PARAMETER_NAMES: tuple[str, ...] = tuple(name for name, _, _ in _PARAMETERS)
+PARAMETER_NAMES: tuple[str, ...] = names("benchmark")
 #: Parameters that do not enter the linear model; they may be absent.
 OPTIONAL_PARAMETERS: tuple[str, ...] = ("IByy", "IHyy")
 #: SI unit of each parameter.
-PARAMETER_UNITS: dict[str, str] = {name: unit for name, unit, _ in _PARAMETERS}
+PARAMETER_UNITS: dict[str, str] = {name: BY_NAME[name].unit for name in PARAMETER_NAMES}
 #: One-line description of each parameter, with its unit in brackets.
-PARAMETER_DESCRIPTIONS: dict[str, str] = {
-    name: f"{text} [{unit}]" for name, unit, text in _PARAMETERS
-}
+PARAMETER_DESCRIPTIONS: dict[str, str] = {name: BY_NAME[name].described for name in PARAMETER_NAMES}
 
 #: States a controller may feed back, in the order of the Whipple state vector.
 CONTROLLER_STATES = ("roll", "steer", "roll_rate", "steer_rate")
@@ -145,7 +115,7 @@ class Extensions:
     tyre_compliance: TyreCompliance | None = None
 
     def is_base(self) -> bool:
-        """True when the extensions change nothing in the Whipple model."""
+        """Return True when the extensions change nothing in the Whipple model."""
         return self == Extensions()
 
     def model_values(self) -> dict[str, float]:
@@ -193,7 +163,7 @@ class Controller:
             object.__setattr__(self, row, gains)
 
     def is_empty(self) -> bool:
-        """True when there is no feedback term at all."""
+        """Return True when there is no feedback term at all."""
         return not self.steer and not self.roll
 
     def feedback_coefficients(self) -> list[NDArray[np.float64]]:
@@ -250,22 +220,22 @@ class Bicycle:
             object.__setattr__(self, name, values)
 
     def with_parameters(self, **changes: float) -> Bicycle:
-        """A copy with some parameters changed (unknown names are a ParameterError)."""
+        """Return a copy with some parameters changed (unknown names are a ParameterError)."""
         unknown = sorted(set(changes) - set(PARAMETER_NAMES))
         if unknown:
             raise ParameterError(f"unknown parameter(s): {', '.join(unknown)}")
         return dataclasses.replace(self, parameters={**self.parameters, **changes})
 
     def with_extensions(self, **changes: Any) -> Bicycle:
-        """A copy with some fields of the extensions changed."""
+        """Return a copy with some fields of the extensions changed."""
         return dataclasses.replace(self, extensions=dataclasses.replace(self.extensions, **changes))
 
     def with_controller(self, controller: Controller) -> Bicycle:
-        """A copy with another controller."""
+        """Return a copy with another controller."""
         return dataclasses.replace(self, controller=controller)
 
     def model_speed(self, measured: ArrayLike) -> NDArray[np.float64]:
-        """The model's (true) forward speed [m/s] at a measured speed [m/s].
+        """Return the model's (true) forward speed [m/s] at a measured speed [m/s].
 
         A speedometer or treadmill may misreport the speed by the factor ``speed_scale`` of
         the extensions (measured speed = speed_scale * true speed).
@@ -273,7 +243,7 @@ class Bicycle:
         return np.asarray(measured, dtype=float) / self.extensions.speed_scale
 
     def measured_speed(self, true: ArrayLike) -> NDArray[np.float64]:
-        """The speed [m/s] a measurement reports at the model's (true) speed [m/s]."""
+        """Return the speed [m/s] a measurement reports at the model's (true) speed [m/s]."""
         return np.asarray(true, dtype=float) * self.extensions.speed_scale
 
 

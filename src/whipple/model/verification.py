@@ -15,7 +15,8 @@ from importlib import resources
 
 import numpy as np
 
-from whipple.model.assembly import MODEL_PARAMETERS, casadi_matrices, whipple_matrices
+from whipple.model.assembly import MODEL_PARAMETERS, whipple_matrices
+from whipple.model.casadi_model import casadi_matrices
 
 MATRIX_NAMES = ("M", "C1", "K0", "K2")
 
@@ -46,6 +47,7 @@ class EntryCheck:
 
     @property
     def passed(self) -> bool:
+        """Whether the error is within the tolerance."""
         return self.error <= self.tolerance
 
 
@@ -59,10 +61,12 @@ class VerificationResult:
 
     @property
     def passed(self) -> bool:
+        """Whether every entry passes and NumPy agrees with CasADi."""
         # NumPy and CasADi evaluate the same expressions: they may differ by rounding only.
         return all(entry.passed for entry in self.entries) and self.numpy_casadi_difference < 1e-12
 
     def to_dict(self) -> dict:
+        """Return the result as JSON-ready data."""
         return {
             "reference": self.reference.name,
             "citation": self.reference.citation,
@@ -85,7 +89,7 @@ def _load(file_name: str) -> dict:
 
 
 def reference_sets() -> tuple[ReferenceSet, ...]:
-    """The published sets shipped with the package."""
+    """Return the published sets shipped with the package."""
     benchmark = _load("meijaard2007-benchmark.toml")
     g = benchmark["parameters"]["g"]
     # The benchmark prints K0 without gravity; the package's K0 includes it.

@@ -21,13 +21,16 @@ class Writable(Protocol):
     """A run: sample times [s], signals by run-file column name (SI units), metadata."""
 
     @property
-    def time(self) -> NDArray[np.float64]: ...
+    def time(self) -> NDArray[np.float64]:
+        """Sample times [s]."""
 
     @property
-    def signals(self) -> Mapping[str, NDArray[np.float64]]: ...
+    def signals(self) -> Mapping[str, NDArray[np.float64]]:
+        """Signals by run-file column name, SI units."""
 
     @property
-    def metadata(self) -> Mapping[str, str]: ...
+    def metadata(self) -> Mapping[str, str]:
+        """Metadata lines."""
 
 
 def write_run_csv(run: Writable, path: str | Path) -> Path:

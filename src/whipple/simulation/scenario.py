@@ -83,7 +83,7 @@ class Sensors:
     speedometer: Sensor = Sensor(0.02, 0.1)  # V
 
     def scaled(self, noise: float = 1.0, bias: float = 1.0) -> Sensors:
-        """A copy with every noise level multiplied by `noise` and every bias by `bias`."""
+        """Return a copy with every noise level multiplied by `noise` and every bias by `bias`."""
         if not (math.isfinite(noise) and math.isfinite(bias) and noise >= 0 and bias >= 0):
             raise ScenarioError(f"noise and bias scales must be >= 0, got {noise}, {bias}")
         return Sensors(**{name: Sensor(getattr(self, name).noise * noise,
@@ -235,7 +235,7 @@ class RunScenario:
         return self.push_duration + self.max_coast + self.catch_duration + self.settle
 
     def resolved_pushes(self) -> tuple[Push, ...]:
-        """The pushes of the run (automatic ones with ``roll_impulse=None``)."""
+        """Return the pushes of the run (automatic ones with ``roll_impulse=None``)."""
         if self.pushes is not None:
             return self.pushes
         count = self.n_pushes
@@ -261,7 +261,7 @@ class RunScenario:
         return self.duration
 
     def replace(self, **changes: object) -> RunScenario:
-        """A copy with some fields changed (validated again)."""
+        """Return a copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)  # type: ignore[arg-type]
 
 

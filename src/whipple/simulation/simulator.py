@@ -105,7 +105,7 @@ class SimulatedRun:
         return self.scenario.sample_rate
 
     def state(self, name: str) -> NDArray[np.float64]:
-        """The true trajectory of one state, by name."""
+        """Return the true trajectory of one state, by name."""
         return self.states[:, self.state_names.index(name)]
 
 

@@ -85,7 +85,7 @@ def _orlando_sign(n: int) -> float:
 
 
 def _is_zero(entry: Any) -> bool:
-    """True for a structural zero (a CasADi constant 0 or a Python 0)."""
+    """Return True for a structural zero (a CasADi constant 0 or a Python 0)."""
     if isinstance(entry, casadi.SX | casadi.MX | casadi.DM):
         return bool(entry.is_zero())
     return bool(entry == 0)
@@ -201,7 +201,7 @@ Pattern = tuple[tuple[tuple[bool, ...], ...], ...]
 
 
 def sparsity_pattern(coefficients: NDArray[np.float64]) -> Pattern:
-    """The :data:`Pattern` of coefficients (..., T, n, n): entries nonzero in any model."""
+    """Return the :data:`Pattern` of coefficients (..., T, n, n): entries nonzero in any model."""
     mask = np.any(coefficients.reshape((-1,) + coefficients.shape[-3:]) != 0, axis=0)
     return tuple(tuple(tuple(bool(x) for x in row) for row in block) for block in mask)
 
@@ -224,7 +224,7 @@ def condition_functions(pattern: Pattern) -> casadi.Function:
 
 @lru_cache(maxsize=64)
 def condition_rootfinder(pattern: Pattern, kind: str, count: int) -> casadi.Function:
-    """Mapped CasADi Newton solver for ``condition(v, c) / scale = 0``, `count` roots at once.
+    """Return a mapped CasADi Newton solver for ``condition(v, c) / scale = 0``, `count` roots at once.
 
     Inputs ``(v0, c, scale)`` as rows/columns of `count` problems; output the roots [m/s].
     """

@@ -54,7 +54,7 @@ class EigenResult:
     state_names: tuple[str, ...] = ()
 
     def mode(self, name: str) -> NDArray[np.complex128]:
-        """The eigenvalue [1/s] labelled `name` at each speed, NaN where there is none.
+        """Return the eigenvalue [1/s] labelled `name` at each speed, NaN where there is none.
 
         Of a complex pair the member with positive imaginary part is returned; of several
         real eigenvalues with the same label, the one with the largest real part.
@@ -73,8 +73,11 @@ class EigenResult:
 
 
 def tracking_grid(speeds: NDArray[np.float64], step: float = TRACKING_STEP) -> NDArray[np.float64]:
-    """Sorted union of `speeds` with a grid of spacing at most 1.25 `step` [m/s] over their
-    span extended to :data:`TRACKING_SPAN`."""
+    """Return the speeds [m/s] on which eigenvalues are tracked.
+
+    The sorted union of `speeds` with a grid of spacing at most 1.25 `step` [m/s] over their
+    span extended to :data:`TRACKING_SPAN`.
+    """
     low = min(float(np.min(speeds)), TRACKING_SPAN[0])
     high = max(float(np.max(speeds)), TRACKING_SPAN[1])
     knots = np.unique(np.concatenate([speeds, [low, high]]))
@@ -189,7 +192,7 @@ def eigen_analysis(model: LinearModel, speeds: ArrayLike) -> EigenResult:
 
 
 def weave_eigenvalue(model: LinearModel, speeds: ArrayLike) -> NDArray[np.complex128]:
-    """The weave eigenvalue [1/s] (positive imaginary part) at forward speeds [m/s].
+    """Return the weave eigenvalue [1/s] (positive imaginary part) at forward speeds [m/s].
 
     Returns
     -------

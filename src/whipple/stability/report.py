@@ -13,7 +13,8 @@ from typing import Any
 import numpy as np
 
 from whipple.errors import AnalysisError
-from whipple.model.assembly import EXTENDED_PARAMETERS, casadi_state_function, extended_matrices, linear_model
+from whipple.model.assembly import EXTENDED_PARAMETERS, extended_matrices, linear_model
+from whipple.model.casadi_model import casadi_state_function
 from whipple.model.parameters import Bicycle, check_physical
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
 from whipple.stability.eigen import EigenResult, eigen_analysis

@@ -72,7 +72,7 @@ def polynomial_matrices(coefficients: NDArray[np.float64], speeds: NDArray[np.fl
 
 
 def condition(kind: str, eigenvalues: NDArray[Any]) -> NDArray[np.float64]:
-    """The ``hopf`` or ``real`` condition from eigenvalues [1/s], shape (..., n)."""
+    """Return the ``hopf`` or ``real`` condition from eigenvalues [1/s], shape (..., n)."""
     return hopf_condition(eigenvalues) if kind == "hopf" else real_condition(eigenvalues)
 
 

@@ -77,7 +77,7 @@ def critical_speed_uncertainty(
     ----------
     state_function : casadi.Function
         ``A(v, p)``: forward speed v [m/s] and parameter vector p to the dense n x n state
-        matrix [1/s] (SX or MX based), e.g. from ``whipple.model.assembly.casadi_state_function``.
+        matrix [1/s] (SX or MX based), e.g. from ``whipple.model.casadi_model.casadi_state_function``.
     p0 : array_like, shape (m,)
         Nominal parameters.
     std_or_cov : array_like, shape (m,) or (m, m)

@@ -38,6 +38,12 @@ BENCHMARK_PARAMETERS = {
     "IFyy": "front wheel moment of inertia about its axle [kg m^2]",
 }
 
+# The pitch inertias, which enter the nonlinear model only.
+PITCH_INERTIA_PARAMETERS = {
+    "IByy": "rear frame moment of inertia about y [kg m^2]",
+    "IHyy": "front frame moment of inertia about y [kg m^2]",
+}
+
 # Extensions of the Whipple model that keep its two degrees of freedom.
 EXTENSION_PARAMETERS = {
     "payload_mass": "point mass rigidly attached to the rear frame [kg]",
@@ -55,7 +61,29 @@ TYRE_PARAMETERS = {
     "pneumatic_trail": "self-aligning moment arm of the lateral slip force [m]",
 }
 
-ALL_DESCRIPTIONS = {**BENCHMARK_PARAMETERS, **EXTENSION_PARAMETERS, **TYRE_PARAMETERS}
+# Variables of the nonlinear model. Angles follow the benchmark axes (x forward, y right,
+# z down): yaw about z, roll about the yawed x, pitch about the rolled y (zero with the rear
+# frame in its reference orientation), steer about the steer axis (down), wheel angles about
+# the wheel axles relative to the frame that carries the wheel.
+NONLINEAR_VARIABLES = {
+    "yaw": "yaw angle of the rear frame [rad]",
+    "roll": "roll angle of the rear frame [rad]",
+    "pitch": "pitch angle of the rear frame [rad]",
+    "steer": "steer angle of the front frame relative to the rear frame [rad]",
+    "rear_wheel": "rear wheel angle relative to the rear frame [rad]",
+    "front_wheel": "front wheel angle relative to the front frame [rad]",
+    "yaw_rate": "yaw rate [rad/s]",
+    "roll_rate": "roll rate [rad/s]",
+    "pitch_rate": "pitch rate [rad/s]",
+    "steer_rate": "steer rate [rad/s]",
+    "rear_wheel_rate": "rear wheel rate relative to the rear frame [rad/s]",
+    "front_wheel_rate": "front wheel rate relative to the front frame [rad/s]",
+    "roll_torque": "torque on the rear frame about the roll axis [N m]",
+    "steer_torque": "torque of the rear frame on the front frame about the steer axis [N m]",
+}
+
+ALL_DESCRIPTIONS = {**BENCHMARK_PARAMETERS, **PITCH_INERTIA_PARAMETERS, **EXTENSION_PARAMETERS,
+                    **TYRE_PARAMETERS, **NONLINEAR_VARIABLES}
 
 
 def parameter_symbols(names: tuple[str, ...] | list[str]) -> dict[str, sm.Symbol]:

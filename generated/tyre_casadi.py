@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``tyre``).
 
-Derivation sources sha256: 7e5610caec39e93d856b1839e0ae0ee3431d83bfeb2b93c7cf6ce3152beb9ddb
+Derivation sources sha256: 26c8f4178a02bf15723f7f66c26a212309d342f6fa9c292312ecd062e7fd9520
 SymPy version: 1.14.0
 
 Equation form: E x' = (A0 + v A1 + ...) x + B f, x = [roll, steer, roll_rate, steer_rate, lateral_speed, yaw_rate, rear_lateral_force, front_lateral_force], f = [roll torque, steer torque].

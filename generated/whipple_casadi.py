@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple``).
 
-Derivation sources sha256: 7e5610caec39e93d856b1839e0ae0ee3431d83bfeb2b93c7cf6ce3152beb9ddb
+Derivation sources sha256: 26c8f4178a02bf15723f7f66c26a212309d342f6fa9c292312ecd062e7fd9520
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]; K0 includes gravity.

@@ -70,6 +70,8 @@ INDEPENDENT, DEPENDENT = (1, 3, 4), (0, 2, 5)
 # Newton's method for the pitch: a step below this [rad] is at the level of rounding.
 _PITCH_STEP_TOLERANCE = 1e-15
 _PITCH_MAX_ITERATIONS = 30
+# A front contact height above this [m] after Newton's method means no solution.
+_CONTACT_TOLERANCE = 1e-9
 
 
 class Motion(NamedTuple):
@@ -183,6 +185,28 @@ def dependent_rates(parameters: Mapping[str, ArrayLike], roll: ArrayLike, pitch:
     return np.einsum("...ij,...j->...i", _rate_projection(C), u_i)
 
 
+def singularity_measure(parameters: Mapping[str, ArrayLike], roll: ArrayLike, pitch: ArrayLike,
+                        steer: ArrayLike) -> NDArray[np.float64]:
+    """How far the velocity constraints are from singular: 1 upright, 0 where they fail.
+
+    The ratio of det C_d, the constraints' matrix for the dependent (yaw, pitch, front wheel)
+    rates, to its value in the reference configuration. It vanishes where the front wheel's
+    path on the ground points through the rear contact (a steer angle near 90 degrees): the
+    yaw rate the wheels demand is unbounded there unless the rear wheel stands still.
+
+    Parameters
+    ----------
+    parameters : mapping
+        The 26 benchmark parameters (SI units).
+    roll, pitch, steer : array_like
+        Angles [rad], the pitch solving the holonomic constraint.
+    """
+    p = _parameter_arrays(parameters)
+    C = whipple_nonlinear_numpy.constraints(*p, roll, pitch, steer)[0][..., list(DEPENDENT)]
+    reference = whipple_nonlinear_numpy.constraints(*p, 0.0, 0.0, 0.0)[0][..., list(DEPENDENT)]
+    return np.linalg.det(C) / np.linalg.det(reference)
+
+
 def motion(parameters: Mapping[str, ArrayLike], state: ArrayLike, inputs: ArrayLike | None = None,
            pitch_guess: ArrayLike = 0.0) -> Motion:
     """Pitch, rates, accelerations and front contact force at a state.
@@ -270,14 +294,22 @@ def upright_state(parameters: Mapping[str, float], speed: float, roll: float = 0
 
 
 def _casadi_pitch() -> casadi.Function:
-    """Rootfinder for the pitch: (guess, [roll, steer, parameters]) -> pitch, differentiable."""
+    """(roll, steer, p) -> pitch, differentiable; NaN where Newton's method finds no contact.
+
+    CasADi's rootfinder is told not to raise (it would print its inputs to stderr when nested
+    in another function); a pitch that leaves the front wheel off the ground becomes NaN.
+    """
     pitch = casadi.SX.sym("pitch")
     data = casadi.SX.sym("data", 2 + len(PARAMETERS))
     height = whipple_nonlinear_casadi.contact_height(data[2:], casadi.vertcat(data[0], pitch, data[1]))[0]
     residual = casadi.Function("contact_height", [pitch, data], [height])
-    return casadi.rootfinder("pitch", "newton", residual,
-                             {"abstol": 1e-15, "abstolStep": _PITCH_STEP_TOLERANCE,
-                              "max_iter": _PITCH_MAX_ITERATIONS})
+    newton = casadi.rootfinder("pitch_newton", "newton", residual,
+                               {"abstol": 1e-15, "abstolStep": _PITCH_STEP_TOLERANCE,
+                                "max_iter": _PITCH_MAX_ITERATIONS, "error_on_fail": False})
+    data_mx = casadi.MX.sym("data", 2 + len(PARAMETERS))
+    solution = newton(0, data_mx)
+    solved = casadi.fabs(residual(solution, data_mx)) <= _CONTACT_TOLERANCE
+    return casadi.Function("pitch", [data_mx], [casadi.if_else(solved, solution, casadi.MX.nan())])
 
 
 def _casadi_equations(p, angles, u_i, torques):
@@ -335,11 +367,12 @@ def casadi_state_derivative() -> casadi.Function:
         :data:`PARAMETERS`, state as :data:`STATES`, inputs the roll and steer torques [N m].
         The pitch is found by a CasADi rootfinder (Newton from 0), so derivatives with respect
         to roll and steer include the pitch's dependence on them (implicit function theorem).
+        Where no pitch puts the front wheel on the ground, the outputs are NaN.
     """
     p = casadi.MX.sym("p", len(PARAMETERS))
     x = casadi.MX.sym("state", len(STATES))
     torques = casadi.MX.sym("inputs", 2)
-    pitch = _casadi_pitch()(0, casadi.vertcat(x[3], x[4], p))
+    pitch = _casadi_pitch()(casadi.vertcat(x[3], x[4], p))
     derivative = _derivative_given_pitch()(p, x, torques, pitch)
     return casadi.Function("whipple_nonlinear", [p, x, torques], [derivative, pitch],
                            ["p", "state", "inputs"], ["derivative", "pitch"])
@@ -364,7 +397,7 @@ def casadi_residual() -> casadi.Function:
     rates = casadi.MX.sym("rates", 3)
     accelerations = casadi.MX.sym("accelerations", 3)
     torques = casadi.MX.sym("inputs", 2)
-    pitch = _casadi_pitch()(0, casadi.vertcat(angles, p))
+    pitch = _casadi_pitch()(casadi.vertcat(angles, p))
     residual = _residual_given_pitch()(p, angles, rates, accelerations, torques, pitch)
     return casadi.Function("whipple_nonlinear_residual", [p, angles, rates, accelerations, torques], [residual],
                            ["p", "angles", "rates", "accelerations", "inputs"], ["residual"])

@@ -17,6 +17,7 @@
 
 from __future__ import annotations
 
+import functools
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -26,6 +27,7 @@ import casadi
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.errors import InputError
 from whipple.generated import whipple_nonlinear_casadi, whipple_numpy
 from whipple.nonlinear_model import (
     STATES,
@@ -217,10 +219,43 @@ def _state_matrix_function() -> casadi.Function:
     return casadi.Function("state_matrix", [p, x], [casadi.jacobian(output, x)[:, rows]])
 
 
-def _linear_state_matrix(M, C1, K0, K2, speed: float) -> NDArray[np.float64]:
+def _linear_state_matrix(M: NDArray[np.float64], C1: NDArray[np.float64], K0: NDArray[np.float64],
+                         K2: NDArray[np.float64], speed: float) -> NDArray[np.float64]:
     inverse = np.linalg.inv(M)
     return np.block([[np.zeros((2, 2)), np.eye(2)],
                      [-inverse @ (K0 + speed**2 * K2), -speed * inverse @ C1]])
+
+
+@functools.cache
+def _jacobian_functions() -> tuple[casadi.Function, casadi.Function]:
+    return _residual_jacobians(), _state_matrix_function()
+
+
+def jacobian_matrices(parameters: Mapping[str, float], speed: float) -> tuple[NDArray[np.float64], ...]:
+    """M, C1, K0, K2 from the Jacobian of the nonlinear equations (automatic differentiation).
+
+    Parameters
+    ----------
+    parameters : mapping
+        The 26 benchmark parameters [SI].
+    speed : float
+        Forward speed v > 0 of the upright straight-ahead motion [m/s] (C1 and K2 are the
+        Jacobian's speed-dependent parts divided by v and v^2).
+
+    Returns
+    -------
+    tuple of ndarray, shape (2, 2)
+        M [kg m^2], C1 [kg m], K0 [N m/rad] (with gravity), K2 [kg] of
+        ``M q'' + v C1 q' + (K0 + v^2 K2) q = f``, q = [roll, steer].
+    """
+    if not speed > 0:
+        raise InputError(f"the speed must be positive to separate C1 and K2, got {speed}")
+    jacobians, _ = _jacobian_functions()
+    vector = parameter_vector(parameters)
+    K0 = np.array(jacobians(vector, 0.0)[0], dtype=float)
+    stiffness, damping, mass = (np.array(value, dtype=float)
+                                for value in jacobians(vector, -speed / float(parameters["rR"])))
+    return mass, damping / speed, K0, (stiffness - K0) / speed**2
 
 
 def check_linearization(parameter_sets: Mapping[str, Mapping[str, float]],
@@ -232,26 +267,21 @@ def check_linearization(parameter_sets: Mapping[str, Mapping[str, float]],
     parameter_sets : mapping of name to parameter mapping
         Each with the 26 benchmark parameters [SI].
     speeds : sequence of float
-        Forward speeds [m/s], all positive (C1 and K2 are recovered by dividing by v and v^2).
+        Forward speeds [m/s], all positive.
     """
-    jacobians = _residual_jacobians()
-    state_matrix = _state_matrix_function()
+    _, state_matrix = _jacobian_functions()
     errors = {"M": 0.0, "C1": 0.0, "K0": 0.0, "K2": 0.0}
     state_error = 0.0
     for parameters in parameter_sets.values():
-        vector = parameter_vector(parameters)
         linear = whipple_numpy.matrices(*(parameters[name] for name in whipple_numpy.PARAMETERS))
-        M, C1, K0, K2 = (np.asarray(matrix, dtype=float) for matrix in linear)
-        rR = float(parameters["rR"])
-        K0_nonlinear = np.array(jacobians(vector, 0.0)[0], dtype=float)
-        errors["K0"] = max(errors["K0"], float(np.max(np.abs(K0_nonlinear - K0))))
+        expected = dict(zip(errors, (np.asarray(matrix, dtype=float) for matrix in linear), strict=True))
         for speed in speeds:
-            stiffness, damping, mass = (np.array(value, dtype=float) for value in jacobians(vector, -speed / rR))
-            errors["M"] = max(errors["M"], float(np.max(np.abs(mass - M))))
-            errors["C1"] = max(errors["C1"], float(np.max(np.abs(damping / speed - C1))))
-            errors["K2"] = max(errors["K2"], float(np.max(np.abs((stiffness - K0_nonlinear) / speed**2 - K2))))
-            A = np.array(state_matrix(vector, upright_state(parameters, speed)), dtype=float)
-            state_error = max(state_error, float(np.max(np.abs(A - _linear_state_matrix(M, C1, K0, K2, speed)))))
+            computed = dict(zip(errors, jacobian_matrices(parameters, speed), strict=True))
+            for name in errors:
+                errors[name] = max(errors[name], float(np.max(np.abs(computed[name] - expected[name]))))
+            A = np.array(state_matrix(parameter_vector(parameters), upright_state(parameters, speed)), dtype=float)
+            linear_A = _linear_state_matrix(expected["M"], expected["C1"], expected["K0"], expected["K2"], speed)
+            state_error = max(state_error, float(np.max(np.abs(A - linear_A))))
     return LinearizationCheck(errors, state_error, tuple(parameter_sets), tuple(float(v) for v in speeds),
                               LINEARIZATION_TOLERANCE)
 
@@ -290,4 +320,4 @@ def nonlinear_report() -> dict:
 
 __all__ = ["BASU_MANDAL_TOLERANCE", "LINEARIZATION_SPEEDS", "LINEARIZATION_TOLERANCE", "BasuMandalComparison",
            "LinearizationCheck", "PublishedValue", "basu_mandal_reference", "check_linearization",
-           "compare_basu_mandal", "nonlinear_report", "perturbed_parameters"]
+           "compare_basu_mandal", "jacobian_matrices", "nonlinear_report", "perturbed_parameters"]

@@ -2,6 +2,9 @@
 
 Both modules are printed from the same common-subexpression elimination of the same SymPy
 expressions, so they compute the same thing by construction; tests cross-check them anyway.
+A linear model (:class:`DerivedModel`) becomes one function of the parameters; a set of
+functions of the parameters and state variables (:class:`DerivedFunctions`, the nonlinear
+model) becomes one function per entry, each with its own subexpression elimination.
 """
 
 from __future__ import annotations
@@ -11,7 +14,7 @@ from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.pycode import PythonCodePrinter
 
-from .models import DerivedModel
+from .models import DerivedFunction, DerivedFunctions, DerivedModel
 from .symbols import ALL_DESCRIPTIONS
 
 
@@ -25,6 +28,8 @@ class _CasadiPrinter(PythonCodePrinter):
     def _print_Pow(self, expr, rational=False):  # noqa: N802 (SymPy printer protocol)
         if expr.exp == sm.S.Half:
             return f"casadi.sqrt({self._print(expr.base)})"
+        if expr.exp == -sm.S.Half:
+            return f"1/casadi.sqrt({self._print(expr.base)})"
         return super()._print_Pow(expr, rational=rational)
 
 
@@ -117,4 +122,149 @@ def emit_casadi(model: DerivedModel, source_hash: str) -> str:
               f'    """casadi.Function p -> ({", ".join(model.outputs)}), p of length {len(model.parameters)}."""',
               f"    p = symbol_type.sym('p', {len(model.parameters)})",
               f"    return casadi.Function({model.name!r}, [p], list(matrices(p)), ['p'], list(OUTPUTS))"]
+    return "\n".join(lines) + "\n"
+
+
+def _functions_header(model: DerivedFunctions, backend: str, source_hash: str) -> str:
+    order = list(ALL_DESCRIPTIONS)
+    variables = sorted({name for function in model.functions for name in function.variables}, key=order.index)
+    return (
+        f'"""{model.description} ({backend}).\n\n'
+        "GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy\n"
+        f"derivation in derivation/ (model ``{model.name}``).\n\n"
+        f"Derivation sources sha256: {source_hash}\n"
+        f"SymPy version: {sm.__version__}\n\n"
+        f"Equation form: {model.equation}.\n\n"
+        "Functions: " + ", ".join(function.name for function in model.functions) + ".\n\n"
+        "Parameters (SI units):\n"
+        + "".join(f"    {name}: {ALL_DESCRIPTIONS[name]}\n" for name in model.parameters)
+        + "\nVariables:\n"
+        + "".join(f"    {name}: {ALL_DESCRIPTIONS[name]}\n" for name in variables)
+        + '"""\n'
+    )
+
+
+def _function_cse(function: DerivedFunction):
+    entries = []
+    for expression, _ in function.outputs.values():
+        entries.extend(expression if isinstance(expression, sm.MatrixBase) else [expression])
+    return sm.cse(entries, symbols=sm.numbered_symbols("x"), order="canonical")
+
+
+def _output_shape(expression) -> tuple[int, ...]:
+    """() for a scalar, (n,) for a column vector, (rows, columns) for a matrix."""
+    if not isinstance(expression, sm.MatrixBase):
+        return ()
+    rows, columns = expression.shape
+    return (rows,) if columns == 1 else (rows, columns)
+
+
+def _returned(function: DerivedFunction) -> str:
+    """Every function returns a tuple of its outputs, also when there is only one."""
+    names = tuple(function.outputs)
+    return f"({names[0]},)" if len(names) == 1 else ", ".join(names)
+
+
+def _index(shape: tuple[int, ...], k: int) -> str:
+    """NumPy index of the k-th entry (row-major) of an output of the given trailing shape."""
+    if not shape:
+        return "..."
+    if len(shape) == 1:
+        return f"..., {k}"
+    return f"..., {k // shape[1]}, {k % shape[1]}"
+
+
+def _numpy_function(function: DerivedFunction, parameters: tuple[str, ...], printer) -> list[str]:
+    arguments = (*parameters, *function.variables)
+    replacements, reduced = _function_cse(function)
+    lines = [f"def {function.name}({', '.join(arguments)}):",
+             f'    """{function.summary}',
+             "",
+             "    Arguments are arrays broadcast against each other. Returns a tuple of, with",
+             "    shape broadcast_shape + the shape given:",
+             ""]
+    for name, (expression, description) in function.outputs.items():
+        lines.append(f"    {name} {_output_shape(expression)}: {description}")
+    lines += ['    """',
+              f"    {', '.join(arguments)}, = numpy.broadcast_arrays("
+              + ", ".join(f"numpy.asarray({name}, dtype=float)" for name in arguments) + ")",
+              f"    shape = {arguments[0]}.shape"]
+    for symbol, expression in replacements:
+        lines.append(f"    {symbol} = {printer.doprint(expression)}")
+    position = 0
+    for name, (expression, _) in function.outputs.items():
+        shape = _output_shape(expression)
+        lines.append(f"    {name} = numpy.zeros(shape + {shape!r})" if shape else f"    {name} = numpy.zeros(shape)")
+        size = 1 if not shape else int(sm.prod(shape))
+        for k in range(size):
+            value = reduced[position + k]
+            if value != 0:
+                lines.append(f"    {name}[{_index(shape, k)}] = {printer.doprint(value)}")
+        position += size
+    lines.append(f"    return {_returned(function)}")
+    return lines
+
+
+def emit_numpy_functions(model: DerivedFunctions, source_hash: str) -> str:
+    """Module text with one broadcasting NumPy function per entry of ``model.functions``."""
+    printer = _NumPyPrinter()
+    lines = [_functions_header(model, "NumPy", source_hash), "import numpy", "",
+             f"PARAMETERS = {model.parameters!r}",
+             "VARIABLES = {" + ", ".join(f"{f.name!r}: {f.variables!r}" for f in model.functions) + "}",
+             "OUTPUTS = {" + ", ".join(f"{f.name!r}: {tuple(f.outputs)!r}" for f in model.functions) + "}"]
+    for function in model.functions:
+        lines += ["", "", *_numpy_function(function, model.parameters, printer)]
+    return "\n".join(lines) + "\n"
+
+
+def _casadi_function(function: DerivedFunction, parameters: tuple[str, ...], printer) -> list[str]:
+    replacements, reduced = _function_cse(function)
+    lines = [f"def {function.name}(p, variables):",
+             f'    """{function.summary}',
+             "",
+             "    p: the parameters (order PARAMETERS); variables: "
+             + ", ".join(function.variables) + ".",
+             "    Returns a tuple of CasADi expressions:",
+             ""]
+    for name, (expression, description) in function.outputs.items():
+        lines.append(f"    {name} {_output_shape(expression)}: {description}")
+    lines += ['    """',
+              f"    {', '.join(parameters)}, = casadi.vertsplit(p)",
+              f"    {', '.join(function.variables)}, = casadi.vertsplit(variables)"]
+    for symbol, expression in replacements:
+        lines.append(f"    {symbol} = {printer.doprint(expression)}")
+    position = 0
+    for name, (expression, _) in function.outputs.items():
+        shape = _output_shape(expression)
+        size = 1 if not shape else int(sm.prod(shape))
+        cells = [printer.doprint(reduced[position + k]) for k in range(size)]
+        if not shape:
+            lines.append(f"    {name} = {cells[0]}")
+        elif len(shape) == 1:
+            lines.append(f"    {name} = casadi.vertcat({', '.join(cells)})")
+        else:
+            rows, columns = shape
+            body = ", ".join("[" + ", ".join(cells[r * columns:(r + 1) * columns]) + "]" for r in range(rows))
+            lines.append(f"    {name} = casadi.blockcat([{body}])")
+        position += size
+    lines.append(f"    return {_returned(function)}")
+    return lines
+
+
+def emit_casadi_functions(model: DerivedFunctions, source_hash: str) -> str:
+    """Module text with one CasADi function per entry of ``model.functions``, and ``function(name)``."""
+    printer = _CasadiPrinter()
+    lines = [_functions_header(model, "CasADi", source_hash), "import casadi", "",
+             f"PARAMETERS = {model.parameters!r}",
+             "VARIABLES = {" + ", ".join(f"{f.name!r}: {f.variables!r}" for f in model.functions) + "}",
+             "OUTPUTS = {" + ", ".join(f"{f.name!r}: {tuple(f.outputs)!r}" for f in model.functions) + "}"]
+    for function in model.functions:
+        lines += ["", "", *_casadi_function(function, model.parameters, printer)]
+    lines += ["", "",
+              "def function(name, symbol_type=casadi.SX):",
+              '    """casadi.Function (p, variables) -> OUTPUTS[name] of the function called name."""',
+              "    p = symbol_type.sym('p', len(PARAMETERS))",
+              "    variables = symbol_type.sym('variables', len(VARIABLES[name]))",
+              "    outputs = list(globals()[name](p, variables))",
+              "    return casadi.Function(name, [p, variables], outputs, ['p', 'variables'], list(OUTPUTS[name]))"]
     return "\n".join(lines) + "\n"

@@ -6,6 +6,8 @@
   (not by editing matrices), so that the extensions pass through the same mechanics.
 - ``tyre``: the extended bicycle with lateral tyre compliance (see ``tyre.py``), whose state
   adds the lateral speed, the yaw rate and the two tyre forces.
+- ``whipple_nonlinear``: the pieces of the nonlinear equations of the benchmark Whipple bicycle
+  (see ``nonlinear.py``), as functions of the parameters and the state, for numerical solution.
 """
 
 from __future__ import annotations
@@ -16,7 +18,15 @@ from dataclasses import dataclass
 import sympy as sm
 
 from .linearize import LinearEquations, linearize
-from .symbols import BENCHMARK_PARAMETERS, EXTENSION_PARAMETERS, PITCH_INERTIAS, TYRE_PARAMETERS, parameter_symbols
+from .nonlinear import derive_nonlinear_equations
+from .symbols import (
+    BENCHMARK_PARAMETERS,
+    EXTENSION_PARAMETERS,
+    PITCH_INERTIA_PARAMETERS,
+    PITCH_INERTIAS,
+    TYRE_PARAMETERS,
+    parameter_symbols,
+)
 from .tidy import tidy
 from .tyre import derive_tyre_equations
 from .whipple import add_payload, add_steer_damping, add_steer_inertia, build_bicycle
@@ -38,6 +48,31 @@ class DerivedModel:
     @property
     def outputs(self) -> tuple[str, ...]:
         return tuple(self.matrices)
+
+
+@dataclass(frozen=True)
+class DerivedFunction:
+    """One emitted function: its arguments beyond the parameters, and its outputs.
+
+    Each output is ``(expression, description)``; the expression is a scalar, a column vector
+    (emitted as an array with one trailing axis) or a matrix (two trailing axes).
+    """
+
+    name: str
+    summary: str
+    variables: tuple[str, ...]
+    outputs: dict[str, tuple[sm.Expr | sm.Matrix, str]]
+
+
+@dataclass(frozen=True)
+class DerivedFunctions:
+    """A model emitted as several functions of the parameters and of state variables."""
+
+    name: str
+    description: str
+    parameters: tuple[str, ...]
+    functions: tuple[DerivedFunction, ...]
+    equation: str
 
 
 _BENCHMARK_FORM = "M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]"
@@ -119,8 +154,64 @@ def derive_tyre() -> DerivedModel:
     return model
 
 
-MODELS: dict[str, Callable[[], DerivedModel]] = {
+# The benchmark's 26 parameters in the order of its Table 1: IByy after IBxx, IHyy after IHxx.
+_TABLE_ORDER = tuple(name for base in BENCHMARK_PARAMETERS
+                     for name in ((base, base[:2] + "yy") if base in ("IBxx", "IHxx") else (base,)))
+if set(_TABLE_ORDER) != set(BENCHMARK_PARAMETERS) | set(PITCH_INERTIA_PARAMETERS):
+    raise AssertionError("the nonlinear model's parameters are not the benchmark's 26")
+_ANGLES = ("roll", "pitch", "steer")
+_RATES = ("yaw_rate", "roll_rate", "pitch_rate", "steer_rate", "rear_wheel_rate", "front_wheel_rate")
+
+_NONLINEAR_FORM = (
+    "M u' = F + C^T f, C u' = b (the front contact's velocity C u vanishes; f is the contact force "
+    "on the front wheel, yaw-frame components [N]), u = [" + ", ".join(_RATES) + "]; the pitch solves "
+    "h(roll, pitch, steer) = 0; the rear contact moves at (x', y') = rear_contact_velocity"
+)
+
+
+def derive_whipple_nonlinear() -> DerivedFunctions:
+    """The nonlinear Whipple bicycle: mass matrix, forcing, constraints, energies."""
+    p = parameter_symbols(_TABLE_ORDER)
+    equations = derive_nonlinear_equations(build_bicycle(p), p["g"])
+    functions = (
+        DerivedFunction("contact_height", "The holonomic constraint h = 0 that fixes the pitch.", _ANGLES, {
+            "height": (equations.contact_height,
+                       "z of the front contact relative to the rear contact [m], z down (0 on the ground)"),
+            "height_gradient": (equations.contact_height_gradient,
+                                "dh/d(roll, pitch, steer) [m/rad]"),
+        }),
+        DerivedFunction("constraints", "The front contact's velocity C u (yaw-frame components).", _ANGLES, {
+            "C": (equations.constraint_matrix, "velocity of the front contact per rate in u [m/rad]"),
+        }),
+        DerivedFunction("dynamics", "Kane's equations of the unconstrained speeds, and the constraint bias.",
+                        _ANGLES + _RATES + ("roll_torque", "steer_torque"), {
+            "M": (equations.mass_matrix, "mass matrix [kg m^2]"),
+            "F": (equations.forcing, "generalized active minus velocity-dependent inertia forces [N m]"),
+            "b": (equations.constraint_bias, "C u' = b along the motion [m/s^2]"),
+        }),
+        DerivedFunction("energy", "Kinetic and potential energy.", _ANGLES + _RATES, {
+            "kinetic": (equations.kinetic_energy, "kinetic energy [J]"),
+            "potential": (equations.potential_energy,
+                          "potential energy of gravity, zero with the mass centres at ground level [J]"),
+        }),
+        DerivedFunction("rear_contact_velocity", "Velocity of the rear contact point along the ground.",
+                        ("yaw", "pitch_rate", "rear_wheel_rate"), {
+            "velocity": (equations.rear_contact_velocity, "(x', y') in the ground frame [m/s]"),
+        }),
+    )
+    for function in functions:
+        allowed = set(_TABLE_ORDER) | set(function.variables)
+        for expression, _ in function.outputs.values():
+            unexpected = {str(s) for s in expression.free_symbols} - allowed
+            if unexpected:
+                raise AssertionError(f"{function.name} depends on unexpected symbols {sorted(unexpected)}")
+    return DerivedFunctions("whipple_nonlinear", "Whipple bicycle, nonlinear equations, Meijaard et al. (2007) "
+                            "parameters", _TABLE_ORDER, functions, _NONLINEAR_FORM)
+
+
+MODELS: dict[str, Callable[[], DerivedModel | DerivedFunctions]] = {
     "whipple": derive_whipple,
     "whipple_extended": derive_whipple_extended,
     "tyre": derive_tyre,
+    "whipple_nonlinear": derive_whipple_nonlinear,
 }

@@ -14,8 +14,8 @@ import sympy as sm
 
 from whipple.model import parameter_table
 
-from .emit import emit_casadi, emit_numpy
-from .models import MODELS
+from .emit import emit_casadi, emit_casadi_functions, emit_numpy, emit_numpy_functions
+from .models import MODELS, DerivedFunctions
 
 DERIVATION_DIR = Path(__file__).resolve().parent
 MANIFEST = "manifest.json"
@@ -44,8 +44,12 @@ def generate() -> dict[str, str]:
     }
     for name, derive in MODELS.items():
         model = derive()
-        files[f"{name}_numpy.py"] = emit_numpy(model, source_hash)
-        files[f"{name}_casadi.py"] = emit_casadi(model, source_hash)
+        if isinstance(model, DerivedFunctions):
+            files[f"{name}_numpy.py"] = emit_numpy_functions(model, source_hash)
+            files[f"{name}_casadi.py"] = emit_casadi_functions(model, source_hash)
+        else:
+            files[f"{name}_numpy.py"] = emit_numpy(model, source_hash)
+            files[f"{name}_casadi.py"] = emit_casadi(model, source_hash)
     manifest = {
         "generator": "whipple regenerate (derivation/regenerate.py)",
         "sympy": sm.__version__,

@@ -16,12 +16,36 @@ from whipple.model.parameter_table import BY_NAME, names
 # first order), which the derivation confirms by construction.
 PITCH_INERTIAS = ("IByy", "IHyy")
 BENCHMARK_PARAMETERS = {name: BY_NAME[name].described for name in names("benchmark") if name not in PITCH_INERTIAS}
+# The pitch inertias, which enter the nonlinear model only.
+PITCH_INERTIA_PARAMETERS = {name: BY_NAME[name].described for name in PITCH_INERTIAS}
 # Extensions of the Whipple model that keep its two degrees of freedom.
 EXTENSION_PARAMETERS = {name: BY_NAME[name].described for name in names("extension")}
 # Parameters of the tyre-compliance extension (loads are computed from the mass distribution).
 TYRE_PARAMETERS = {name: BY_NAME[name].described for name in names("tyre")}
 
-ALL_DESCRIPTIONS = {**BENCHMARK_PARAMETERS, **EXTENSION_PARAMETERS, **TYRE_PARAMETERS}
+# Variables of the nonlinear model. Angles follow the benchmark axes (x forward, y right,
+# z down): yaw about z, roll about the yawed x, pitch about the rolled y (zero with the rear
+# frame in its reference orientation), steer about the steer axis (down), wheel angles about
+# the wheel axles relative to the frame that carries the wheel.
+NONLINEAR_VARIABLES = {
+    "yaw": "yaw angle of the rear frame [rad]",
+    "roll": "roll angle of the rear frame [rad]",
+    "pitch": "pitch angle of the rear frame [rad]",
+    "steer": "steer angle of the front frame relative to the rear frame [rad]",
+    "rear_wheel": "rear wheel angle relative to the rear frame [rad]",
+    "front_wheel": "front wheel angle relative to the front frame [rad]",
+    "yaw_rate": "yaw rate [rad/s]",
+    "roll_rate": "roll rate [rad/s]",
+    "pitch_rate": "pitch rate [rad/s]",
+    "steer_rate": "steer rate [rad/s]",
+    "rear_wheel_rate": "rear wheel rate relative to the rear frame [rad/s]",
+    "front_wheel_rate": "front wheel rate relative to the front frame [rad/s]",
+    "roll_torque": "torque on the rear frame about the roll axis [N m]",
+    "steer_torque": "torque of the rear frame on the front frame about the steer axis [N m]",
+}
+
+ALL_DESCRIPTIONS = {**BENCHMARK_PARAMETERS, **PITCH_INERTIA_PARAMETERS, **EXTENSION_PARAMETERS,
+                    **TYRE_PARAMETERS, **NONLINEAR_VARIABLES}
 
 
 def parameter_symbols(names: tuple[str, ...] | list[str]) -> dict[str, sm.Symbol]:

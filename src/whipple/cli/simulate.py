@@ -20,7 +20,7 @@ from whipple.cli.arguments import speed_list
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
-from whipple.simulation.scenario import RunScenario, Sensors
+from whipple.simulation.scenario import MAX_SAMPLES, MAX_SAMPLES_MEMORY, RunScenario, Sensors
 from whipple.simulation.simulator import simulate_run, write_run_csv
 
 
@@ -89,6 +89,10 @@ def run(args: argparse.Namespace) -> int:
                     seed=args.seed + k)
         for k, speed in enumerate(speeds)
     ]  # all validated before anything is written
+    total = sum(s.end_time() * s.sample_rate for s in scenarios)
+    if total > MAX_SAMPLES:
+        raise InputError(f"{len(scenarios)} runs would have {total:.3g} samples in all; at most "
+                         f"{MAX_SAMPLES:g} are simulated at once ({MAX_SAMPLES_MEMORY}): fewer speeds per call")
     targets = [output if single_file else output / _file_name(name, args.setting, s.speed)
                for s in scenarios]
     for target in targets:

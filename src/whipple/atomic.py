@@ -79,6 +79,29 @@ def atomic_path(target: str | Path, suffix: str | None = None) -> Iterator[Path]
             temporary.unlink()
 
 
+def check_writable(target: str | Path, is_folder: bool = False) -> None:
+    """Raise OutputError now if `target` could not be written later (a probe file, removed).
+
+    `target` is a file, or with `is_folder` a folder to write files into. The nearest
+    existing folder on its path must take a new file; folders that do not exist yet are not
+    created here.
+    """
+    target = Path(target)
+    if not is_folder and target.is_dir():
+        raise OutputError("is a folder, not a file", target)
+    folder = target if is_folder else (target.parent if str(target.parent) else Path("."))
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    if not folder.is_dir():
+        raise OutputError(f"cannot write: {folder} is a file, not a folder", target)
+    try:
+        handle, name = tempfile.mkstemp(prefix=".whipple-probe.", dir=folder)
+    except OSError as error:
+        raise OutputError(f"cannot write: {_problem(error)}", target) from None
+    os.close(handle)
+    os.unlink(name)
+
+
 def write_text_atomic(target: str | Path, text: str) -> None:
     """Write `text` (UTF-8) to `target` atomically (OutputError naming `target` on failure)."""
     with atomic_path(target) as temporary:

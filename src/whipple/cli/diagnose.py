@@ -60,8 +60,8 @@ def run(args: argparse.Namespace) -> int:
     if args.windows is not None:
         inputs.append(args.windows)
     report_file = args.report / "report.md" if args.report is not None else None
-    check_outputs({"--json": args.json, "--save-model": args.save_model, "--report": report_file}, inputs,
-                  {"--report folder": args.report})
+    check_outputs({"--json": args.json, "--save-model": args.save_model, "--report's report.md": report_file},
+                  inputs, {"--report": args.report})
     bicycle = load_bicycle(args.bicycle)
     runs = [read_run(source, args.layout) for source in sources]
     windows = read_windows(args.windows, runs) if args.windows is not None else None

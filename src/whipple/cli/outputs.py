@@ -11,7 +11,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from whipple.atomic import atomic_path, refuse_input_overwrite, refuse_shared_outputs
+from whipple.atomic import atomic_path, check_writable, refuse_input_overwrite, refuse_shared_outputs
 from whipple.errors import InputError
 
 #: Image formats a figure may be written in (by file suffix); a name without suffix gets PNG.
@@ -43,15 +43,19 @@ def check_outputs(files: Mapping[str, str | Path | None], inputs: Iterable[str |
     """
     inputs = list(inputs)
     refuse_shared_outputs({**files, **(folders or {})})
+    for option, folder in (folders or {}).items():
+        if folder is None:
+            continue
+        if Path(folder).exists() and not Path(folder).is_dir():
+            raise InputError(f"{option} needs a folder; this is a file", folder)
+        check_writable(folder, is_folder=True)
     for option, path in files.items():
         if path is None:
             continue
         refuse_input_overwrite(path, inputs)
         if Path(path).is_dir():
             raise InputError(f"{option} names a folder, not a file", path)
-    for option, folder in (folders or {}).items():
-        if folder is not None and Path(folder).exists() and not Path(folder).is_dir():
-            raise InputError(f"{option} needs a folder; this is a file", folder)
+        check_writable(path)
 
 
 def save_figure(figure: Any, path: str | Path, dpi: int) -> None:

@@ -15,7 +15,7 @@ import math
 import re
 from pathlib import Path
 
-from whipple.atomic import refuse_input_overwrite
+from whipple.atomic import check_writable, refuse_input_overwrite
 from whipple.cli.arguments import speed_list
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
@@ -75,6 +75,7 @@ def run(args: argparse.Namespace) -> int:
                          args.output)
     if not single_file and output.exists() and not output.is_dir():
         raise InputError("output exists and is not a folder", args.output)
+    check_writable(output, is_folder=not single_file)
 
     bicycle = load_bicycle(args.bicycle)
     model = linear_model(bicycle)

@@ -22,15 +22,23 @@ def _problem(error: OSError) -> str:
     return error.strerror or type(error).__name__
 
 
-def prepare_folder(folder: str | Path) -> Path:
-    """Create `folder` (and its parents) if needed; OutputError if it cannot be a folder."""
+def prepare_folder(folder: str | Path, target: str | Path | None = None) -> Path:
+    """Create `folder` (and its parents) if needed; OutputError if it cannot be a folder.
+
+    The error names `target` (the file to be written into the folder) when given.
+    """
     folder = Path(folder)
+    named = folder if target is None else target
+    which = "" if target is None else f" {folder}"
     if folder.exists() and not folder.is_dir():
-        raise OutputError("is a file, not a folder", folder)
+        raise OutputError(f"cannot write: folder{which} is a file", named)
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as error:
-        raise OutputError(f"cannot create folder: {_problem(error)}", folder) from None
+        problem = _problem(error)
+        if isinstance(error, FileExistsError | NotADirectoryError):
+            problem = "a file on its path is not a folder"
+        raise OutputError(f"cannot create folder{which}: {problem}", named) from None
     return folder
 
 
@@ -56,7 +64,7 @@ def atomic_path(target: str | Path, suffix: str | None = None) -> Iterator[Path]
     target = Path(target)
     if target.is_dir():
         raise OutputError("is a folder, not a file", target)
-    folder = prepare_folder(target.parent if str(target.parent) else Path("."))
+    folder = prepare_folder(target.parent if str(target.parent) else Path("."), target)
     try:
         handle, name = tempfile.mkstemp(
             prefix=f".{target.name}.", suffix=target.suffix if suffix is None else suffix, dir=folder

@@ -28,7 +28,6 @@ from whipple.model.physical_checks import (
     magnitude_findings,
     principal_moments,
     singular_mass_matrix,
-    triangle_excess,
     triangle_message,
     triangle_remedy,
 )
@@ -407,7 +406,7 @@ def _check_inertia(
         found.flag(p[yy] < 0, f"{yy} = {float(p[yy]) if p[yy].ndim == 0 else 'a value'} < 0 is not a "
                               "moment of inertia (it does not enter the linear equations)", True)
     total = moments.sum(axis=0)
-    excess = triangle_excess(ixx, p[yy], izz, ixz)
+    excess = 2 * moments.max(axis=0) - total
     relative = excess / np.where(total > 0, total, np.nan)
     text = f"{label} inertia ({names}) violates the triangle inequality of principal moments"
     rounding = (relative > _EXACT) & (relative <= _ROUNDING)

@@ -44,17 +44,21 @@ def magnitude_findings(values: Mapping[str, Array], units: Mapping[str, str]
                        ) -> list[tuple[NDArray[np.bool_], str, bool]]:
     """(bad, message, is_warning) for values beyond :data:`LIMITS` or :data:`PLAUSIBLE`."""
     findings = []
-    for name, value in values.items():
-        unit = units.get(name)
-        if unit not in LIMITS:
+    for unit, limit in LIMITS.items():
+        names = [name for name in values if units.get(name) == unit]
+        if not names:
             continue
-        size = np.abs(value)
-        shown = f"{name} = {float(value):.6g} {unit}" if value.ndim == 0 else name
-        findings.append((size > LIMITS[unit],
-                         f"{shown} is beyond {LIMITS[unit]:g} {unit}: not a bicycle (a unit or typing error?)",
-                         False))
-        findings.append(((size > PLAUSIBLE[unit]) & (size <= LIMITS[unit]),
-                         f"{shown} is unusually large for a bicycle (above {PLAUSIBLE[unit]:g} {unit})", True))
+        size = np.abs(np.stack(np.broadcast_arrays(*(values[name] for name in names))))
+        over, unusual = size > limit, (size > PLAUSIBLE[unit]) & (size <= limit)
+        if not (over.any() or unusual.any()):  # the usual case: one test per unit
+            continue
+        for k, name in enumerate(names):
+            value = values[name]
+            shown = f"{name} = {float(value):.6g} {unit}" if value.ndim == 0 else name
+            findings.append((over[k], f"{shown} is beyond {limit:g} {unit}: not a bicycle (a unit or "
+                                      "typing error?)", False))
+            findings.append((unusual[k], f"{shown} is unusually large for a bicycle (above "
+                                         f"{PLAUSIBLE[unit]:g} {unit})", True))
     if "g" in values:
         g = values["g"]
         shown = f"g = {float(g):.6g} m/s^2" if g.ndim == 0 else "g"

@@ -123,7 +123,7 @@ def test_a_window_from_a_file_across_a_gap_is_not_fitted(lines, original, tmp_pa
     assert entry["skipped"] == "window spans a gap in roll_rate (samples without a value): not fitted across it"
 
 
-def test_negative_speeds_are_never_fitted(lines, tmp_path):
+def test_negative_speeds_are_never_fitted(lines, tmp_path, capsys):
     j = lines[0].split(",").index("speed")
     flipped = [lines[0]] + [",".join(c if i != j else f"{-float(c):.5f}" for i, c in enumerate(line.split(",")))
                             for line in lines[1:]]
@@ -132,3 +132,8 @@ def test_negative_speeds_are_never_fitted(lines, tmp_path):
     measured = measure_run(run)
     assert not any(m.fit is not None for m in measured)
     assert any(m.rejected and m.rejected.startswith("negative speed (-3.") for m in measured)
+    # The diagnosis names no cause from them.
+    path = tmp_path / "backwards.log"
+    assert main(["diagnose", str(path), "--bicycle", "sbw2024"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "only 0 usable window(s)" in err and "most often skipped: negative speed" in err

@@ -358,6 +358,8 @@ def _settled(run: Run, window: Window, settle: float) -> Window:
 def _mode_shape(run: Run, fit: WeaveFit, signal: str, settle: float) -> AmplitudeRatio | None:
     first = int(np.searchsorted(run.time, fit.start))
     values = run.signals[signal][first:first + fit.n_samples]
+    if not np.all(np.isfinite(values)):
+        return None  # a gap in the shape signal: no mode shape from this window
     try:
         shape = amplitude_ratio(fit, values, signal, settle=settle)
     except NoOscillationError:

@@ -29,6 +29,12 @@ def _matrix(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike) -> NDArray[n
     return np.stack(entries, axis=-1).reshape(*entries[0].shape, 2, 2)
 
 
+def _spin_ratio(inertia: NDArray[np.float64], radius: NDArray[np.float64]) -> NDArray[np.float64]:
+    """I / r, taken as 0 for a point wheel (r = 0 needs I = 0)."""
+    inertia, radius = np.broadcast_arrays(inertia, radius)
+    return np.divide(inertia, radius, out=np.zeros(radius.shape), where=radius != 0)
+
+
 def meijaard_matrices(p: Mapping[str, ArrayLike]) -> Matrices:
     """M, C1, K0 (including g) and K2 from the 26 benchmark parameters.
 
@@ -78,7 +84,9 @@ def meijaard_matrices(p: Mapping[str, ArrayLike]) -> Matrices:
     IAlz = mA * uA * xA + IAxz * sin + IAzz * cos
 
     mu = c / w * cos  # trail ratio
-    SR, SF = IRyy / rR, IFyy / rF  # gyrostatic coefficients
+    # Gyrostatic coefficients; a point wheel (radius 0, no spin inertia) has none: the limit
+    # of I/r as both vanish (Kooijman et al. 2011, the two-mass-skate bicycle).
+    SR, SF = _spin_ratio(IRyy, rR), _spin_ratio(IFyy, rF)
     ST = SR + SF
     SA = mA * uA + mu * mT * xT  # static moment term
 

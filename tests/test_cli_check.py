@@ -84,7 +84,7 @@ def test_check_text_output(capsys):
     (lambda t: t + "foo = 1.0\n", "foo"),
     (lambda t: t.replace("mB = 85.0\n", ""), "mB"),
     (lambda t: t.replace("mB = 85.0", "mB = -85.0"), "mB"),
-    (lambda t: t.replace("IBxz = 2.4", "IBxz = 20.4"), "positive definite"),
+    (lambda t: t.replace("IBxz = 2.4", "IBxz = 20.4"), "positive semi-definite"),
     (lambda t: t.replace("c = 0.08", "c = nan"), "c"),
 ])
 def test_bad_bicycle_files_give_one_line_and_exit_2(tmp_path, capsys, edit, message):

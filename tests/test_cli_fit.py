@@ -152,14 +152,14 @@ def bad_runs(folder: Path) -> dict[str, tuple[Path, str]]:
     t = np.arange(0, 10, 0.01)
     wave = np.sin(6 * t)
     nan = np.c_[t, wave]
-    nan[5, 1] = np.nan
+    nan[5, 1] = np.inf
     backwards = np.c_[t, wave]
     backwards[7, 0] = backwards[6, 0]
     return {
         "missing file": (folder / "absent.csv", "cannot read file"),
         "missing roll_rate": (write_run(folder / "yaw.csv", "time,yaw_rate", np.c_[t, wave]),
                               "missing roll_rate"),
-        "NaN": (write_run(folder / "nan.csv", "time,roll_rate", nan), "nan value"),
+        "NaN": (write_run(folder / "nan.csv", "time,roll_rate", nan), "inf value"),
         "non-increasing time": (write_run(folder / "time.csv", "time,roll_rate", backwards),
                                 "not strictly increasing"),
         "too short": (write_run(folder / "short.csv", "time,roll_rate", np.c_[t, wave][:100]),

@@ -86,7 +86,8 @@ def test_speed_from_speedometer_and_from_metadata(tmp_path):
         (native_text(n=150), "too short"),
         (native_text(speed=False), "missing speed information"),
         ("time,roll_rate,speed\n" + "".join(f"{i / 100},0.1,4\n" for i in range(300)).replace(
-            "0.1,4\n", "nan,4\n", 1), "line 2, column 'roll_rate': nan"),
+            "0.1,4\n", "inf,4\n", 1), "line 2, column 'roll_rate': inf value"),
+        ("time,roll_rate,speed\n" + "".join(f"{i / 100},,4\n" for i in range(300)), "column roll_rate has no values"),
         (native_text().replace("4.500000", "fast", 1), "column 'speed': non-numeric value 'fast'"),
         (native_text().replace("4.500000\n", "4.500000,9\n", 1), "line 2 has 5 fields, the header has 4"),
         (native_text(time_column=False), "no time column and no sample_rate"),

@@ -43,5 +43,12 @@ class RunFileError(InputError):
     """A measured or simulated run file cannot be read or analysed."""
 
 
+class OutputError(InputError):
+    """An output file cannot be written (read-only folder, a folder in its place, a full disk).
+
+    The message names the file the user asked for, never a temporary file.
+    """
+
+
 class AnalysisError(WhippleError, RuntimeError):
     """A numerical analysis failed (no convergence, no oscillation in a window, ...)."""

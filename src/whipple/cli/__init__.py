@@ -81,6 +81,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 141
+    except OSError as error:
+        # Outputs go through whipple.atomic (an OutputError naming the file); this is the net
+        # for anything else the system refuses, still one line and no traceback.
+        where = f"{error.filename}: " if error.filename else ""
+        print(f"whipple {args.command}: error: {where}{error.strerror or error}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -14,7 +14,8 @@ import shlex
 import sys
 from pathlib import Path
 
-from whipple.atomic import atomic_path, refuse_input_overwrite, write_text_atomic
+from whipple.atomic import write_text_atomic
+from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
 from whipple.diagnosis.report import assemble, report_json
@@ -58,9 +59,9 @@ def run(args: argparse.Namespace) -> int:
     inputs = [s for s in sources if isinstance(s, Path)] + [args.bicycle]
     if args.windows is not None:
         inputs.append(args.windows)
-    for output in (args.json, args.save_model):
-        if output is not None:
-            refuse_input_overwrite(output, inputs)
+    report_file = args.report / "report.md" if args.report is not None else None
+    check_outputs({"--json": args.json, "--save-model": args.save_model, "--report's report.md": report_file},
+                  inputs, {"--report": args.report})
     bicycle = load_bicycle(args.bicycle)
     runs = [read_run(source, args.layout) for source in sources]
     windows = read_windows(args.windows, runs) if args.windows is not None else None
@@ -88,8 +89,7 @@ def run(args: argparse.Namespace) -> int:
         figures = {}
         for key, figure in report_figures(report).items():
             figures[key] = f"{key}.png"
-            with atomic_path(args.report / figures[key]) as temporary:
-                figure.savefig(temporary, dpi=120)
+            save_figure(figure, args.report / figures[key], dpi=120)
         command = "whipple " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:] else ""
         write_text_atomic(args.report / "report.md", report_markdown(report, figures, command))
         print(f"wrote {args.report / 'report.md'}")

@@ -28,7 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from whipple.atomic import atomic_path, refuse_input_overwrite, write_text_atomic
+from whipple.atomic import refuse_input_overwrite, write_text_atomic
+from whipple.cli.outputs import check_outputs, save_figure
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_reference_windows, bundled_runs
 from whipple.measurement.experiment import CSV_COLUMNS, FitOptions, RunMeasurement, measure_run, measure_window
@@ -91,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--signals names no signal")
     inputs = [*args.runs, *(f for f in (args.windows, args.compare, args.bicycle, args.layout)
                             if f and f != BUNDLED)]
-    _check_outputs(args, inputs)
+    check_outputs({"--json": args.json, "--csv": args.csv}, inputs, {"--plot": args.plot})
 
     runs = [read_run(path, layout=args.layout) for path in args.runs]
     if args.bundled:
@@ -123,17 +124,6 @@ def run(args: argparse.Namespace) -> int:
         _print_comparison(reference_name, reference, measured, options)
     _write_outputs(args, measured, models, bicycle, inputs)
     return 0
-
-
-def _check_outputs(args: argparse.Namespace, inputs: list[str]) -> None:
-    """Refuse outputs that would replace an input, or a plot folder that is a file."""
-    for output in (args.json, args.csv):
-        if output is not None:
-            refuse_input_overwrite(output, inputs)
-            if Path(output).is_dir():
-                raise InputError("output is a folder", output)
-    if args.plot is not None and Path(args.plot).exists() and not Path(args.plot).is_dir():
-        raise InputError("--plot needs a folder; this is a file", args.plot)
 
 
 def _model_eigenvalues(measured: list[RunMeasurement], bicycle: Bicycle | None) -> dict[int, complex | None]:
@@ -243,7 +233,6 @@ def _write_outputs(args: argparse.Namespace, measured: list[RunMeasurement], mod
         for name, figure in fit_figures(measured, bicycle):
             target = Path(args.plot) / name
             refuse_input_overwrite(target, inputs)
-            with atomic_path(target) as temporary:
-                figure.savefig(temporary, dpi=100)
+            save_figure(figure, target, dpi=100)
             count += 1
         print(f"wrote {count} figure(s) into {args.plot}")

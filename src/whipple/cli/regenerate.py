@@ -17,6 +17,7 @@ import sympy
 import whipple.generated
 from whipple.atomic import write_text_atomic
 from whipple.derivation.regenerate import MANIFEST, differences, generate
+from whipple.errors import InputError
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -34,6 +35,8 @@ def _default_folder() -> Path:
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     folder = args.output or _default_folder()
+    if folder.exists() and not folder.is_dir():
+        raise InputError("--output needs a folder; this is a file", folder)
     started = time.perf_counter()
     files = generate()
     elapsed = time.perf_counter() - started

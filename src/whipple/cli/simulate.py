@@ -15,12 +15,12 @@ import math
 import re
 from pathlib import Path
 
-from whipple.atomic import refuse_input_overwrite
+from whipple.atomic import check_writable, refuse_input_overwrite
 from whipple.cli.arguments import speed_list
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
-from whipple.simulation.scenario import RunScenario, Sensors
+from whipple.simulation.scenario import MAX_SAMPLES, MAX_SAMPLES_MEMORY, RunScenario, Sensors
 from whipple.simulation.simulator import simulate_run, write_run_csv
 
 
@@ -75,6 +75,7 @@ def run(args: argparse.Namespace) -> int:
                          args.output)
     if not single_file and output.exists() and not output.is_dir():
         raise InputError("output exists and is not a folder", args.output)
+    check_writable(output, is_folder=not single_file)
 
     bicycle = load_bicycle(args.bicycle)
     model = linear_model(bicycle)
@@ -89,6 +90,10 @@ def run(args: argparse.Namespace) -> int:
                     seed=args.seed + k)
         for k, speed in enumerate(speeds)
     ]  # all validated before anything is written
+    total = sum(s.end_time() * s.sample_rate for s in scenarios)
+    if total > MAX_SAMPLES:
+        raise InputError(f"{len(scenarios)} runs would have {total:.3g} samples in all; at most "
+                         f"{MAX_SAMPLES:g} are simulated at once ({MAX_SAMPLES_MEMORY}): fewer speeds per call")
     targets = [output if single_file else output / _file_name(name, args.setting, s.speed)
                for s in scenarios]
     for target in targets:

@@ -14,8 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from whipple.atomic import atomic_path, refuse_input_overwrite, write_text_atomic
+from whipple.atomic import write_text_atomic
 from whipple.cli.arguments import speed_range
+from whipple.cli.outputs import check_outputs, figure_format, save_figure
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
@@ -23,25 +24,30 @@ from whipple.stability.critical import critical_speeds
 from whipple.stability.eigen import eigen_analysis, eigenvalue_table
 from whipple.stability.plots import plot_eigenvalues
 
+#: Most speeds in the table and figure: a 10 MB table; more is refused rather than swapped.
+MAX_POINTS = 100_000
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
     parser.add_argument("bicycle", metavar="PARAMS", help="bicycle file or built-in name")
     parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
                         help="speed interval, m/s (default 0:10)")
-    parser.add_argument("--points", type=int, default=1001, help="speeds in the table and figure (default 1001)")
-    parser.add_argument("--plot", type=Path, metavar="FILE.png", help="write the figure")
+    parser.add_argument("--points", type=int, default=1001,
+                        help=f"speeds in the table and figure (default 1001, at most {MAX_POINTS})")
+    parser.add_argument("--plot", type=Path, metavar="FILE.png",
+                        help="write the figure (format from the suffix: png, pdf, svg, ...; png without one)")
     parser.add_argument("--csv", type=Path, metavar="FILE.csv", help="write the eigenvalue table")
     parser.add_argument("--json", action="store_true", help="print critical speeds and ranges as JSON")
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
-    if args.points < 2:
-        raise InputError(f"--points must be at least 2, got {args.points}")
-    for output in (args.plot, args.csv):
-        if output is not None:
-            refuse_input_overwrite(output, [args.bicycle])
+    if not 2 <= args.points <= MAX_POINTS:
+        raise InputError(f"--points must be between 2 and {MAX_POINTS}, got {args.points}")
+    check_outputs({"--plot": args.plot, "--csv": args.csv}, [args.bicycle])
+    if args.plot is not None:
+        figure_format(args.plot)
     bicycle = load_bicycle(args.bicycle)
     model = linear_model(bicycle)
     low, high = args.speeds
@@ -55,10 +61,8 @@ def run(args: argparse.Namespace) -> int:
         writer.writerows(rows)
         write_text_atomic(args.csv, buffer.getvalue())
     if args.plot is not None:
-
         figure = plot_eigenvalues(result, critical, title=bicycle.name or str(args.bicycle))
-        with atomic_path(args.plot) as temporary:
-            figure.savefig(temporary, dpi=150)
+        save_figure(figure, args.plot, dpi=150)
     if args.json:
         print(json.dumps({"bicycle": bicycle.name, **critical.to_dict()}, indent=2))
     else:

@@ -6,6 +6,7 @@ the JSON of the shared spec ``diagnosis-report.md`` and a Markdown report.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -203,7 +204,9 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain."""
     used = tuple(m for m in measurements if m.usable)
     if len(used) < 2:
-        raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue; need at least 2")
+        reasons = Counter(m.skipped.split(" (")[0] for m in measurements if m.skipped)
+        why = f" (most often skipped: {reasons.most_common(1)[0][0]})" if reasons else ""
+        raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue; need at least 2{why}")
     observations = [observation(m) for m in used]
     causes = candidate_causes(bicycle, include_parameters)
     diagnosis = diagnose_observations(bicycle, observations, causes)

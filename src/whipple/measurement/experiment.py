@@ -247,10 +247,12 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None, options: FitO
     missing = [name for name in options.signals if name not in run.signals]
     if missing:
         raise InputError(f"no {', '.join(missing)} signal to fit", run.source)
-    search = find_windows(run)
+    speed = run.speed()
+    # Windows never span a gap in what a fit reads: the fitted signals and the speed.
+    valid = np.isfinite(speed) & np.logical_and.reduce([np.isfinite(run.signals[name]) for name in options.signals])
+    search = find_windows(run, valid=valid)
     from_file = windows is not None
     chosen = [w for w in windows if w.run == run.name] if windows is not None else list(search.windows)
-    speed = run.speed()
     measured = [measure_window(run, window, options, speed) for window in chosen]
     if not from_file:
         measured += [_rejected(run, window, window.reason.removeprefix("rejected: "), speed)
@@ -284,10 +286,17 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
     if window.start >= last or window.stop <= first:
         return WindowMeasurement(run, window, None, None, f"window outside the run ({first:.2f}-{last:.2f} s)")
     speed = run.speed() if speed is None else speed
+    gap = _gap_in(run, window, (*options.signals, "speed"), speed)
+    if gap:
+        return WindowMeasurement(run, window, None, None, gap)
     try:
         speeds = speed_regression(run.time, speed, window.start, window.stop)
     except InputError as error:
         return WindowMeasurement(run, window, None, None, error.problem)
+    if speeds.low < 0:
+        # The model's speed is forward; a fit here would describe another bicycle.
+        return WindowMeasurement(run, window, None, speeds,
+                                 f"negative speed ({speeds.low:.3g} m/s): the model needs forward speed")
     try:
         fitted = _settled(run, window, options.settle)
         baseline = "constant" if options.baseline == "auto" else options.baseline
@@ -302,6 +311,17 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
     if quality is None and signal is not None and signal in run.signals and signal not in options.signals:
         shape = _mode_shape(run, fit, signal, max(SETTLE - (fit.start - window.start), 0.0))
     return WindowMeasurement(run, window, fit, speeds, None, quality, shape)
+
+
+def _gap_in(run: Run, window: Window, names: Sequence[str], speed: np.ndarray) -> str | None:
+    """Why a window cannot be fitted because it spans a gap (samples without a value), or None."""
+    first = int(np.searchsorted(run.time, window.start))
+    stop = int(np.searchsorted(run.time, window.stop, side="right"))
+    empty = [name for name in names
+             if not np.all(np.isfinite((speed if name == "speed" else run.signals[name])[first:stop]))]
+    if not empty:
+        return None
+    return f"window spans a gap in {', '.join(empty)} (samples without a value): not fitted across it"
 
 
 def _quality(fit: WeaveFit) -> str | None:
@@ -338,6 +358,8 @@ def _settled(run: Run, window: Window, settle: float) -> Window:
 def _mode_shape(run: Run, fit: WeaveFit, signal: str, settle: float) -> AmplitudeRatio | None:
     first = int(np.searchsorted(run.time, fit.start))
     values = run.signals[signal][first:first + fit.n_samples]
+    if not np.all(np.isfinite(values)):
+        return None  # a gap in the shape signal: no mode shape from this window
     try:
         shape = amplitude_ratio(fit, values, signal, settle=settle)
     except NoOscillationError:

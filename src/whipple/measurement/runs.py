@@ -57,7 +57,8 @@ class Run:
     sample_rate : float
         Sample rate [Hz] (the median one when a time column is given).
     warnings : tuple of str
-        What was ignored while reading (unknown columns); never printed by the library.
+        What was ignored while reading (unknown columns, gaps: empty, NaN or non-numeric
+        cells, negative speeds); never printed by the library.
     """
 
     name: str
@@ -85,11 +86,26 @@ class Run:
         if "speedometer" in self.signals:
             radius = _metadata_number(self.metadata, "wheel_radius", self.source)
             pulses = _metadata_number(self.metadata, "pulses_per_revolution", self.source)
-            staircase = speedometer_speed(
-                self.time, self.signals["speedometer"], radius, pulses, source=self.source
-            )
-            return staircase.sampled(self.time)
+            signal = self.signals["speedometer"]
+            speed = np.full(self.time.shape, np.nan)
+            # Each stretch between gaps on its own: crossings are not counted across a gap.
+            for first, stop in contiguous(np.isfinite(signal)):
+                try:
+                    staircase = speedometer_speed(self.time[first:stop], signal[first:stop], radius, pulses,
+                                                  source=self.source)
+                except RunFileError:
+                    if first == 0 and stop == signal.size:
+                        raise
+                    continue  # too short a stretch to hold two crossings: no speed there
+                speed[first:stop] = staircase.sampled(self.time[first:stop])
+            return speed
         return np.full(self.time.shape, _metadata_number(self.metadata, "speed", self.source))
+
+
+def contiguous(valid: NDArray[np.bool_]) -> list[tuple[int, int]]:
+    """Return the ``(first, stop)`` index ranges of the stretches where `valid` holds."""
+    edges = np.diff(np.concatenate(([0], valid.astype(np.int8), [0])))
+    return list(zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(), strict=True))
 
 
 def run_from_simulation(simulated: SimulatedRun) -> Run:
@@ -125,8 +141,10 @@ def read_run(
     Raises
     ------
     RunFileError
-        If the file cannot be read, misses roll_rate, time or speed information, holds
-        non-numeric or NaN values, has non-increasing times or is too short.
+        If the file cannot be read, misses roll_rate, time or speed information, holds text or
+        infinite values in the time, roll_rate, speed or speedometer columns, has
+        non-increasing times or is too short. Empty and NaN cells are gaps (NaN), noted in the
+        run's warnings; text in other columns too.
     """
     source = str(path)
     lines = _read_lines(Path(path) if isinstance(path, str | Path) else path, source)
@@ -174,16 +192,29 @@ def read_run(
     if "roll_rate" not in wanted.values():
         raise RunFileError("missing roll_rate column", source)
 
-    signals = _parse_columns(rows, names, wanted, active.delimiter, source)
+    signals, notes = _parse_columns(rows, names, wanted, active.delimiter, source)
+    warnings += notes
     for name, factor in active.scale.items():
         if name in signals:
             signals[name] = signals[name] * factor
-    time, sample_rate = _time_base(signals, metadata, active, len(rows), source)
+    if "time" in signals and np.isnan(signals["time"]).any():
+        # A sample without a time cannot be placed: drop the row (the jump is a gap).
+        keep = ~np.isnan(signals["time"])
+        signals = {name: values[keep] for name, values in signals.items()}
+        warnings.append(f"{int((~keep).sum())} row(s) without a time value dropped")
+    if "roll_rate" in signals and np.isnan(signals["roll_rate"]).all():
+        raise RunFileError("column roll_rate has no values", source)
+    time, sample_rate = _time_base(signals, metadata, active, len(signals["roll_rate"]), source)
     if time[-1] - time[0] < min_duration:
         raise RunFileError(
             f"run too short ({time[-1] - time[0]:.3g} s; at least {min_duration:g} s needed)", source
         )
     _check_speed_source(signals, metadata, active, source)
+    speed = signals.get("speed")
+    if speed is not None and np.nanmin(speed, initial=0.0) < 0:
+        warnings.append(f"speed is negative in {int(np.sum(speed < 0))} sample(s): the model's forward speed is "
+                        "positive, so no window there is fitted (flip the speed's sign with a layout's [scale] "
+                        "if that is its convention)")
     for values in signals.values():
         values.flags.writeable = False
     time.flags.writeable = False
@@ -214,13 +245,24 @@ def _read_lines(path: Path | Readable, source: str) -> list[str]:
         raise RunFileError("not a text file (invalid UTF-8)", source) from None
 
 
+#: Columns whose cells must be numbers (or empty/NaN, a gap): the ones every analysis reads. A
+#: cell of text in another column (a logger's status word, a controller not yet switched on)
+#: only leaves a gap in that column.
+_NUMERIC = ("time", "roll_rate", "speed", "speedometer")
+
+
 def _parse_columns(
     rows: list[tuple[int, str]],
     names: list[str],
     wanted: dict[str, str],
     delimiter: str | None,
     source: str,
-) -> dict[str, NDArray[np.float64]]:
+) -> tuple[dict[str, NDArray[np.float64]], list[str]]:
+    """Return the wanted columns as float arrays (NaN for gaps) and notes on their gaps.
+
+    Empty and NaN cells are gaps (NaN) in any column; text is refused in the columns every
+    analysis reads (:data:`_NUMERIC`), infinities too, and is a gap elsewhere.
+    """
     table = [line.split(delimiter) for _, line in rows]
     for (number, _), fields in zip(rows, table, strict=True):
         if len(fields) != len(names):
@@ -228,33 +270,48 @@ def _parse_columns(
                 f"line {number} has {len(fields)} fields, the header has {len(names)}", source
             )
     signals: dict[str, NDArray[np.float64]] = {}
+    notes: list[str] = []
     for column, target in wanted.items():
         j = names.index(column)
         cells = [fields[j] for fields in table]
         try:
             values = np.array(cells, dtype=float)
+            text = np.zeros(values.shape, dtype=bool)
         except ValueError:
-            bad = next(i for i, cell in enumerate(cells) if not _is_number(cell))
+            values, text = _lenient(cells)
+        if target in _NUMERIC and text.any():
+            bad = int(np.argmax(text))
             raise RunFileError(
-                f"line {rows[bad][0]}, column '{column}': non-numeric value '{cells[bad].strip()}'",
-                source,
-            ) from None
-        finite = np.isfinite(values)
-        if not finite.all():
-            bad = int(np.argmin(finite))
-            raise RunFileError(
-                f"line {rows[bad][0]}, column '{column}': {cells[bad].strip()} value", source
+                f"line {rows[bad][0]}, column '{column}': non-numeric value '{cells[bad].strip()}'", source
             )
+        infinite = np.isinf(values)
+        if target in _NUMERIC and infinite.any():
+            bad = int(np.argmax(infinite))
+            raise RunFileError(f"line {rows[bad][0]}, column '{column}': {cells[bad].strip()} value", source)
+        values[infinite] = np.nan
+        gaps = np.isnan(values)
+        if gaps.any():
+            lines = [rows[i][0] for i in np.flatnonzero(gaps)[[0, -1]]]
+            kind = "empty, NaN or non-numeric" if text.any() else "empty or NaN"
+            notes.append(f"column '{column}': {int(gaps.sum())} {kind} cell(s) (lines {lines[0]}-{lines[1]}), "
+                         "read as gaps")
         signals[target] = values
-    return signals
+    return signals, notes
 
 
-def _is_number(cell: str) -> bool:
-    try:
-        float(cell)
-    except ValueError:
-        return False
-    return True
+def _lenient(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Cells as floats, NaN where empty or not a number; and where they held text."""
+    values = np.full(len(cells), np.nan)
+    text = np.zeros(len(cells), dtype=bool)
+    for i, cell in enumerate(cells):
+        cell = cell.strip()
+        if not cell:
+            continue
+        try:
+            values[i] = float(cell)
+        except ValueError:
+            text[i] = True
+    return values, text
 
 
 def _time_base(

@@ -30,13 +30,13 @@ bicycle's controller also applies) is not detected.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import RunFileError
-from whipple.measurement.runs import Run
+from whipple.measurement.runs import Run, contiguous
 from whipple.measurement.swings import Swings, swings_of
 
 #: Largest ratio of a free swing to the swing before it when starting from rest.
@@ -107,7 +107,7 @@ class WindowSearch:
     frequency: float
 
 
-def find_windows(run: Run, signal: str = "roll_rate") -> WindowSearch:
+def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] | None = None) -> WindowSearch:
     """Find the free-coasting windows of a run automatically.
 
     Parameters
@@ -116,6 +116,13 @@ def find_windows(run: Run, signal: str = "roll_rate") -> WindowSearch:
         The run; its `signal` (default the roll rate [rad/s]) is analysed.
     signal : str
         Name of the oscillating signal to use.
+    valid : ndarray of bool, optional
+        Samples usable in a window (e.g. where every signal a fit needs has a value); by
+        default where `signal` has one. Gaps (unusable samples, and jumps in time of more than
+        1.5 sample intervals) are bridged by straight lines while the record is searched, so
+        that its noise and levels, and the windows away from a gap, are those of the whole
+        record; then every window is cut at the gaps, so that none spans one, and each gap is
+        listed as a rejected stretch.
 
     Raises
     ------
@@ -125,12 +132,67 @@ def find_windows(run: Run, signal: str = "roll_rate") -> WindowSearch:
     if signal not in run.signals:
         raise RunFileError(f"no {signal} signal to find windows in", run.source)
     x = np.asarray(run.signals[signal], dtype=float)
+    usable = np.isfinite(x) if valid is None else np.asarray(valid, dtype=bool) & np.isfinite(x)
+    gaps = _gaps(run.time, usable)
+    if not usable.any():
+        return WindowSearch(run.name, (), tuple(_gap(run, a, b, usable) for a, b in gaps), np.nan, np.nan, np.nan)
+    if gaps:
+        index = np.arange(x.size)
+        x = np.interp(index, index[usable], x[usable])
     swings = swings_of(x, run.sample_rate)
     if swings.heights.size == 0:
-        return WindowSearch(run.name, (), (), swings.noise, swings.background, swings.frequency)
-    windows, rejected = _Finder(run, x, swings).search()
+        windows: list[Window] = []
+        rejected: list[Window] = []
+    else:
+        windows, rejected = _Finder(run, x, swings).search()
+    if gaps:
+        windows = [part for window in windows for part in _cut(run, window, gaps)]
+        rejected = sorted(rejected + [_gap(run, a, b, usable) for a, b in gaps], key=lambda w: w.start)
     return WindowSearch(run.name, tuple(windows), tuple(rejected), swings.noise,
                         swings.background, swings.frequency)
+
+
+def _gaps(time: NDArray[np.float64], usable: NDArray[np.bool_]) -> list[tuple[int, int]]:
+    """``(first, stop)`` of each gap: unusable samples, or the two samples around a jump in time."""
+    steps = np.diff(time)
+    jumps = np.flatnonzero(steps > 1.5 * np.median(steps)) if steps.size else np.array([], dtype=int)
+    gaps = contiguous(~usable) + [(int(j), int(j) + 2) for j in jumps if usable[j] and usable[j + 1]]
+    return sorted(gaps)
+
+
+def _cut(run: Run, window: Window, gaps: list[tuple[int, int]]) -> list[Window]:
+    """Return the parts of `window` between the gaps (the whole window when it holds none)."""
+    inside = [(a, b) for a, b in gaps if a < window.stop_index and b > window.start_index]
+    if not inside:
+        return [window]
+    parts, first = [], window.start_index
+    for a, b in inside:
+        # A jump in time keeps both its samples: the gap lies between them.
+        a, b = (a + 1, a + 1) if b - a == 2 and np.all(np.isfinite(run.time[a:b])) and _is_jump(run, a) else (a, b)
+        if a - first >= 3:
+            parts.append((first, a))
+        first = b
+    if window.stop_index - first >= 3:
+        parts.append((first, window.stop_index))
+    time = run.time
+    return [replace(window, start=float(time[a]), stop=float(time[b - 1]), start_index=a, stop_index=b,
+                    notes=(*window.notes, f"cut at a gap ({time[a]:.2f}-{time[b - 1]:.2f} s of "
+                                          f"{window.start:.2f}-{window.stop:.2f} s kept)"))
+            for a, b in parts]
+
+
+def _is_jump(run: Run, first: int) -> bool:
+    steps = np.diff(run.time)
+    return bool(steps[first] > 1.5 * np.median(steps))
+
+
+def _gap(run: Run, first: int, stop: int, usable: NDArray[np.bool_]) -> Window:
+    """Return a rejected stretch for the gap ``first:stop``: unusable samples, or a jump in time."""
+    missing = int(np.count_nonzero(~usable[first:stop]))
+    what = (f"{missing} sample(s) without a value" if missing
+            else f"time jumps from {run.time[first]:.3f} to {run.time[stop - 1]:.3f} s")
+    return Window(run.name, float(run.time[first]), float(run.time[stop - 1]), first, stop,
+                  f"rejected: gap: {what}; no window spans a gap")
 
 
 class _Finder:

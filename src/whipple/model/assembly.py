@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import ParameterError
 from whipple.generated import whipple_extended_numpy, whipple_numpy
+from whipple.model.bodies import fold_point_wheels
 from whipple.model.linear import LinearModel, second_order_model
 from whipple.model.parameters import Bicycle, Controller, Extensions
 from whipple.model.tyre import tyre_linear_model
@@ -63,10 +64,16 @@ def _evaluate(function, arrays: list[NDArray[np.float64]]) -> tuple[NDArray[np.f
 
 
 def _gather(parameters: Mapping[str, ArrayLike], names: Sequence[str]) -> list[NDArray[np.float64]]:
+    """Return the parameters `names` as arrays, with point wheels (radius 0) folded into their frames.
+
+    The generated code divides by the wheel radii; a point wheel's limit is evaluated exactly
+    by :func:`whipple.model.bodies.fold_point_wheels`.
+    """
     missing = [name for name in names if name not in parameters]
     if missing:
         raise ParameterError(f"missing parameters: {', '.join(missing)}")
-    return [np.asarray(parameters[name], dtype=float) for name in names]
+    folded = fold_point_wheels(parameters)
+    return [np.asarray(folded[name], dtype=float) for name in names]
 
 
 def whipple_matrices(parameters: Mapping[str, ArrayLike]) -> Matrices:

@@ -1,9 +1,10 @@
-"""Reading and writing bicycle files: TOML (parameter-file spec) and BicycleParameters text.
+"""Reading and writing bicycle files in TOML (parameter-file spec).
 
 The format rules are strict: numbers only and never evaluated, no unknown keys, every error a
 one-line BicycleFileError naming the file. Physical checks follow reading
 (:func:`whipple.model.parameter_set.check_physical`, a ParameterError naming the file). Import the
-public functions from :mod:`whipple.model.parameters`.
+public functions from :mod:`whipple.model.parameters`; BicycleParameters' text files are read by
+:mod:`whipple.model.benchmark_text`.
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ import dataclasses
 import datetime
 import difflib
 import os
-import re
 import tomllib
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
@@ -35,11 +35,6 @@ from whipple.model.parameter_set import (
     TyreCompliance,
     check_physical,
 )
-
-# A decimal number as BicycleParameters writes it (optionally nan or inf); deliberately narrower
-# than float(), which would also accept "1_0" or "infinity".
-_NUMBER = r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|nan|inf)"
-_TEXT_LINE = re.compile(rf"^\s*(\w+)\s*=\s*({_NUMBER})\s*(?:\+/-\s*({_NUMBER}))?\s*$")
 
 
 def _kind(value: object) -> str:
@@ -138,7 +133,8 @@ def _suggestion(key: str, allowed: tuple[str, ...]) -> str:
     return f" (did you mean {close[0]!r}?)" if close else ""
 
 
-def _read_text(path: str | os.PathLike[str]) -> str:
+def read_text(path: str | os.PathLike[str]) -> str:
+    """Return a text file's content; any failure is a one-line BicycleFileError."""
     try:
         return Path(path).read_text(encoding="utf-8-sig")  # tolerate a byte-order mark
     except UnicodeDecodeError:
@@ -160,44 +156,7 @@ def parse_toml(text: str, source: str) -> StrictTable:
 
 def _read_toml(path: str | os.PathLike[str]) -> StrictTable:
     """Read and parse a TOML file; any failure is a one-line BicycleFileError."""
-    return parse_toml(_read_text(path), str(path))
-
-
-def _read_benchmark_text(
-    path: str | os.PathLike[str],
-) -> tuple[StrictTable, dict[str, float]]:
-    """Read a BicycleParameters ``<Name>Benchmark.txt`` file.
-
-    Each non-blank line is ``name = value`` or ``name = value+/-uncertainty``; lines starting
-    with ``#`` are comments.
-
-    Returns
-    -------
-    values : StrictTable
-        The values by name (key checks are left to the caller).
-    uncertainties : dict
-        The non-zero uncertainties (one standard deviation) by name.
-    """
-    source = str(path)
-    values: dict[str, float] = {}
-    uncertainties: dict[str, float] = {}
-    for number, line in enumerate(_read_text(path).splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        match = _TEXT_LINE.match(line)
-        if match is None:
-            raise BicycleFileError(
-                f"line {number}: expected 'name = value' or 'name = value+/-uncertainty', "
-                f"got {line.strip()[:60]!r}",
-                source,
-            )
-        name, value, uncertainty = match.groups()
-        if name in values:
-            raise BicycleFileError(f"line {number}: {name!r} given twice", source)
-        values[name] = float(value)
-        if uncertainty is not None and float(uncertainty) != 0.0:
-            uncertainties[name] = float(uncertainty)
-    return StrictTable(values, "the file", source), uncertainties
+    return parse_toml(read_text(path), str(path))
 
 
 def _write_toml(document: Mapping[str, Any], path: str | os.PathLike[str], header: str) -> None:
@@ -283,27 +242,6 @@ def _read_controller(table: StrictTable | None) -> Controller:
 def _state_order(state: str) -> tuple[int, str]:
     known = state in CONTROLLER_STATES
     return (CONTROLLER_STATES.index(state) if known else len(CONTROLLER_STATES), state)
-
-
-def read_benchmark_txt(path: str | os.PathLike[str]) -> Bicycle:
-    """Read a BicycleParameters ``<Name>Benchmark.txt`` file.
-
-    Each non-blank line is ``name = value`` or ``name = value+/-uncertainty`` (one standard
-    deviation; zero uncertainties are dropped); lines starting with ``#`` are comments. The
-    bicycle's name is the file name without ``Benchmark.txt``.
-
-    Raises
-    ------
-    BicycleFileError, ParameterError
-        As :func:`read_bicycle_toml`.
-    """
-    values, uncertainty = _read_benchmark_text(path)
-    values.check_keys(PARAMETER_NAMES, _REQUIRED)
-    stem = Path(path).stem
-    name = stem.removesuffix("Benchmark") or stem
-    bicycle = Bicycle(dict(values.values), name=name, uncertainty=uncertainty, source=str(path))
-    check_physical(bicycle)
-    return bicycle
 
 
 def write_bicycle_toml(bicycle: Bicycle, path: str | os.PathLike[str]) -> None:

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from whipple.errors import ParameterError
 from whipple.generated import tyre_casadi, whipple_casadi, whipple_extended_casadi
 from whipple.model.assembly import EXTENDED_PARAMETERS, extension_values
+from whipple.model.bodies import fold_point_wheels, folded_parameters
 from whipple.model.first_order import ArrayOps, descriptor_coefficients, second_order_coefficients
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
@@ -114,6 +115,12 @@ def casadi_state_function(bicycle: Bicycle, keys: Sequence[str] = ()
     else:
         values = dict(extension_values(bicycle.extensions))
         values.update({k: x for k, x in bicycle.parameters.items() if k in EXTENDED_PARAMETERS})
+        folded = [key for key in keys if key in folded_parameters(bicycle.parameters)]
+        if folded:
+            raise ParameterError(f"cannot vary {', '.join(folded)}: a point wheel (radius 0) is folded "
+                                 "into its frame", bicycle.source or None)
+        # Point wheels: the same exact limit as the NumPy model (whipple.model.bodies).
+        values = {key: float(value) for key, value in fold_point_wheels(values).items()}
         vector, p, p0 = _symbolic(values, EXTENDED_PARAMETERS, keys)
         M, C1, D, K0, K2 = whipple_extended_casadi.matrices(vector)
         coefficients, _ = second_order_coefficients(M, C1, D, K0, K2, gains, CASADI_OPS)

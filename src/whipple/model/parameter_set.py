@@ -21,7 +21,16 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import ParameterError
+from whipple.generated import whipple_numpy
 from whipple.model.parameter_table import BY_NAME, names
+from whipple.model.physical_checks import (
+    excess_std,
+    magnitude_findings,
+    principal_moments,
+    singular_mass_matrix,
+    triangle_message,
+    triangle_remedy,
+)
 
 #: The 26 benchmark parameters in the order of Meijaard et al. (2007), Table 1.
 PARAMETER_NAMES: tuple[str, ...] = names("benchmark")
@@ -202,6 +211,9 @@ class Bicycle:
         State feedback acting on the bicycle.
     source : str
         Where the bicycle was read from (a path or a built-in name); not part of equality.
+    notes : tuple of str
+        What reading the file found worth a warning (e.g. redundant values that disagree);
+        :func:`validate` reports them. Not part of equality.
     """
 
     parameters: dict[str, float]
@@ -211,6 +223,7 @@ class Bicycle:
     extensions: Extensions = Extensions()
     controller: Controller = field(default_factory=Controller)
     source: str = field(default="", compare=False)
+    notes: tuple[str, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
         # Copies, so that changing the caller's dict never changes the bicycle; anything that
@@ -306,9 +319,12 @@ def validate(bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike]) -> Valida
         Problems (unusable) and warnings (checks skipped, values within rounding of a limit).
     """
     found = _Findings()
+    uncertainty: Mapping[str, float] = {}
     if isinstance(bicycle_or_parameters, Bicycle):
         _check_additions(bicycle_or_parameters, found)
         parameters: Mapping[str, ArrayLike] = bicycle_or_parameters.parameters
+        uncertainty = bicycle_or_parameters.uncertainty
+        found.warnings.extend(bicycle_or_parameters.notes)
     else:
         parameters = bicycle_or_parameters
     unknown = [key for key in parameters if key not in PARAMETER_NAMES]
@@ -326,14 +342,34 @@ def validate(bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike]) -> Valida
     for name, value in p.items():
         found.flag(~np.isfinite(value), f"{_show(name, value)} is not finite")
     finite = {name: np.where(np.isfinite(value), value, np.nan) for name, value in p.items()}
-    for name in ("w", "g", "rR", "rF", "mR", "mB", "mH", "mF"):
+    for bad, text, warning in magnitude_findings(finite, PARAMETER_UNITS):
+        found.flag(bad, text, warning)
+    for name in ("w", "g"):
         if name in finite:
             found.flag(finite[name] <= 0, f"{_show(name, finite[name])} must be positive")
+    # Zero masses, radii and inertias are legitimate limits (point masses, the skates of the
+    # two-mass-skate bicycle); negative ones are not.
+    for name in ("rR", "rF", "mR", "mB", "mH", "mF"):
+        if name in finite:
+            found.flag(finite[name] < 0, f"{_show(name, finite[name])} must not be negative")
+    for wheel, label in (("R", "rear"), ("F", "front")):
+        radius, spin = f"r{wheel}", f"I{wheel}yy"
+        if radius in finite and spin in finite:
+            found.flag((finite[radius] == 0) & (finite[spin] != 0),
+                       f"{radius} = 0 (a point {label} wheel) needs {spin} = 0: a wheel of zero radius "
+                       "spins infinitely fast and cannot carry spin inertia")
     if "lam" in finite:
         lam = finite["lam"]
         found.flag(np.abs(lam) >= math.pi / 2, f"{_show('lam', lam)} must be in (-pi/2, pi/2)")
+    singular = []
     for label, xx, yy, zz, xz in _BODIES:
-        _check_inertia(label, (xx, yy, zz, xz), finite, found)
+        singular.append(_check_inertia(label, (xx, yy, zz, xz), finite, found, uncertainty))
+    needed = whipple_numpy.PARAMETERS
+    if not found.problems and any(np.any(s) for s in singular) and all(n in finite for n in needed):
+        # Point masses: the bicycle as a whole may have no inertia to roll or to steer.
+        bad = singular_mass_matrix({n: finite[n] for n in needed})
+        found.flag(bad, "the mass matrix M is not positive definite: with these point masses the "
+                        "bicycle has no inertia to roll or to steer (e.g. all front mass on the steer axis)")
     return ValidationReport(tuple(found.problems), tuple(found.warnings))
 
 
@@ -342,39 +378,52 @@ def _check_inertia(
     keys: tuple[str, str, str, str | None],
     p: Mapping[str, NDArray[np.float64]],
     found: _Findings,
-) -> None:
-    """Positive definiteness and the triangle inequality of one body's principal moments."""
+    uncertainty: Mapping[str, float],
+) -> NDArray[np.bool_] | bool:
+    """Check one body's inertia (see :mod:`whipple.model.physical_checks`).
+
+    Returns where its inertia in the xz plane is singular (a point mass or a thin rod), for
+    the mass-matrix check.
+    """
     xx, yy, zz, xz = keys
     if any(key is not None and key not in p for key in (xx, zz, xz)):
-        return  # reported as missing
+        return False  # reported as missing
     ixx, izz = p[xx], p[zz]
     ixz = p[xz] if xz is not None else np.zeros_like(ixx)
-    # Principal moments in the xz plane; y is a principal axis (lateral symmetry).
-    mean, radius = (ixx + izz) / 2, np.hypot((ixx - izz) / 2, ixz)
-    in_plane = (mean + radius, mean - radius)
     names = ", ".join(key for key in dict.fromkeys(keys) if key is not None)
+    wheel = xz is None
+    moments = principal_moments(ixx, p[yy] if yy in p else np.full_like(ixx, np.nan), izz, ixz)
+    shown = "" if moments.ndim > 1 else " (principal moments " + ", ".join(f"{m:.6g}" for m in moments) + ")"
+    # The moments in the xz plane enter the linear equations, and so does a wheel's spin moment.
+    used = moments if wheel else moments[:2]
+    found.flag(np.nanmin(used, axis=0) < 0,
+               f"{label} inertia ({names}) is not positive semi-definite: a negative principal moment" + shown)
     if yy not in p:
-        found.flag(in_plane[1] <= 0, f"{label} inertia ({names}) is not positive definite")
         if yy in OPTIONAL_PARAMETERS:
             found.warnings.append(f"{yy} absent: {label} inertia checks needing it were skipped")
-        return
-    moments = np.stack(np.broadcast_arrays(*in_plane, p[yy]))
-    shown = (
-        ""
-        if moments.ndim > 1
-        else " (principal moments " + ", ".join(f"{m:.6g}" for m in moments) + ")"
-    )
-    found.flag(
-        moments.min(axis=0) <= 0, f"{label} inertia ({names}) is not positive definite" + shown
-    )
+        return moments[1] <= 0
+    if not wheel:
+        found.flag(p[yy] < 0, f"{yy} = {float(p[yy]) if p[yy].ndim == 0 else 'a value'} < 0 is not a "
+                              "moment of inertia (it does not enter the linear equations)", True)
     total = moments.sum(axis=0)
-    excess = (2 * moments.max(axis=0) - total) / np.where(total > 0, total, np.nan)
+    excess = 2 * moments.max(axis=0) - total
+    relative = excess / np.where(total > 0, total, np.nan)
     text = f"{label} inertia ({names}) violates the triangle inequality of principal moments"
-    found.flag(excess > _ROUNDING, text + shown)
-    rounding = (excess > _EXACT) & (excess <= _ROUNDING)
+    rounding = (relative > _EXACT) & (relative <= _ROUNDING)
     if rounding.any():
-        worst = float(np.max(excess[rounding]))
+        worst = float(np.max(relative[rounding]))
         found.flag(rounding, f"{text} by {worst:.2%} of their sum (taken as rounding)", True)
+    beyond = relative > _ROUNDING
+    if beyond.any():
+        if moments.ndim == 1:
+            values = {key: float(p[key]) for key in (xx, yy, zz) + ((xz,) if xz else ())}
+            values.setdefault("_xz", 0.0)
+            std = excess_std(values, (xx, yy, zz, xz or "_xz"), uncertainty)
+            remedy = triangle_remedy(yy, int(np.argmax(moments)) == 2, float(excess), wheel)
+            found.flag(True, triangle_message(text, float(excess), moments, std, remedy), True)
+        else:
+            found.flag(beyond, f"{text} by more than {_ROUNDING:.1%} of their sum", True)
+    return moments[1] <= 0
 
 
 def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
@@ -386,6 +435,9 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
             f"uncertainty of {name} = {sigma:.6g} must be finite and >= 0",
         )
     ext = bicycle.extensions
+    point = [name for name in ("rR", "rF") if bicycle.parameters.get(name) == 0]
+    found.flag(ext.tyre_compliance is not None and bool(point),
+               f"tyre compliance needs wheels of positive radius ({', '.join(point)} = 0)")
     checks = [
         ("steer_damping", ext.steer_damping, -math.inf, False),
         ("steer_inertia", ext.steer_inertia, 0.0, True),

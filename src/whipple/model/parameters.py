@@ -20,10 +20,10 @@ import os
 from pathlib import Path
 
 from whipple.errors import BicycleFileError
+from whipple.model.benchmark_text import read_benchmark_txt
 from whipple.model.bicycle_file import (
     bicycle_from_toml,
     parse_toml,
-    read_benchmark_txt,
     read_bicycle_toml,
     write_bicycle_toml,
 )

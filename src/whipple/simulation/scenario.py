@@ -19,6 +19,10 @@ from whipple.errors import InputError
 SIGNALS = ("roll_rate", "yaw_rate", "steer_angle", "steer_rate", "roll_angle", "speed",
            "speedometer")
 SETTINGS = ("treadmill", "ground")
+#: Most samples of one simulated run (or of all runs of one ``whipple simulate``): a simulation
+#: holds about 400 bytes per sample until its file is written (measured: 470 MB for 10^6).
+MAX_SAMPLES = 2_000_000
+MAX_SAMPLES_MEMORY = "1 GB of memory"
 
 
 class ScenarioError(InputError):
@@ -206,6 +210,7 @@ class RunScenario:
         if self.pushes is not None:
             object.__setattr__(self, "pushes", tuple(self.pushes))
             self._check_pushes(self.pushes)
+        self._check_size()
         end = self.end_time()
         if self.setting == "ground" and self.speed - self.deceleration * end <= 0:
             raise ScenarioError(f"the speed {self.speed:g} m/s decaying by "
@@ -228,6 +233,20 @@ class RunScenario:
                     f"push at {second.time:g} s leaves no coasting after the push at "
                     f"{first.time:g} s (needs a gap > push duration + settle "
                     f"= {first.duration + self.settle:g} s)")
+
+    def _check_size(self) -> None:
+        """Refuse, before anything is allocated, a run of more than MAX_SAMPLES samples."""
+        if self.duration is not None:
+            end = self.duration
+        elif self.pushes is not None:
+            end = self.pushes[-1].time + self.pushes[-1].duration + self.max_coast + self.catch_duration
+        else:
+            count = self.n_pushes or 3
+            end = self.release + count * self.push_spacing + self.max_coast
+        samples = end * self.sample_rate
+        if samples > MAX_SAMPLES:
+            raise ScenarioError(f"the run would have {samples:.3g} samples ({end:.4g} s at {self.sample_rate:g} Hz); "
+                                f"at most {MAX_SAMPLES:g} are simulated (about {MAX_SAMPLES_MEMORY})")
 
     @property
     def push_spacing(self) -> float:

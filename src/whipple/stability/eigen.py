@@ -25,6 +25,14 @@ from whipple.stability import modes
 TRACKING_STEP = 0.01
 #: Speed span [m/s] always covered by the tracking grid, so labels are the same for any query.
 TRACKING_SPAN = (0.0, 10.0)
+#: Above this speed [m/s] the tracking grid's spacing grows in proportion to the speed ...
+GEOMETRIC_FROM = 100.0
+#: ... as this fraction of it: eigenvalues change by about as little from point to point,
+#: and a grid to 10^6 m/s has some 2 x 10^4 points instead of 10^8.
+RELATIVE_STEP = 1e-3
+#: Fastest speed [m/s] analysed: about 3000 times the speed of sound, where v^2 K2 already
+#: swamps everything else in A(v).
+MAX_SPEED = 1e6
 
 
 @dataclass(frozen=True)
@@ -72,21 +80,50 @@ class EigenResult:
         return np.where(np.any(match, axis=-1), value, np.nan + 0j)
 
 
+def _coordinate(v: NDArray[np.float64], step: float) -> NDArray[np.float64]:
+    """Grid coordinate: uniform in v up to GEOMETRIC_FROM (unit `step`), in log(v) beyond."""
+    size = np.abs(v)
+    beyond = GEOMETRIC_FROM / step + np.log(np.maximum(size, GEOMETRIC_FROM) / GEOMETRIC_FROM) / RELATIVE_STEP
+    return np.sign(v) * np.where(size <= GEOMETRIC_FROM, size / step, beyond)
+
+
+def _speed(u: NDArray[np.float64], step: float) -> NDArray[np.float64]:
+    """Inverse of :func:`_coordinate`."""
+    size = np.abs(u)
+    edge = GEOMETRIC_FROM / step
+    beyond = GEOMETRIC_FROM * np.exp((np.maximum(size, edge) - edge) * RELATIVE_STEP)
+    return np.sign(u) * np.where(size <= edge, size * step, beyond)
+
+
 def tracking_grid(speeds: NDArray[np.float64], step: float = TRACKING_STEP) -> NDArray[np.float64]:
     """Return the speeds [m/s] on which eigenvalues are tracked.
 
-    The sorted union of `speeds` with a grid of spacing at most 1.25 `step` [m/s] over their
-    span extended to :data:`TRACKING_SPAN`.
+    The sorted union of `speeds` with a grid over their span extended to
+    :data:`TRACKING_SPAN`: spacing at most 1.25 `step` [m/s] up to :data:`GEOMETRIC_FROM`, and
+    :data:`RELATIVE_STEP` times the speed beyond, so that its size stays bounded (some 2 x 10^4
+    points up to :data:`MAX_SPEED` on top of those below).
+
+    Raises
+    ------
+    InputError
+        For speeds beyond :data:`MAX_SPEED`.
     """
     low = min(float(np.min(speeds)), TRACKING_SPAN[0])
     high = max(float(np.max(speeds)), TRACKING_SPAN[1])
+    if max(-low, high) > MAX_SPEED:
+        raise InputError(f"speeds beyond {MAX_SPEED:g} m/s are not analysed, got {max(-low, high):g} m/s")
     knots = np.unique(np.concatenate([speeds, [low, high]]))
     gaps = np.diff(knots)
+    u = _coordinate(knots, step)
     # Gaps up to 1.25 steps are kept whole, so a user grid close to the step is not doubled.
-    pieces = np.maximum(np.ceil(gaps / step - 0.25).astype(int), 1)
+    pieces = np.maximum(np.ceil(np.diff(u) - 0.25).astype(int), 1)
     starts = np.repeat(knots[:-1], pieces)
     offsets = np.arange(pieces.sum()) - np.repeat(np.cumsum(pieces) - pieces, pieces)
-    grid = starts + offsets * np.repeat(gaps / pieces, pieces)
+    linear = starts + offsets * np.repeat(gaps / pieces, pieces)
+    # Beyond GEOMETRIC_FROM the points are uniform in the grid coordinate instead.
+    curved = _speed(np.repeat(u[:-1], pieces) + offsets * np.repeat(np.diff(u) / pieces, pieces), step)
+    flat = np.repeat((np.abs(knots[:-1]) <= GEOMETRIC_FROM) & (np.abs(knots[1:]) <= GEOMETRIC_FROM), pieces)
+    grid = np.where(flat, linear, curved)
     return np.concatenate([grid, knots[-1:]])
 
 

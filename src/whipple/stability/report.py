@@ -14,6 +14,7 @@ import numpy as np
 
 from whipple.errors import AnalysisError
 from whipple.model.assembly import EXTENDED_PARAMETERS, extended_matrices, linear_model
+from whipple.model.bodies import folded_parameters
 from whipple.model.casadi_model import casadi_state_function
 from whipple.model.parameters import Bicycle, check_physical
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
@@ -72,9 +73,14 @@ class BicycleReport:
 def _uncertainty(bicycle: Bicycle, critical: CriticalSpeeds) -> tuple[dict[str, float | None], tuple[str, ...]]:
     if not bicycle.uncertainty:
         return {}, ()
-    keys = [key for key, std in bicycle.uncertainty.items() if key in EXTENDED_PARAMETERS and std > 0]
+    folded = folded_parameters(bicycle.parameters)
+    keys = [key for key, std in bicycle.uncertainty.items()
+            if key in EXTENDED_PARAMETERS and std > 0 and key not in folded]
     skipped = [key for key in bicycle.uncertainty if key not in EXTENDED_PARAMETERS]
     notes = [f"uncertainty of {', '.join(skipped)} ignored: not in the linear model"] if skipped else []
+    merged = [key for key in bicycle.uncertainty if key in folded]
+    if merged:
+        notes.append(f"uncertainty of {', '.join(merged)} ignored: a point wheel is folded into its frame")
     stds: dict[str, float | None] = {}
     if not keys:  # every stated uncertainty is zero (or outside the model): no spread
         for kind, speed in (("weave", critical.weave_speed), ("capsize", critical.capsize_speed)):

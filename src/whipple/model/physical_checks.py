@@ -1,0 +1,146 @@
+"""Physical checks of benchmark parameter sets that go beyond signs and finiteness.
+
+Used by :func:`whipple.model.parameter_set.validate`, which collects their findings:
+
+- **Magnitudes.** A value beyond what any bicycle-like vehicle has (:data:`LIMITS`) is refused:
+  it is a typing or unit error, and products of such values (``mB = 1e300``) overflow in the
+  equations. A value beyond what bicycles usually have (:data:`PLAUSIBLE`) is a warning.
+- **Inertia of each body.** The moments that enter the linear equations (the principal moments
+  in the xz plane, and a wheel's spin moment) must not be negative: zero is a point mass, a
+  legitimate limit. The triangle inequality of principal moments (each at most the sum of the
+  other two) holds for every rigid body, but measured inertias break it by a few percent
+  within their measurement error; a violation is a warning stating its size, how it compares
+  with the stated uncertainties, and whether the largest moment enters the linear equations.
+- **Mass matrix.** Where a body has no inertia in the xz plane (point masses), the bicycle as
+  a whole may still have none to roll or to steer; then M is singular and the model
+  meaningless.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+
+from whipple.generated import whipple_numpy
+from whipple.model.bodies import fold_point_wheels
+
+#: Largest magnitude accepted, by unit: no bicycle-like vehicle comes near (a 100 t vehicle,
+#: 100 m long); beyond these a value is a typing or unit error.
+LIMITS = {"kg": 1e5, "m": 100.0, "kg m^2": 1e6, "m/s^2": 1e3}
+#: Largest magnitude of a bicycle with rider and load, by unit; beyond it a warning.
+PLAUSIBLE = {"kg": 500.0, "m": 5.0, "kg m^2": 500.0, "m/s^2": 30.0}
+#: Gravity below this [m/s^2] is a warning (the Moon has 1.6).
+LOW_GRAVITY = 1.0
+#: A triangle-inequality excess up to this many standard deviations is within measurement error.
+WITHIN_SIGMAS = 2.0
+
+Array = NDArray[np.float64]
+
+
+def magnitude_findings(values: Mapping[str, Array], units: Mapping[str, str]
+                       ) -> list[tuple[NDArray[np.bool_], str, bool]]:
+    """(bad, message, is_warning) for values beyond :data:`LIMITS` or :data:`PLAUSIBLE`."""
+    findings = []
+    for unit, limit in LIMITS.items():
+        names = [name for name in values if units.get(name) == unit]
+        if not names:
+            continue
+        size = np.abs(np.stack(np.broadcast_arrays(*(values[name] for name in names))))
+        over, unusual = size > limit, (size > PLAUSIBLE[unit]) & (size <= limit)
+        if not (over.any() or unusual.any()):  # the usual case: one test per unit
+            continue
+        for k, name in enumerate(names):
+            value = values[name]
+            shown = f"{name} = {float(value):.6g} {unit}" if value.ndim == 0 else name
+            findings.append((over[k], f"{shown} is beyond {limit:g} {unit}: not a bicycle (a unit or "
+                                      "typing error?)", False))
+            findings.append((unusual[k], f"{shown} is unusually large for a bicycle (above "
+                                         f"{PLAUSIBLE[unit]:g} {unit})", True))
+    if "g" in values:
+        g = values["g"]
+        shown = f"g = {float(g):.6g} m/s^2" if g.ndim == 0 else "g"
+        findings.append(((g > 0) & (g < LOW_GRAVITY),
+                         f"{shown} is unusually small (below {LOW_GRAVITY:g} m/s^2)", True))
+    return findings
+
+
+def principal_moments(xx: Array, yy: Array, zz: Array, xz: Array) -> Array:
+    """Principal moments [kg m^2], shape (3, ...): the two in the xz plane (larger first), then yy."""
+    mean, radius = (xx + zz) / 2, np.hypot((xx - zz) / 2, xz)
+    return np.stack(np.broadcast_arrays(mean + radius, mean - radius, yy))
+
+
+def triangle_excess(xx: Array, yy: Array, zz: Array, xz: Array) -> Array:
+    """How far the largest principal moment exceeds the sum of the other two [kg m^2]."""
+    moments = principal_moments(xx, yy, zz, xz)
+    return 2 * moments.max(axis=0) - moments.sum(axis=0)
+
+
+def excess_std(values: Mapping[str, float], keys: tuple[str, str, str, str],
+               uncertainty: Mapping[str, float]) -> float | None:
+    """Return the standard deviation [kg m^2] of the triangle excess from independent uncertainties.
+
+    Each parameter is moved by one standard deviation either way (a secant, robust at the
+    kink where the largest moment changes); None when no key has an uncertainty.
+    """
+    sigmas = {key: uncertainty.get(key, 0.0) for key in keys}
+    if not any(sigmas.values()):
+        return None
+
+    def excess(changed: Mapping[str, float]) -> float:
+        point = [np.asarray(changed[key], dtype=float) for key in keys]
+        return float(triangle_excess(*point))
+
+    total = 0.0
+    for key, sigma in sigmas.items():
+        if sigma:
+            up, down = dict(values), dict(values)
+            up[key] += sigma
+            down[key] -= sigma
+            total += ((excess(up) - excess(down)) / 2) ** 2
+    return math.sqrt(total)
+
+
+def triangle_message(text: str, excess: float, moments: Array, std: float | None, remedy: str) -> str:
+    """One line describing a triangle-inequality violation of one body (see the module notes).
+
+    `remedy` says which moment could absorb the violation and whether it enters the equations.
+    """
+    share = excess / float(moments.sum())
+    shown = ", ".join(f"{m:.6g}" for m in moments)
+    if std is None:
+        error = "no uncertainty stated"
+    else:
+        sigmas = excess / std if std > 0 else math.inf
+        verdict = ("within measurement error" if sigmas <= WITHIN_SIGMAS
+                   else "more than the stated uncertainties explain")
+        error = f"{sigmas:.1f} standard deviations of the stated uncertainties ({std:.2g} kg m^2): {verdict}"
+    return (f"{text} by {excess:.3g} kg m^2 ({share:.2%} of their sum; principal moments {shown}); "
+            f"{error}; {remedy}")
+
+
+def triangle_remedy(yy: str, yy_is_largest: bool, excess: float, wheel: bool) -> str:
+    """Which moment would satisfy the inequality, and whether it matters to the linear model."""
+    if wheel:
+        return "both of a wheel's moments enter the linear equations"
+    change = "smaller" if yy_is_largest else "larger"
+    return f"{yy} {excess:.3g} kg m^2 {change} would satisfy it, and {yy} does not enter the linear equations"
+
+
+def singular_mass_matrix(parameters: Mapping[str, Array]) -> NDArray[np.bool_]:
+    """Where the mass matrix M of the linear model is not positive definite.
+
+    Parameters
+    ----------
+    parameters : mapping of str to ndarray
+        The benchmark parameters the generated code needs (arrays that broadcast).
+    """
+    folded = fold_point_wheels(parameters)
+    M = whipple_numpy.matrices(*(folded[name] for name in whipple_numpy.PARAMETERS))[0]
+    m00, m11 = M[..., 0, 0], M[..., 1, 1]
+    det = m00 * m11 - M[..., 0, 1] * M[..., 1, 0]
+    with np.errstate(invalid="ignore"):
+        return ~((m00 > 0) & (m11 > 0) & (det > 1e-12 * np.abs(m00 * m11)))

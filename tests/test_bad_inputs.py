@@ -1,0 +1,304 @@
+"""A corpus of bad inputs across every command: exit 2, one line naming the file, no traceback.
+
+Each case builds its inputs in a fresh folder, runs ``whipple`` in-process, and checks that the
+exit status is 2, that stderr is exactly one line naming the file (or option) and the problem,
+that no traceback was printed, and that every file in the folder is unchanged and no file was
+added (no output, no temporary file). A few cases also run as a real subprocess.
+"""
+
+from __future__ import annotations
+
+import gzip
+import os
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from whipple.cli import main
+from whipple.model.parameters import load_bicycle
+from whipple.simulation.run_writer import write_run_csv
+from whipple.simulation.scenario import RunScenario
+from whipple.simulation.simulator import simulate_run
+
+DATA = Path(__file__).parent / "data" / "bicycleparameters"
+BENCHMARK_TEXT = (DATA / "bicycles" / "BenchmarkBenchmark.txt").read_text()
+
+
+@pytest.fixture(scope="module")
+def run_text(tmp_path_factory) -> str:
+    """A simulated benchmark run (native CSV, 100 Hz, one push) as text."""
+    folder = tmp_path_factory.mktemp("run")
+    run = simulate_run(load_bicycle("benchmark"), RunScenario(speed=5.0, n_pushes=1, seed=2), name="run")
+    return write_run_csv(run, folder / "run.csv").read_text()
+
+
+@pytest.fixture(scope="module")
+def toml_text() -> str:
+    import importlib.resources
+
+    return importlib.resources.files("whipple.data").joinpath("benchmark.toml").read_text()
+
+
+def read_only_folder(base: Path) -> Path:
+    """A folder nobody may write to: chmod 555, or /sys where the user ignores modes (root)."""
+    folder = base / "locked"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        (folder / ".probe").write_text("")
+    except OSError:
+        return folder
+    (folder / ".probe").unlink()
+    return Path("/sys")
+
+
+def _set(text: str, key: str, value: str) -> str:
+    lines = [f"{key} = {value}" if line.split("=")[0].strip() == key else line for line in text.splitlines()]
+    return "\n".join(lines) + "\n"
+
+
+class Case:
+    """Inputs to write, the command line, the file the error must name and the problem."""
+
+    def __init__(self, files: dict[str, str | bytes], argv: list[str], named: str, problem: str):
+        self.files, self.argv, self.named, self.problem = files, argv, named, problem
+
+
+Builder = Callable[[Path, str, str], Case]
+
+
+def _check(files: dict[str, str | bytes], argv: list[str], named: str, problem: str) -> Case:
+    return Case(files, argv, named, problem)
+
+
+def _runs(run: str, edit: Callable[[list[str]], list[str]]) -> str:
+    lines = run.splitlines()
+    return "\n".join(edit(lines)) + "\n"
+
+
+def _header_index(lines: list[str]) -> int:
+    return next(i for i, line in enumerate(lines) if not line.startswith("#"))
+
+
+def _cell(lines: list[str], row: int, column: str, value: str) -> list[str]:
+    h = _header_index(lines)
+    j = lines[h].split(",").index(column)
+    cells = lines[h + 1 + row].split(",")
+    cells[j] = value
+    return lines[:h + 1 + row] + [",".join(cells)] + lines[h + 2 + row:]
+
+
+CASES: dict[str, Builder] = {
+    # --- check: bicycle files ---------------------------------------------------------------
+    "check missing file": lambda d, t, r: _check({}, ["check", "{d}/absent.toml"], "absent.toml",
+                                                 "no such file or built-in bicycle"),
+    "check TOML syntax": lambda d, t, r: _check({"b.toml": t.replace("[parameters]", "[parameters")},
+                                                ["check", "{d}/b.toml"], "b.toml", "TOML syntax error"),
+    "check unknown key": lambda d, t, r: _check({"b.toml": t.replace("mB = ", "mb = ")},
+                                                ["check", "{d}/b.toml"], "b.toml", "unknown key 'mb'"),
+    "check missing key": lambda d, t, r: _check({"b.toml": "\n".join(x for x in t.splitlines()
+                                                                     if not x.startswith("w "))},
+                                                ["check", "{d}/b.toml"], "b.toml", "missing key in [parameters]: w"),
+    "check negative mass": lambda d, t, r: _check({"b.toml": _set(t, "mH", "-4.0")}, ["check", "{d}/b.toml"],
+                                                  "b.toml", "mH = -4 must not be negative"),
+    "check NaN": lambda d, t, r: _check({"b.toml": _set(t, "c", "nan")}, ["check", "{d}/b.toml"], "b.toml",
+                                        "c = nan is not finite"),
+    "check absurd mass": lambda d, t, r: _check({"b.toml": _set(t, "mB", "1e300")}, ["check", "{d}/b.toml"],
+                                                "b.toml", "mB = 1e+300 kg is beyond 100000 kg"),
+    "check tilt": lambda d, t, r: _check({"b.toml": _set(t, "lam", "2.0")}, ["check", "{d}/b.toml"], "b.toml",
+                                         "lam = 2 must be in (-pi/2, pi/2)"),
+    "check string value": lambda d, t, r: _check({"b.toml": _set(t, "c", '"0.08"')}, ["check", "{d}/b.toml"],
+                                                 "b.toml", "'c' in [parameters] must be a number"),
+    "check not positive semi-definite": lambda d, t, r: _check(
+        {"b.toml": _set(t, "IBxz", "20.0")}, ["check", "{d}/b.toml"], "b.toml", "is not positive semi-definite"),
+    "check spinning point wheel": lambda d, t, r: _check(
+        {"b.toml": _set(t, "rR", "0.0")}, ["check", "{d}/b.toml"], "b.toml", "needs IRyy = 0"),
+    "check binary file": lambda d, t, r: _check({"b.toml": b"\xff\xfe\x00\x01"}, ["check", "{d}/b.toml"], "b.toml",
+                                                "not a UTF-8 text file"),
+    "check folder": lambda d, t, r: _check({"sub/x.txt": "x"}, ["check", "{d}/sub"], "sub",
+                                           "no such file or built-in bicycle"),
+    "check text bad line": lambda d, t, r: _check({"BBenchmark.txt": BENCHMARK_TEXT + "w: 3\n"},
+                                                  ["check", "{d}/BBenchmark.txt"], "BBenchmark.txt",
+                                                  "expected 'name = value'"),
+    "check text asymmetric wheel": lambda d, t, r: _check({"BBenchmark.txt": BENCHMARK_TEXT + "IRzz = 0.09\n"},
+                                                          ["check", "{d}/BBenchmark.txt"], "BBenchmark.txt",
+                                                          "needs wheels symmetric about their axle"),
+    "check text lateral offset": lambda d, t, r: _check({"BBenchmark.txt": BENCHMARK_TEXT + "yH = 0.05\n"},
+                                                        ["check", "{d}/BBenchmark.txt"], "BBenchmark.txt",
+                                                        "yH = 0.05 m is not zero"),
+    "check text duplicate": lambda d, t, r: _check({"BBenchmark.txt": BENCHMARK_TEXT + "c = 0.09\n"},
+                                                   ["check", "{d}/BBenchmark.txt"], "BBenchmark.txt",
+                                                   "'c' given twice"),
+    "check rider file": lambda d, t, r: _check(
+        {"JasonBenchmark.txt": (DATA / "riders" / "JasonBrowserBenchmark.txt").read_text()},
+        ["check", "{d}/JasonBenchmark.txt"], "JasonBenchmark.txt", "a rider file"),
+    "check yeadon file": lambda d, t, r: _check(
+        {"CFG.txt": (DATA / "riders" / "JasonBrowserYeadonCFG.txt").read_text()},
+        ["check", "{d}/CFG.txt"], "CFG.txt", "a Yeadon configuration file"),
+    "check speeds too high": lambda d, t, r: _check({"b.toml": t}, ["check", "{d}/b.toml", "--speeds", "0:1e9"],
+                                                    "b.toml", "speeds beyond 1e+06 m/s are not analysed"),
+    # --- stability: outputs -------------------------------------------------------------------
+    "stability plot is a folder": lambda d, t, r: _check({"b.toml": t, "out/keep": ""},
+                                                         ["stability", "{d}/b.toml", "--plot", "{d}/out"], "out",
+                                                         "--plot names a folder"),
+    "stability plot format": lambda d, t, r: _check({"b.toml": t}, ["stability", "{d}/b.toml", "--plot", "{d}/f.txt"],
+                                                    "f.txt", "cannot write a figure as .txt"),
+    "stability csv read-only": lambda d, t, r: _check({"b.toml": t},
+                                                      ["stability", "{d}/b.toml", "--csv", "{locked}/e.csv"],
+                                                      "e.csv", "cannot write: Permission denied"),
+    "stability same output": lambda d, t, r: _check({"b.toml": t},
+                                                    ["stability", "{d}/b.toml", "--csv", "{d}/o.png",
+                                                     "--plot", "{d}/o.png"],
+                                                    "o.png", "--plot and --csv name the same file"),
+    "stability over input": lambda d, t, r: _check({"b.toml": t}, ["stability", "{d}/b.toml", "--csv", "{d}/b.toml"],
+                                                   "b.toml", "refusing to write output over input file"),
+    "stability points": lambda d, t, r: _check({"b.toml": t}, ["stability", "{d}/b.toml", "--points", "100000000"],
+                                               "--points", "must be between 2 and 100000"),
+    "stability bad bicycle": lambda d, t, r: _check({"b.toml": _set(t, "w", "0.0")}, ["stability", "{d}/b.toml"],
+                                                    "b.toml", "w = 0 must be positive"),
+    # --- sweep --------------------------------------------------------------------------------
+    "sweep missing table": lambda d, t, r: _check({}, ["sweep", "{d}/sets.csv", "-o", "{d}/o.csv"], "sets.csv",
+                                                  "cannot read"),
+    "sweep text cell": lambda d, t, r: _check({"sets.csv": "c,mB\n0.08,85\nfoo,80\n"},
+                                              ["sweep", "{d}/sets.csv", "-o", "{d}/o.csv"], "sets.csv",
+                                              "line 3, column c: not a number"),
+    "sweep unknown column": lambda d, t, r: _check({"sets.csv": "trail\n0.08\n"},
+                                                   ["sweep", "{d}/sets.csv", "-o", "{d}/o.csv"], "sets.csv",
+                                                   "unknown column(s) trail"),
+    "sweep output folder": lambda d, t, r: _check({"sets.csv": "c\n0.08\n", "out/keep": ""},
+                                                  ["sweep", "{d}/sets.csv", "-o", "{d}/out"], "out",
+                                                  "is a folder, not a file"),
+    "sweep output read-only": lambda d, t, r: _check({"sets.csv": "c\n0.08\n"},
+                                                     ["sweep", "{d}/sets.csv", "-o", "{locked}/o.csv"], "o.csv",
+                                                     "cannot write: Permission denied"),
+    "sweep over input": lambda d, t, r: _check({"sets.csv": "c\n0.08\n"},
+                                               ["sweep", "{d}/sets.csv", "-o", "{d}/sets.csv"],
+                                               "sets.csv", "refusing to write output over input file"),
+    # --- regenerate ---------------------------------------------------------------------------
+    "regenerate output is a file": lambda d, t, r: _check({"gen": "x"}, ["regenerate", "--output", "{d}/gen"], "gen",
+                                                          "--output needs a folder; this is a file"),
+    # --- fit: run files -------------------------------------------------------------------------
+    "fit missing run": lambda d, t, r: _check({}, ["fit", "{d}/run.csv"], "run.csv", "cannot read file"),
+    "fit empty run": lambda d, t, r: _check({"run.csv": ""}, ["fit", "{d}/run.csv"], "run.csv", "empty file"),
+    "fit text roll rate": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: _cell(x, 10, "roll_rate", "abc"))},
+                                                 ["fit", "{d}/run.csv"], "run.csv",
+                                                 "column 'roll_rate': non-numeric value 'abc'"),
+    "fit infinite speed": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: _cell(x, 3, "speed", "inf"))},
+                                                 ["fit", "{d}/run.csv"], "run.csv", "column 'speed': inf value"),
+    "fit time backwards": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: _cell(x, 5, "time", "0.0"))},
+                                                 ["fit", "{d}/run.csv"], "run.csv", "time is not strictly increasing"),
+    "fit ragged row": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: x[:-1] + [x[-1] + ",7"])},
+                                             ["fit", "{d}/run.csv"], "run.csv", "fields, the header has"),
+    "fit too short": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: x[:_header_index(x) + 50])},
+                                            ["fit", "{d}/run.csv"], "run.csv", "run too short"),
+    "fit no roll rate": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: [x[i].replace("roll_rate", "lean")
+                                                                               if i == _header_index(x) else x[i]
+                                                                               for i in range(len(x))])},
+                                               ["fit", "{d}/run.csv"], "run.csv", "missing roll_rate column"),
+    "fit corrupt gzip": lambda d, t, r: _check({"run.csv.gz": gzip.compress(r.encode())[:200]},
+                                               ["fit", "{d}/run.csv.gz"], "run.csv.gz", "corrupt gzip data"),
+    "fit bad layout": lambda d, t, r: _check({"run.csv": r, "layout.toml": "[columns\n"},
+                                             ["fit", "{d}/run.csv", "--layout", "{d}/layout.toml"], "layout.toml",
+                                             "bad layout file"),
+    "fit bad windows file": lambda d, t, r: _check({"run.csv": r, "w.csv": "start;stop\n1;2\n"},
+                                                   ["fit", "{d}/run.csv", "--windows", "{d}/w.csv"], "w.csv",
+                                                   "windows file needs"),
+    "fit same outputs": lambda d, t, r: _check({"run.csv": r},
+                                               ["fit", "{d}/run.csv", "--json", "{d}/o.json", "--csv", "{d}/o.json"],
+                                               "o.json", "--json and --csv name the same file"),
+    "fit json read-only": lambda d, t, r: _check({"run.csv": r}, ["fit", "{d}/run.csv", "--json", "{locked}/o.json"],
+                                                 "o.json", "cannot write: Permission denied"),
+    "fit plot is a file": lambda d, t, r: _check({"run.csv": r, "figs": "x"},
+                                                 ["fit", "{d}/run.csv", "--plot", "{d}/figs"],
+                                                 "figs", "--plot needs a folder; this is a file"),
+    "fit json over run": lambda d, t, r: _check({"run.csv": r}, ["fit", "{d}/run.csv", "--json", "{d}/run.csv"],
+                                                "run.csv", "refusing to write output over input file"),
+    # --- simulate -----------------------------------------------------------------------------
+    "simulate sample rate": lambda d, t, r: _check({"b.toml": t},
+                                                   ["simulate", "--bicycle", "{d}/b.toml", "--speed", "5",
+                                                    "--sample-rate", "1e9", "--output", "{d}/s.csv"],
+                                                   "1e+09 Hz", "at most 2e+06 are simulated"),
+    "simulate output is a file": lambda d, t, r: _check({"b.toml": t, "runs": "x"},
+                                                        ["simulate", "--bicycle", "{d}/b.toml", "--speeds", "3,5",
+                                                         "--output", "{d}/runs"], "runs",
+                                                        "output exists and is not a folder"),
+    "simulate read-only": lambda d, t, r: _check({"b.toml": t},
+                                                 ["simulate", "--bicycle", "{d}/b.toml", "--speed", "5", "--output",
+                                                  "{locked}/s.csv"], "s.csv", "cannot write: Permission denied"),
+    "simulate bad bicycle": lambda d, t, r: _check({"b.toml": _set(t, "g", "-9.81")},
+                                                   ["simulate", "--bicycle", "{d}/b.toml", "--speed", "5", "--output",
+                                                    "{d}/s.csv"], "b.toml", "g = -9.81 must be positive"),
+    # --- diagnose -----------------------------------------------------------------------------
+    "diagnose report is a file": lambda d, t, r: _check({"run.csv": r, "b.toml": t, "rep": "x"},
+                                                        ["diagnose", "{d}/run.csv", "--bicycle", "{d}/b.toml",
+                                                         "--report", "{d}/rep"], "rep",
+                                                        "--report needs a folder; this is a file"),
+    "diagnose json is a folder": lambda d, t, r: _check({"run.csv": r, "b.toml": t, "j/keep": ""},
+                                                        ["diagnose", "{d}/run.csv", "--bicycle", "{d}/b.toml",
+                                                         "--json", "{d}/j"], "j", "--json names a folder"),
+    "diagnose model over bicycle": lambda d, t, r: _check({"run.csv": r, "b.toml": t},
+                                                          ["diagnose", "{d}/run.csv", "--bicycle", "{d}/b.toml",
+                                                           "--save-model", "{d}/b.toml"], "b.toml",
+                                                          "refusing to write output over input file"),
+    "diagnose report read-only": lambda d, t, r: _check({"run.csv": r, "b.toml": t},
+                                                        ["diagnose", "{d}/run.csv", "--bicycle", "{d}/b.toml",
+                                                         "--report", "{locked}/rep"], "rep",
+                                                        "cannot write: Permission denied"),
+    "diagnose rider as bicycle": lambda d, t, r: _check(
+        {"run.csv": r, "RBenchmark.txt": (DATA / "riders" / "JasonBrowserBenchmark.txt").read_text()},
+        ["diagnose", "{d}/run.csv", "--bicycle", "{d}/RBenchmark.txt"], "RBenchmark.txt", "a rider file"),
+    "diagnose bad run": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: _cell(x, 2, "time", "soon")),
+                                                "b.toml": t},
+                                               ["diagnose", "{d}/run.csv", "--bicycle", "{d}/b.toml"], "run.csv",
+                                               "column 'time': non-numeric value 'soon'"),
+}
+
+
+def _snapshot(folder: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def _prepare(name: str, tmp_path: Path, toml_text: str, run_text: str) -> tuple[Case, list[str], dict[str, bytes]]:
+    folder = tmp_path / "work"
+    folder.mkdir()
+    locked = read_only_folder(tmp_path)
+    case = CASES[name](folder, toml_text, run_text)
+    for relative, content in case.files.items():
+        path = folder / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(content if isinstance(content, bytes) else content.encode())
+    argv = [arg.replace("{d}", str(folder)).replace("{locked}", str(locked)) for arg in case.argv]
+    return case, argv, _snapshot(folder)
+
+
+def test_the_corpus_is_large_and_covers_every_command_with_inputs(toml_text, run_text):
+    commands = {CASES[name](Path("/x"), toml_text, run_text).argv[0] for name in CASES}
+    assert len(CASES) >= 40
+    assert commands >= {"check", "stability", "sweep", "regenerate", "fit", "simulate", "diagnose"}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_bad_input_exits_2_with_one_line(name, tmp_path, toml_text, run_text, capsys):
+    case, argv, before = _prepare(name, tmp_path, toml_text, run_text)
+    status = main(argv)
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert err.endswith("\n") and err.count("\n") == 1, err
+    assert "Traceback" not in err
+    assert case.named in err and case.problem in err, err
+    assert _snapshot(tmp_path / "work") == before  # inputs unchanged, nothing written
+
+
+@pytest.mark.parametrize("name", ["check absurd mass", "stability plot format", "simulate read-only"])
+def test_bad_input_in_a_real_process(name, tmp_path, toml_text, run_text):
+    case, argv, before = _prepare(name, tmp_path, toml_text, run_text)
+    env = {**os.environ, "PYTHONWARNINGS": "ignore"}
+    result = subprocess.run([sys.executable, "-m", "whipple", *argv], capture_output=True, text=True, env=env,
+                            timeout=300)
+    assert result.returncode == 2
+    assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
+    assert case.named in result.stderr and case.problem in result.stderr
+    assert _snapshot(tmp_path / "work") == before

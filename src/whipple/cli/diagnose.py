@@ -77,6 +77,8 @@ def run(args: argparse.Namespace) -> int:
     print("ranking: " + ", ".join(f"{cause} {evidence:.1f}" for cause, evidence in diagnosis.ranking()[:5]))
     for note in report.caveats:
         print(f"caveat: {note}")
+    if report.amplitude is not None:
+        print(f"linearity: {report.amplitude.summary()}")
     if report.gain is not None:
         g = report.gain
         print(f"held-out eigenvalue error [1/s]: base {g.base:.3f}, extended {g.extended:.3f} ({g.folds} folds)")

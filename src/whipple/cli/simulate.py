@@ -2,10 +2,11 @@
 
 Each run follows the seed paper's procedure: the bicycle is held upright, released, pushed
 sideways, coasts freely, is caught and held, and is pushed again. The true motion is the
-bicycle's linear model (with its extensions and controller); the signals carry sensor noise
-and bias. Each file lists its true free-coasting windows in the ``# true_windows:`` line.
-One file is written per speed: into DIR as ``<bicycle>_<setting>_<speed>ms.csv``, or to FILE
-(ending in .csv) for a single speed.
+bicycle's linear model (with its extensions and controller), or with --nonlinear the nonlinear
+Whipple model (with its controller and steer damping; the rear wheel driven along the speed
+profile); the signals carry sensor noise and bias. Each file lists its true free-coasting
+windows in the ``# true_windows:`` line. One file is written per speed: into DIR as
+``<bicycle>_<setting>_<speed>ms.csv``, or to FILE (ending in .csv) for a single speed.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from whipple.cli.arguments import speed_list
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
+from whipple.simulation.nonlinear_run import simulate_nonlinear_run
 from whipple.simulation.scenario import MAX_SAMPLES, MAX_SAMPLES_MEMORY, RunScenario, Sensors
 from whipple.simulation.simulator import simulate_run, write_run_csv
 
@@ -52,6 +54,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, metavar="N",
                         help="random seed of the first run; the k-th speed uses N + k "
                              "(default 0)")
+    parser.add_argument("--nonlinear", action="store_true",
+                        help="integrate the nonlinear model (constraint drift and energy balance reported)")
     parser.add_argument("--output", required=True, metavar="DIR-or-FILE",
                         help="folder for the run files, or a .csv file for a single speed")
 
@@ -99,11 +103,19 @@ def run(args: argparse.Namespace) -> int:
     for target in targets:
         refuse_input_overwrite(target, [args.bicycle])
     # Simulate everything first: a bad speed (e.g. aliasing) must not leave half the files.
-    runs = [simulate_run(bicycle, scenario, model=model, name=target.stem)
-            for scenario, target in zip(scenarios, targets, strict=True)]
+    if args.nonlinear:
+        runs = [simulate_nonlinear_run(bicycle, scenario, name=target.stem)
+                for scenario, target in zip(scenarios, targets, strict=True)]
+    else:
+        runs = [simulate_run(bicycle, scenario, model=model, name=target.stem)
+                for scenario, target in zip(scenarios, targets, strict=True)]
     for scenario, target, simulated in zip(scenarios, targets, runs, strict=True):
         write_run_csv(simulated, target)
         windows = ", ".join(f"{a:.2f}-{b:.2f}" for a, b in simulated.segments) or "none"
         print(f"{target}: {scenario.speed:g} m/s, {simulated.time.size} samples at "
               f"{scenario.sample_rate:g} Hz, coasting windows (s): {windows}")
+        if simulated.checks is not None:
+            c = simulated.checks
+            print(f"  nonlinear: constraint drift {c.holonomic_drift:.2g} m, {c.velocity_drift:.2g} m/s; energy "
+                  f"balance error {c.energy_error:.2g} J ({c.energy_error_relative:.2g} of the kinetic energy)")
     return 0

@@ -10,6 +10,8 @@ evidence
     Each cause fitted to all observations; evidence and verdict.
 gain
     The extended model's error on held-out speeds.
+amplitude
+    The nonlinear model's weave at each window's measured amplitude against the linear one.
 report
     The report as plain data, JSON and Markdown.
 plots

@@ -6,6 +6,7 @@ beside it.
 
 from __future__ import annotations
 
+from whipple.diagnosis.amplitude import amplitude_markdown
 from whipple.diagnosis.report import EVIDENCE_DEFINITION, DiagnosisReport, report_json
 from whipple.stability.critical import CriticalSpeeds
 
@@ -73,6 +74,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
                          f"{g.time_base:.3f} | {g.time_extended:.3f} |")
     else:
         lines.append(report.gain_note or "No gain computed.")
+    if report.amplitude is not None:
+        lines += ["", *amplitude_markdown(report.amplitude)]
     skipped = data["skipped_windows"]
     if skipped:
         lines += ["", "## Skipped windows", "", "| run | start [s] | stop [s] | reason |", "|---|---|---|---|"]

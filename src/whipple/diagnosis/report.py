@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
 from whipple.diagnosis.evidence import (
     EIGENVALUE_FLOOR,
@@ -97,6 +98,9 @@ class DiagnosisReport:
         What the verdict does not say.
     baseline : str
         The window fits' non-oscillating part.
+    amplitude : AmplitudeReport or None
+        The nonlinear model's weave at each usable window's measured amplitude against the
+        linear one (:mod:`whipple.diagnosis.amplitude`); None when not computed.
     """
 
     bicycle: Bicycle
@@ -115,6 +119,7 @@ class DiagnosisReport:
     residual_summary: tuple[str, ...]
     caveats: tuple[str, ...]
     baseline: str
+    amplitude: AmplitudeReport | None = None
 
     @property
     def observations(self) -> tuple[Observation, ...]:
@@ -200,8 +205,13 @@ def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | 
 
 
 def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
-             include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0)) -> DiagnosisReport:
-    """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain."""
+             include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0),
+             amplitude: bool = True) -> DiagnosisReport:
+    """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain.
+
+    With ``amplitude``, also compare the nonlinear model's weave at each window's measured
+    amplitude with the linear one (:func:`whipple.diagnosis.amplitude.check_amplitudes`).
+    """
     used = tuple(m for m in measurements if m.usable)
     if len(used) < 2:
         reasons = Counter(m.skipped.split(" (")[0] for m in measurements if m.skipped)
@@ -234,7 +244,8 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     return DiagnosisReport(
         bicycle, tuple(measurements), used, diagnosis, extended, chosen, gain, note,
         critical_speeds(linear_model(bicycle), *speed_range), critical_speeds(linear_model(extended), *speed_range),
-        base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes)), baseline)
+        base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes)), baseline,
+        check_amplitudes(bicycle, used, base_prediction.eigenvalues) if amplitude else None)
 
 
 #: Reduced chi-square of the best model above which the report warns that no candidate
@@ -305,6 +316,8 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
                 "std": [float(np.sqrt(o.shape_covariance[0, 0])), float(np.sqrt(o.shape_covariance[1, 1]))],
                 "model": _pair(base_shapes[n]), "extended": _pair(extended_shapes[n]),
                 "compared": bool(compared[n])}
+        if report.amplitude is not None and report.amplitude.checks:
+            window["nonlinear"] = report.amplitude.checks[n].to_dict()
         windows.append(window)
     skipped = [{"run": m.run.name, "start": m.window.start, "stop": m.window.stop, "reason": m.skipped}
                for m in report.measurements if not m.usable]
@@ -335,6 +348,8 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "extended_model": report.extended_critical.to_dict(),
         "fit_baseline": report.baseline,
     }
+    if report.amplitude is not None:
+        result["nonlinear_amplitude"] = report.amplitude.to_dict()
     if report.bicycle.extensions.tyre_compliance is None and report.extended.extensions.tyre_compliance is None:
         matrices = extended_matrices(report.extended.parameters, report.extended.extensions)
         result["extended_model"]["matrices"] = {name: getattr(matrices, name).tolist()

@@ -378,6 +378,44 @@ def casadi_state_derivative() -> casadi.Function:
                            ["p", "state", "inputs"], ["derivative", "pitch"])
 
 
+def casadi_reduced_equations() -> casadi.Function:
+    """Return the equations of the independent rates with the torques left out, as a CasADi function.
+
+    Returns
+    -------
+    casadi.Function
+        ``(p, state) -> (kinematics, mass, force, pitch)``: ``kinematics`` (7) the derivatives
+        of x, y [m/s] and of the seven angles [rad/s] (the first seven entries of the state
+        derivative); ``mass`` (3x3) [kg m^2] and ``force`` (3) [N m] of
+        ``mass @ a = force + tau``, with ``a`` the roll, steer and rear wheel accelerations
+        [rad/s^2] and ``tau`` the roll torque, the steer torque and a torque of the rear frame
+        on the rear wheel about its axle [N m]. Each torque enters its own row only: the
+        independent rates' rows of the rate projection are the identity, and a hub torque
+        does no virtual work on any other rate (its reaction on the frame cancels its action
+        on the wheel in every other partial angular velocity). With the accelerations known,
+        any of them can be prescribed and the corresponding torque solved for (a drive that
+        holds the rear wheel rate, a hand that holds roll and steer). The pitch is solved as
+        in :func:`casadi_state_derivative`; NaN where no pitch puts the front wheel on the ground.
+    """
+    p = casadi.MX.sym("p", len(PARAMETERS))
+    x = casadi.MX.sym("state", len(STATES))
+    pitch = _casadi_pitch()(casadi.vertcat(x[3], x[4], p))
+    kinematics, mass, force = _reduced_given_pitch()(p, x, pitch)
+    return casadi.Function("whipple_nonlinear_reduced", [p, x], [kinematics, mass, force, pitch],
+                           ["p", "state"], ["kinematics", "mass", "force", "pitch"])
+
+
+def _reduced_given_pitch() -> casadi.Function:
+    """(p, state, pitch) -> kinematics, P^T M P and P^T (F - M r) without torques (SX)."""
+    p = casadi.SX.sym("p", len(PARAMETERS))
+    x = casadi.SX.sym("state", len(STATES))
+    pitch = casadi.SX.sym("pitch")
+    u, r, P, M, F = _casadi_equations(p, casadi.vertcat(x[3], pitch, x[4]), x[7:10], casadi.SX.zeros(2))
+    velocity = whipple_nonlinear_casadi.rear_contact_velocity(p, casadi.vertcat(x[2], u[2], u[4]))[0]
+    kinematics = casadi.vertcat(velocity, u[[0, 1, 3, 4, 5]])
+    return casadi.Function("reduced_given_pitch", [p, x, pitch], [kinematics, P.T @ M @ P, P.T @ (F - M @ r)])
+
+
 def casadi_residual() -> casadi.Function:
     """Kane's equations of the independent rates in residual form, as a CasADi function.
 

@@ -194,12 +194,17 @@ def simulate(
     reason = "duration"
     if solution.status == 1:
         reason = "fallen" if solution.t_events[0].size else "singular"
-    return _with_diagnostics(parameters, solution.t, solution.y.T, count[0], reason)
+    return with_diagnostics(parameters, solution.t, solution.y.T, count[0], reason)
 
 
-def _with_diagnostics(parameters: Mapping[str, float], times: NDArray[np.float64], states: NDArray[np.float64],
-                      evaluations: int, stop_reason: str) -> NonlinearSimulation:
-    """Pitch, rates, energy and constraint residuals at the samples (generated NumPy code)."""
+def with_diagnostics(parameters: Mapping[str, float], times: NDArray[np.float64], states: NDArray[np.float64],
+                     evaluations: int, stop_reason: str) -> NonlinearSimulation:
+    """Return a simulation's samples with the pitch, rates, energy and constraint residuals.
+
+    Evaluated with the generated NumPy code, independently of the CasADi functions that
+    integrate the equations. ``times`` [s] and ``states`` (n, 10) are the samples;
+    ``evaluations`` and ``stop_reason`` are passed on (see :class:`NonlinearSimulation`).
+    """
     roll, steer = states[:, 3], states[:, 4]
     pitch = solve_pitch(parameters, roll, steer)
     rates = dependent_rates(parameters, roll, pitch, steer, states[:, 7:10])

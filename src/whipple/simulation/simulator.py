@@ -26,87 +26,33 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import expm
 
 from whipple.model.assembly import linear_model
 from whipple.model.linear import WHIPPLE_STATES, LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.simulation.discretization import zero_order_hold
+from whipple.simulation.procedure import (
+    SimulatedRun,
+    check_aliasing,
+    distance_rolled,
+    freeze,
+    hand_frequency,
+    hand_wobble,
+    run_metadata,
+    sample_times,
+    scheduled_catch,
+    sense,
+    size_pushes,
+    speed_profile,
+)
 from whipple.simulation.run_writer import format_true_windows, parse_true_windows, write_run_csv
-from whipple.simulation.scenario import SIGNALS, Push, RunScenario, ScenarioError
-from whipple.simulation.speedometer_signal import speedometer_signal
+from whipple.simulation.scenario import Push, RunScenario, ScenarioError
 
 __all__ = ["SimulatedRun", "format_true_windows", "parse_true_windows", "simulate_run",
            "write_run_csv"]
-
-#: Catch spring: (1 + w t) exp(-w t) = 0.5 % at w t = 7.5.
-_CATCH_DECAY = 7.5
-#: Automatic pushes: horizon [s] and step [s] of the sizing response, share of the roll limit.
-_SIZING_HORIZON, _SIZING_STEP, _SIZING_ROLL = 2.0, 0.005, 2 / 3
-
-
-@dataclass(frozen=True)
-class SimulatedRun:
-    """A simulated run: the truth and what the sensors measured.
-
-    Attributes
-    ----------
-    name : str
-        Name of the run.
-    time : ndarray, shape (n,)
-        Sample times [s], ``k / sample_rate``.
-    states : ndarray, shape (n, n_states)
-        True state at each sample (units of ``state_names``: rad, rad/s, ...).
-    state_names : tuple of str
-        Names of the model's states.
-    speed : ndarray, shape (n,)
-        True forward speed [m/s].
-    truth : dict of str to ndarray
-        Noise-free, bias-free values of every signal of ``whipple.simulation.scenario.SIGNALS``:
-        ``speed`` is the true speed [m/s], ``speedometer`` the pick-up's signal [V] before
-        noise and offset (which, like the speed column, sees the bicycle's speed scale).
-    signals : dict of str to ndarray
-        Measured signals of the scenario's columns (with the bicycle's ``speed_scale``
-        applied to speed and speedometer), in run-file units.
-    segments : tuple of (float, float)
-        Free-coasting windows [s]: from the end of each push to the catch (or the record's
-        end); pushes caught before they ended have none.
-    pushes : tuple of Push
-        The pushes, with their roll impulses [N m s] filled in.
-    catches : tuple of float
-        Start times of the catches [s].
-    metadata : dict of str to str
-        Run-file metadata (``sample_rate``, ``wheel_radius``, ``pulses_per_revolution``,
-        ``bicycle``, ``true_windows``, ``seed``, ...).
-    scenario : RunScenario
-        What was simulated.
-    """
-
-    name: str
-    time: NDArray[np.float64]
-    states: NDArray[np.float64]
-    state_names: tuple[str, ...]
-    speed: NDArray[np.float64]
-    truth: dict[str, NDArray[np.float64]]
-    signals: dict[str, NDArray[np.float64]]
-    segments: tuple[tuple[float, float], ...]
-    pushes: tuple[Push, ...]
-    catches: tuple[float, ...]
-    metadata: dict[str, str]
-    scenario: RunScenario
-
-    @property
-    def sample_rate(self) -> float:
-        """[Hz]."""
-        return self.scenario.sample_rate
-
-    def state(self, name: str) -> NDArray[np.float64]:
-        """Return the true trajectory of one state, by name."""
-        return self.states[:, self.state_names.index(name)]
 
 
 def simulate_run(
@@ -136,42 +82,22 @@ def simulate_run(
         model = linear_model(bicycle)
     _check_model(model)
     geometry = {k: float(bicycle.parameters[k]) for k in ("w", "c", "lam", "rR")}
-    scale = float(bicycle.extensions.speed_scale)
     fs = scenario.sample_rate
-    n = int(math.floor(scenario.end_time() * fs + 1e-9)) + 1
-    if n < 3:
-        raise ScenarioError(f"a run of {scenario.end_time():g} s at {fs:g} Hz has fewer than 3 "
-                            "samples")
-    time = np.arange(n) / fs
-    speed = _speed(scenario, time)
-    if "speedometer" in scenario.columns:
-        _check_aliasing(scenario, float(bicycle.measured_speed(speed.max())), geometry["rR"])
-    mid_speed = _speed(scenario, time[:-1] + 0.5 / fs)
+    time = sample_times(scenario)
+    speed = speed_profile(scenario, time)
+    check_aliasing(scenario, bicycle, float(speed.max()))
+    mid_speed = speed_profile(scenario, time[:-1] + 0.5 / fs)
     rng = np.random.default_rng(scenario.seed)
-    wobble = rng.standard_normal((max(n - 1, 0), 2))
-
-    omega = _CATCH_DECAY / scenario.catch_duration
-    pushes = _size_pushes(scenario, model)
+    wobble = hand_wobble(scenario, time.size, rng)
+    pushes = size_pushes(scenario, model)
     torque = _push_torque(pushes, time, model.B.shape[-1])
-    dynamics = _Dynamics(model, mid_speed, omega, 1.0 / fs)
-    # Stationary std hold_std of a critically damped spring driven by white acceleration.
-    wobble *= scenario.hold_std * math.sqrt(4 * omega**3 * fs)
+    dynamics = _Dynamics(model, mid_speed, hand_frequency(scenario), 1.0 / fs)
     states, segments, catches = _integrate(scenario, pushes, time, torque, wobble, dynamics)
-
-    truth = _true_signals(model, states, speed, geometry)
-    truth["speedometer"] = speedometer_signal(bicycle.measured_speed(_distance(scenario, time)), geometry["rR"],
-                                              scenario.pulses_per_revolution,
-                                              phase=float(rng.uniform(0, 2 * np.pi)))
-    measured = {}
-    for signal in SIGNALS:  # every signal draws its noise, so columns do not change others
-        sensor = getattr(scenario.sensors, signal)
-        value = bicycle.measured_speed(truth[signal]) if signal == "speed" else truth[signal]
-        measured[signal] = value + sensor.bias + sensor.noise * rng.standard_normal(n)
-    signals = {column: measured[column] for column in scenario.columns}
-    for array in (time, states, speed, *truth.values(), *signals.values()):
-        array.flags.writeable = False
+    truth, signals = sense(bicycle, scenario, _true_signals(model, states, speed, geometry),
+                           distance_rolled(scenario, time), rng)
+    freeze(time, states, speed, *truth.values(), *signals.values())
     label = name or f"{bicycle.name or 'bicycle'}_{scenario.setting}_{scenario.speed:.2f}ms"
-    metadata = _metadata(bicycle, scenario, scale, segments, geometry["rR"])
+    metadata = run_metadata(bicycle, scenario, segments, "whipple.simulation.simulator")
     return SimulatedRun(label, time, states, model.state_names, speed, truth, signals,
                         segments, pushes, catches, metadata, scenario)
 
@@ -182,54 +108,6 @@ def _check_model(model: LinearModel) -> None:
     if model.state_names[:4] != WHIPPLE_STATES or model.B.shape[-1] != 2:
         raise ScenarioError("the model's states must start with roll, steer, roll_rate, "
                             "steer_rate and its inputs be roll and steer torque")
-
-
-def _speed(scenario: RunScenario, t: NDArray[np.float64]) -> NDArray[np.float64]:
-    if scenario.setting == "ground":
-        return scenario.speed - scenario.deceleration * t
-    return np.full(t.shape, float(scenario.speed))
-
-
-def _distance(scenario: RunScenario, t: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Distance rolled since t = 0 [m] (exact integral of the speed profile)."""
-    decel = scenario.deceleration if scenario.setting == "ground" else 0.0
-    return scenario.speed * t - 0.5 * decel * t**2
-
-
-def _check_aliasing(scenario: RunScenario, top_speed: float, radius: float) -> None:
-    frequency = 0.5 * scenario.pulses_per_revolution * top_speed / (2 * np.pi * radius)
-    if frequency >= 0.5 * scenario.sample_rate:
-        raise ScenarioError(
-            f"the speedometer signal ({frequency:.3g} Hz at {top_speed:.3g} m/s) would alias at "
-            f"{scenario.sample_rate:g} Hz; raise the sample rate above {2 * frequency:.3g} Hz")
-
-
-def _size_pushes(scenario: RunScenario, model: LinearModel) -> tuple[Push, ...]:
-    """Fill in the roll impulse of automatic pushes (alternating direction).
-
-    The roll torque also kicks the steer, whose fast response feeds back into the roll, so
-    the impulse is scaled on the free response to a unit impulse over its first
-    ``_SIZING_HORIZON`` seconds: its peak |roll rate| becomes ``push_roll_rate``, unless the
-    peak |roll| would then pass ``_SIZING_ROLL`` of the catch's roll limit (the push an
-    experimenter gives who wants the bicycle to coast).
-    """
-    sized = []
-    for i, push in enumerate(scenario.resolved_pushes()):
-        impulse = push.roll_impulse
-        if impulse is None:
-            speed = _speed(scenario, np.array(push.time))
-            step = expm(model.state_matrix(speed) * _SIZING_STEP)
-            x = model.input_matrix(speed)[:, 0]
-            peak_rate, peak_roll = abs(x[2]), 0.0
-            for _ in range(int(round(_SIZING_HORIZON / _SIZING_STEP))):
-                x = step @ x
-                peak_rate, peak_roll = max(peak_rate, abs(x[2])), max(peak_roll, abs(x[0]))
-            if not peak_rate > 0:
-                raise ScenarioError("the model's roll rate does not respond to roll torque")
-            roll_cap = _SIZING_ROLL * scenario.roll_limit / peak_roll if peak_roll else math.inf
-            impulse = (-1) ** i * min(scenario.push_roll_rate / peak_rate, roll_cap)
-        sized.append(Push(push.time, float(impulse), push.steer_impulse, push.duration))
-    return tuple(sized)
 
 
 def _push_torque(pushes: tuple[Push, ...], time: NDArray[np.float64], m: int) -> NDArray[np.float64]:
@@ -296,7 +174,7 @@ def _integrate(
                 close(float(time[k]))  # pushed again before any catch
             current += 1
             held, launched = False, True
-            scheduled = _scheduled_catch(scenario, pushes, current)
+            scheduled = scheduled_catch(scenario, pushes, current)
         elif not launched and time[k + 1] > scenario.release + tolerance:
             held, launched = False, True
         elif not held and (abs(x[0]) > scenario.roll_limit or abs(x[2]) > scenario.roll_rate_limit
@@ -312,14 +190,6 @@ def _integrate(
     if not held:
         close(float(time[-1]))
     return states, tuple(segments), tuple(catches)
-
-
-def _scheduled_catch(scenario: RunScenario, pushes: tuple[Push, ...], i: int) -> float:
-    push = pushes[i]
-    due = push.time + push.duration + scenario.max_coast
-    if i + 1 < len(pushes):
-        due = min(due, pushes[i + 1].time - scenario.settle)
-    return due
 
 
 def _true_signals(
@@ -338,30 +208,3 @@ def _true_signals(
                     / geometry["w"])
     return {"roll_rate": roll_rate, "yaw_rate": yaw_rate, "steer_angle": steer,
             "steer_rate": steer_rate, "roll_angle": roll, "speed": speed.copy()}
-
-
-def _metadata(
-    bicycle: Bicycle,
-    scenario: RunScenario,
-    scale: float,
-    segments: tuple[tuple[float, float], ...],
-    radius: float,
-) -> dict[str, str]:
-    metadata = {
-        "sample_rate": f"{scenario.sample_rate:g}",
-        "wheel_radius": f"{radius:g}",
-        "pulses_per_revolution": str(scenario.pulses_per_revolution),
-        "bicycle": bicycle.name or "unnamed",
-        "speed_scale": f"{scale:.9g}",
-    }
-    if "speed" not in scenario.columns and "speedometer" not in scenario.columns:
-        metadata["speed"] = f"{scale * scenario.speed:.9g}"
-    metadata.update({
-        "simulated": "whipple.simulation.simulator",
-        "setting": scenario.setting,
-        "true_speed": f"{scenario.speed:.9g}",
-        "deceleration": f"{scenario.deceleration if scenario.setting == 'ground' else 0.0:g}",
-        "true_windows": format_true_windows(segments),
-        "seed": str(scenario.seed),
-    })
-    return metadata

@@ -25,7 +25,14 @@ from whipple.model.assembly import build_linear_model, extended_matrices, linear
 from whipple.model.bodies import Body, combine, frame_body
 from whipple.model.casadi_model import casadi_state_function
 from whipple.model.linear import second_order_model
-from whipple.model.parameters import Controller, Extensions, Payload, load_bicycle
+from whipple.model.parameters import (
+    Controller,
+    Extensions,
+    Payload,
+    load_bicycle,
+    read_bicycle_toml,
+    write_bicycle_toml,
+)
 from whipple.simulation.nonlinear_bicycle import nonlinear_parameters
 from whipple.simulation.scenario import RunScenario
 from whipple.simulation.simulator import simulate_run
@@ -200,3 +207,16 @@ def test_nonlinear_model_refuses_what_it_does_not_hold():
             nonlinear_parameters(changed)
     scaled = bicycle.with_controller(dataclasses.replace(bicycle.controller, gain_scale=0.8))
     assert nonlinear_parameters(scaled)[0]["w"] == bicycle.parameters["w"]
+
+
+def test_bicycle_file_round_trip_of_the_new_keys(tmp_path):
+    bicycle = load_bicycle("sbw2024")
+    changed = bicycle.with_extensions(front_payload=Payload(1.5, 1.1, -0.9), reflected_steer_inertia=0.21)
+    changed = changed.with_controller(dataclasses.replace(bicycle.controller, gain_scale=0.8, delay=0.04, lag=0.02))
+    write_bicycle_toml(changed, tmp_path / "b.toml")
+    text = (tmp_path / "b.toml").read_text()
+    assert "[extensions.front_payload]" in text and "delay = 0.04" in text
+    assert read_bicycle_toml(tmp_path / "b.toml") == changed
+    # Defaults are not written.
+    write_bicycle_toml(bicycle, tmp_path / "plain.toml")
+    assert "delay" not in (tmp_path / "plain.toml").read_text()

@@ -7,7 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from whipple.diagnosis.causes import candidate_causes, cause_by_name, payload_bounds, with_cause
+from whipple.diagnosis.causes import candidate_causes, cause_by_name, payload_bounds, payload_form, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.observations import observations
 from whipple.measurement.experiment import measure_run
@@ -110,3 +110,16 @@ def test_simulated_runs_with_a_hidden_controller_delay_are_diagnosed():
     assert {fit.cause for fit in diagnosis.fits} >= set(CONTROLLER) | {"front_payload", "reflected_steer_inertia"}
     delay = next(fit for fit in diagnosis.fits if fit.cause == "controller_delay")
     assert np.isfinite(delay.evidence) and 0.0 <= delay.values[0] <= 0.3
+
+
+def test_payload_form_at_any_position():
+    bicycle = load_bicycle("benchmark")
+    p = bicycle.parameters
+    for name, letter in (("payload", "B"), ("front_payload", "H")):
+        fore_aft = payload_form(bicycle, name, "mx")
+        assert fore_aft.parameters == (f"{name}_mass", f"{name}_x") and fore_aft.start == (0.0, p[f"x{letter}"])
+        assert getattr(fore_aft.apply(bicycle, [4.0, 0.2]).extensions, name) == Payload(4.0, 0.2, p[f"z{letter}"])
+        full = payload_form(bicycle, name, "mxz")
+        assert getattr(full.apply(bicycle, [4.0, 0.2, -1.0]).extensions, name) == Payload(4.0, 0.2, -1.0)
+    with pytest.raises(ValueError):
+        payload_form(bicycle, "payload", "xz")

@@ -95,24 +95,6 @@ def _controller_lag(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
 PAYLOAD_FRAMES = {"payload": "B", "front_payload": "H"}
 
 
-def _payload_form(name: str, free: str) -> Callable[[Bicycle, Sequence[float]], Bicycle]:
-    """Return ``apply`` of a payload form.
-
-    ``free`` is ``"m"`` (mass [kg] at the frame's mass centre), ``"mz"`` (mass and height [m],
-    at the mass centre's x) or ``"mxz"`` (mass and position [m]).
-    """
-    letter = PAYLOAD_FRAMES[name]
-
-    def apply(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-        given = iter(float(value) for value in values)
-        mass = next(given)
-        x = next(given) if "x" in free else float(bicycle.parameters[f"x{letter}"])
-        z = next(given) if "z" in free else float(bicycle.parameters[f"z{letter}"])
-        return bicycle.with_extensions(**{name: Payload(mass=mass, x=x, z=z)})
-
-    return apply
-
-
 def payload_bounds(bicycle: Bicycle, name: str) -> dict[str, tuple[float, float]]:
     """Physical bounds of a payload's mass [kg], x [m] and z [m] on its frame.
 
@@ -129,6 +111,39 @@ def payload_bounds(bicycle: Bicycle, name: str) -> dict[str, tuple[float, float]
     return {"mass": (0.0, max(3.0 * p["mH"], 20.0)), "x": (min(p["xB"], p["xH"]), p["w"] + 0.5), "z": height}
 
 
+def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0, for_evidence: bool = True) -> Cause:
+    """Return one form of a payload cause, its fixed coordinates at the frame's mass centre.
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        Supplies the frame's mass centre and the bounds (:func:`payload_bounds`).
+    name : {"payload", "front_payload"}
+        The rear-frame or the front-frame payload.
+    free : {"m", "mx", "mz", "mxz"}
+        The fitted values: always the mass [kg], and x and/or z [m]; a coordinate not fitted is
+        the frame's mass centre's (xB, zB or xH, zH).
+    prior, for_evidence : float, bool
+        As in :class:`Cause`.
+    """
+    letter = PAYLOAD_FRAMES[name]
+    if free not in ("m", "mx", "mz", "mxz"):
+        raise ValueError(f"unknown payload form {free!r}")
+    centre = {"x": float(bicycle.parameters[f"x{letter}"]), "z": float(bicycle.parameters[f"z{letter}"])}
+    bounds = payload_bounds(bicycle, name)
+    axes = ("mass",) + tuple(axis for axis in "xz" if axis in free)
+
+    def apply(changed: Bicycle, values: Sequence[float]) -> Bicycle:
+        given = dict(zip(axes, (float(value) for value in values), strict=True))
+        position = {axis: given.get(axis, float(changed.parameters[f"{axis}{letter}"])) for axis in "xz"}
+        return changed.with_extensions(**{name: Payload(mass=given["mass"], x=position["x"], z=position["z"])})
+
+    return Cause(name, tuple(f"{name}_{axis}" for axis in axes), tuple("kg" if a == "mass" else "m" for a in axes),
+                 tuple(0.0 if axis == "mass" else centre[axis] for axis in axes),
+                 tuple(bounds[axis] for axis in axes), apply, prior=prior,
+                 null=(0.0,) if free == "m" else None, for_evidence=for_evidence)
+
+
 def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:
     """Return the forms of a payload cause: ``payload`` (rear frame) or ``front_payload``.
 
@@ -139,23 +154,14 @@ def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:
     named payload (``for_evidence=False``), so that its interval carries what the simpler forms
     hold fixed: in hidden-effect tests a free fore-aft position made the rear payload mimic
     other causes (steer inertia, trail), the weave eigenvalues not identifying three values well
-    enough to decide between causes.
+    enough to decide between causes. Other forms: :func:`payload_form`.
     """
-    letter = PAYLOAD_FRAMES[name]
-    x0, z0 = bicycle.parameters[f"x{letter}"], bicycle.parameters[f"z{letter}"]
-    bounds = payload_bounds(bicycle, name)
-    mass, x, z = bounds["mass"], bounds["x"], bounds["z"]
-    return [
-        Cause(name, (f"{name}_mass",), ("kg",), (0.0,), (mass,), _payload_form(name, "m"), prior=0.5, null=(0.0,)),
-        Cause(name, (f"{name}_mass", f"{name}_z"), ("kg", "m"), (0.0, z0), (mass, z), _payload_form(name, "mz"),
-              prior=0.5),
-        Cause(name, (f"{name}_mass", f"{name}_x", f"{name}_z"), ("kg", "m", "m"), (0.0, x0, z0), (mass, x, z),
-              _payload_form(name, "mxz"), for_evidence=False),
-    ]
+    return [payload_form(bicycle, name, "m", prior=0.5), payload_form(bicycle, name, "mz", prior=0.5),
+            payload_form(bicycle, name, "mxz", for_evidence=False)]
 
 
 def controller_causes(bicycle: Bicycle) -> list[Cause]:
-    """Causes in the bicycle's controller: none for a bicycle without one.
+    """Return the causes in the bicycle's controller: none for a bicycle without one.
 
     ``controller_gain`` scales every commanded torque [-]; ``controller_delay`` delays it [s]
     (Pade approximant in the linear model, see :mod:`whipple.model.actuator`);

@@ -220,3 +220,13 @@ def test_bicycle_file_round_trip_of_the_new_keys(tmp_path):
     # Defaults are not written.
     write_bicycle_toml(bicycle, tmp_path / "plain.toml")
     assert "delay" not in (tmp_path / "plain.toml").read_text()
+
+
+def test_zero_gain_scale_leaves_the_bicycle_uncontrolled():
+    bicycle = load_bicycle("sbw2024")
+    off = bicycle.with_controller(dataclasses.replace(bicycle.controller, gain_scale=0.0, delay=0.05, lag=0.01))
+    plant = build_linear_model(bicycle.parameters, bicycle.extensions, None)
+    model = linear_model(off)
+    np.testing.assert_array_equal(model.state_matrix(3.0), plant.state_matrix(3.0))
+    function, p0 = casadi_state_function(off)
+    np.testing.assert_allclose(np.array(function(3.0, p0)), plant.state_matrix(3.0), rtol=1e-14, atol=1e-12)

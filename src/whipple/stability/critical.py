@@ -57,6 +57,10 @@ TOUCH_TOLERANCE = 1e-9
 AXIS_TOLERANCE = 1e-6
 #: Roots [m/s, relative to 1 + |v|] closer than this are one (double) root.
 DOUBLE_ROOT_GAP = 1e-7
+#: Secant steps on the crossing eigenvalue after a companion-matrix root, and how far
+#: [m/s, relative to 1 + |v|] they may move it.
+REFINE_STEPS = 4
+REFINE_WINDOW = 1e-4
 #: Offset [m/s, relative to 1 + |v|] either side of a root where the direction is read.
 SIDE_STEP = 1e-6
 #: Parameter sets of a 4-state model solved together (scaled by 16 / n^2 for n states).
@@ -264,6 +268,7 @@ def crossing_arrays(coefficients: NDArray[np.float64], low: float, high: float,
                              coefficients))
     found = _merge(parts)
     found["direction"] = _directions(found, coefficients)
+    found = _merge_touches(found)
     return {**found, "characteristic": polynomials.characteristic}
 
 
@@ -295,11 +300,57 @@ def _nearest(values: NDArray[np.complex128], target: NDArray[np.complex128]) -> 
     return np.argmin(np.abs(values - target[:, None]), axis=-1)
 
 
+def _crossing_value(kind: str, lam: NDArray[np.complex128], target: NDArray[np.complex128]
+                    ) -> NDArray[np.complex128]:
+    rows = np.arange(lam.shape[0])
+    return lam[rows, _nearest(lam, target)]
+
+
+def _refine(kind: str, model: NDArray[np.intp], speed: NDArray[np.float64],
+            near: NDArray[np.bool_], method: NDArray[np.str_],
+            coefficients: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.str_]]:
+    """Secant steps on the real part of the crossing eigenvalue itself.
+
+    High-degree condition polynomials (controllers, the tyre model) lose digits when expanded
+    in the monomial basis; the eigenvalues of A(v) do not. Simple roots found by companion
+    matrices are therefore finished on ``Re lambda(v)``, each step kept only if it reduces
+    ``|Re lambda|`` and stays within :data:`REFINE_WINDOW` of the polynomial root.
+    """
+    todo = np.nonzero(~near & np.char.startswith(method, "companion"))[0]
+    if todo.size == 0:
+        return speed, method
+    speed = speed.copy()
+    sub_model, start = model[todo], speed[todo]
+    lam = _eigenvalues_at(coefficients, sub_model, start)
+    target = (lam[np.arange(todo.size), np.argmin(np.abs(lam.real), axis=-1)])
+    x0, g0 = start, target.real
+    x1 = start + 1e-7 * (1.0 + np.abs(start))
+    value1 = _crossing_value(kind, _eigenvalues_at(coefficients, sub_model, x1), target)
+    g1 = value1.real
+    best, best_g = x0.copy(), np.abs(g0)
+    window = REFINE_WINDOW * (1.0 + np.abs(start))
+    for _ in range(REFINE_STEPS):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x2 = x1 - g1 * (x1 - x0) / (g1 - g0)
+        x2 = np.where(np.isfinite(x2) & (np.abs(x2 - start) <= window), x2, x1)
+        value2 = _crossing_value(kind, _eigenvalues_at(coefficients, sub_model, x2), value1)
+        g2 = value2.real
+        better = np.abs(g2) < best_g
+        best, best_g = np.where(better, x2, best), np.where(better, np.abs(g2), best_g)
+        x0, g0, x1, g1, value1 = x1, g1, x2, g2, value2
+    moved = best != start
+    speed[todo] = best
+    method = method.astype("<U27")
+    method[todo[moved]] = np.char.add(method[todo[moved]], "+secant")
+    return speed, method
+
+
 def _verify(kind: str, model: NDArray[np.intp], speed: NDArray[np.float64],
             near: NDArray[np.bool_], method: NDArray[np.str_],
             coefficients: NDArray[np.float64]) -> dict[str, NDArray]:
     """Keep the roots where an eigenvalue is on the imaginary axis; name its mode."""
     n = coefficients.shape[-1]
+    speed, method = _refine(kind, model, speed, near, method, coefficients)
     if speed.size:
         lam, vectors = np.linalg.eig(_state_matrices(coefficients, model, speed))
         lam, vectors = np.asarray(lam, dtype=complex), np.asarray(vectors, dtype=complex)
@@ -339,6 +390,21 @@ def _merge(parts: list[dict[str, NDArray]]) -> dict[str, NDArray]:
     merged = {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
     order = np.lexsort((merged["speed"], merged["model"]))
     return {key: array[order] for key, array in merged.items()}
+
+
+def _merge_touches(found: dict[str, NDArray]) -> dict[str, NDArray]:
+    """One tangential root where rounding split it in two neighbouring touches of one kind."""
+    model, speed, kind, direction = found["model"], found["speed"], found["kind"], found["direction"]
+    twin = np.zeros(speed.shape, dtype=bool)
+    twin[1:] = ((model[1:] == model[:-1]) & (kind[1:] == kind[:-1]) & (direction[1:] == "touch")
+                & (direction[:-1] == "touch")
+                & (np.diff(speed) <= REFINE_WINDOW * (1.0 + np.abs(speed[1:]))))
+    if not np.any(twin):
+        return found
+    first = np.nonzero(twin)[0] - 1
+    found = {key: array.copy() for key, array in found.items()}
+    found["speed"][first] = 0.5 * (speed[first] + speed[first + 1])
+    return {key: array[~twin] for key, array in found.items()}
 
 
 def _directions(found: dict[str, NDArray], coefficients: NDArray[np.float64]) -> NDArray[np.str_]:

@@ -475,7 +475,7 @@ def _package_all(found: dict[str, NDArray], segments: tuple[NDArray, ...], count
 
 def _package(crossings: tuple[Crossing, ...], ranges: tuple[tuple[float, float], ...],
              low: float, high: float) -> CriticalSpeeds:
-    """Result of one model from its crossings and stable ranges."""
+    """Return the result of one model from its crossings and stable ranges."""
     weave = tuple(c.speed for c in crossings if c.mode == modes.WEAVE and c.kind == "hopf"
                   and c.direction != "touch")
     capsize = tuple(c.speed for c in crossings if c.mode == modes.CAPSIZE and c.kind == "real"

@@ -45,7 +45,7 @@ def _roll_share(vectors: NDArray[np.complex128]) -> NDArray[np.float64]:
 def _joins_weave(coefficients: NDArray[np.float64], speed: NDArray[np.float64],
                  eigenvalues: NDArray[np.complex128], branch: NDArray[np.intp]
                  ) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
-    """Follow eigenvalue `branch` forward in speed: does it become complex, and with whom?
+    """Follow eigenvalue `branch` forward in speed: whether it becomes complex, and with whom.
 
     `coefficients` (R, T, n, n) are those of each root's model; returns, per root, whether the
     branch becomes complex and the index (at the root) of the eigenvalue it pairs with.

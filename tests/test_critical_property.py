@@ -1,0 +1,115 @@
+"""Property tests: the polynomial critical-speed solver against the dense-grid check.
+
+Three families of random bicycles, each a perturbation of the bicycles of the BicycleParameters
+data set (tests/data/bicycleparameters) and of the benchmark and Kooijman (2008) bicycles:
+
+* Whipple models: every benchmark parameter scaled by a log-normal factor;
+* the same with a controller whose gains are polynomials in v (steer torque on roll, roll rate
+  and steer rate; roll torque on roll rate), random signs and sizes;
+* the tyre-compliance model (8 states), tyre values scaled too.
+
+For each, every crossing, stable range and missed crossing is checked by
+:func:`grid_critical.dense_check` (a plain eigenvalue scan and bisection). The default suite
+runs a few hundred bicycles; the slow test runs more than 10^4.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from grid_critical import dense_check
+
+from whipple.model.assembly import build_linear_model
+from whipple.model.parameters import Controller, Extensions, TyreCompliance, load_bicycle
+from whipple.stability.critical import critical_speeds_batch
+
+DATA = Path(__file__).parent / "data" / "bicycleparameters" / "bicycles"
+SEEDS = {"whipple": 1, "controller": 2, "tyre": 3}
+CHECKS = ("unsound", "unexplained", "missed", "wrong_range")
+
+
+def base_parameters() -> list[dict[str, float]]:
+    """Benchmark parameters of every bicycle of the data set and the two built-in ones."""
+    bicycles = [load_bicycle("benchmark"), load_bicycle("kooijman2008")]
+    bicycles += [load_bicycle(path) for path in sorted(DATA.glob("*Benchmark.txt"))]
+    return [{key: float(value) for key, value in b.parameters.items()} for b in bicycles]
+
+
+def perturbed(rng: np.random.Generator, count: int, spread: float, wheels: bool = False
+              ) -> dict[str, np.ndarray]:
+    """`count` parameter sets: a random base bicycle, each parameter times exp(spread N(0,1)).
+
+    With `wheels`, only bases with wheels of positive radius and mass (tyres need a contact
+    load and a rolling wheel).
+    """
+    bases = base_parameters()
+    if wheels:
+        bases = [b for b in bases if min(b["rR"], b["rF"], b["mR"], b["mF"]) > 0]
+    pick = rng.integers(len(bases), size=count)
+    names = list(bases[0])
+    values = {name: np.array([bases[i][name] for i in pick]) for name in names}
+    for name in names:
+        if name in ("g",):
+            continue
+        values[name] = values[name] * np.exp(spread * rng.standard_normal(count))
+    return values
+
+
+def controller(rng: np.random.Generator) -> Controller:
+    """Gains polynomial in v (up to quadratic), random signs and sizes [N m per state unit]."""
+    return Controller(
+        steer={"roll": tuple(rng.normal(0.0, 20.0, 2)),
+               "roll_rate": tuple(rng.normal(0.0, [8.0, 2.0, 0.3])),
+               "steer_rate": tuple(rng.normal(0.0, 1.0, 1))},
+        roll={"roll_rate": tuple(rng.normal(0.0, 5.0, 2))})
+
+
+def run_family(family: str, rng: np.random.Generator, count: int, points: int
+               ) -> dict[str, float]:
+    """Solve `count` random bicycles of one family and compare with the dense check."""
+    if family == "controller":
+        # One controller per batch of bicycles (the Controller applies to a whole batch).
+        totals: dict[str, float] = {}
+        for _ in range(max(1, count // 50)):
+            part = run_models(build_linear_model(perturbed(rng, 50, 0.15), None, controller(rng)),
+                              points)
+            for key, value in part.items():
+                totals[key] = totals.get(key, 0) + value
+        return totals
+    if family == "tyre":
+        tyres = TyreCompliance(11.5 * np.exp(0.3 * rng.standard_normal()),
+                               0.57 * np.exp(0.3 * rng.standard_normal()),
+                               0.15 * np.exp(0.3 * rng.standard_normal()))
+        extensions = Extensions(tyre_compliance=tyres)
+        return run_models(build_linear_model(perturbed(rng, count, 0.15, wheels=True), extensions), points)
+    return run_models(build_linear_model(perturbed(rng, count, 0.25)), points)
+
+
+def run_models(model, points: int) -> dict[str, float]:
+    coefficients = model.A.reshape((-1,) + model.A.shape[-3:])
+    results = critical_speeds_batch(model, 0.0, 10.0)
+    report = dense_check(results, coefficients, 0.0, 10.0, points)
+    report["with_crossings"] = sum(bool(r.crossings) for r in results)
+    return report
+
+
+@pytest.mark.parametrize("family,count", [("whipple", 300), ("controller", 150), ("tyre", 60)])
+def test_random_bicycles_agree_with_the_dense_check(family: str, count: int) -> None:
+    report = run_family(family, np.random.default_rng(SEEDS[family]), count, 501)
+    assert report["models"] == count
+    assert report["with_crossings"] > count // 3, report
+    for key in CHECKS:
+        assert report[key] == 0, report
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("family,count", [("whipple", 6000), ("controller", 3000),
+                                          ("tyre", 1200)])
+def test_many_random_bicycles_agree_with_the_dense_check(family: str, count: int) -> None:
+    rng = np.random.default_rng(len(family))
+    for _ in range(count // 300 if family != "controller" else count // 300):
+        report = run_family(family, rng, 300, 1001)
+        for key in CHECKS:
+            assert report[key] == 0, report

@@ -44,25 +44,11 @@ from numpy.typing import NDArray
 from whipple.errors import InputError
 from whipple.model.linear import LinearModel
 from whipple.stability import modes
-from whipple.stability.crossing_modes import crossing_modes
 from whipple.stability.eigen import check_model
 from whipple.stability.polynomial import characteristic_at, conditions, hurwitz_stable
 from whipple.stability.polyroots import real_roots
+from whipple.stability.root_spectrum import directions, merge, merge_touches, verify_roots
 
-#: Largest |real part| [1/s, relative to 1 + |lambda|] of an eigenvalue accepted as touching
-#: the imaginary axis at a tangential root.
-TOUCH_TOLERANCE = 1e-9
-#: Largest |real part| [1/s, relative to 1 + |lambda|] of the crossing eigenvalue at a simple
-#: root (the roots are exact to rounding; this only rejects spurious candidates).
-AXIS_TOLERANCE = 1e-6
-#: Roots [m/s, relative to 1 + |v|] closer than this are one (double) root.
-DOUBLE_ROOT_GAP = 1e-7
-#: Secant steps on the crossing eigenvalue after a companion-matrix root, and how far
-#: [m/s, relative to 1 + |v|] they may move it.
-REFINE_STEPS = 4
-REFINE_WINDOW = 1e-4
-#: Offset [m/s, relative to 1 + |v|] either side of a root where the direction is read.
-SIDE_STEP = 1e-6
 #: Parameter sets of a 4-state model solved together (scaled by 16 / n^2 for n states).
 CHUNK_SIZE = 8192
 KINDS = ("hopf", "real")
@@ -264,11 +250,11 @@ def crossing_arrays(coefficients: NDArray[np.float64], low: float, high: float,
     parts = []
     for kind, poly in (("hopf", polynomials.hopf), ("real", polynomials.real)):
         roots = real_roots(poly, low, high, polish)
-        parts.append(_verify(kind, roots.model, roots.speed, roots.near, roots.method,
-                             coefficients))
-    found = _merge(parts)
-    found["direction"] = _directions(found, coefficients)
-    found = _merge_touches(found)
+        parts.append(verify_roots(kind, coefficients, roots.model, roots.speed, roots.near,
+                                  roots.method))
+    found = merge(parts)
+    found["direction"] = directions(found, coefficients, polynomials.characteristic)
+    found = merge_touches(found)
     return {**found, "characteristic": polynomials.characteristic}
 
 
@@ -278,154 +264,6 @@ def _analyse_chunk(coefficients: NDArray[np.float64], low: float, high: float,
     found = crossing_arrays(coefficients, low, high, polish)
     segments = _stable_segments(found, found["characteristic"], count, low, high)
     return _package_all(found, segments, count, low, high)
-
-
-def _state_matrices(coefficients: NDArray[np.float64], model: NDArray[np.intp],
-                    speed: NDArray[np.float64]) -> NDArray[np.float64]:
-    total = np.zeros((speed.size,) + coefficients.shape[2:])
-    for power in range(coefficients.shape[1] - 1, -1, -1):
-        total = total * speed[:, None, None] + coefficients[model, power]
-    return total
-
-
-def _eigenvalues_at(coefficients: NDArray[np.float64], model: NDArray[np.intp],
-                    speed: NDArray[np.float64]) -> NDArray[np.complex128]:
-    if speed.size == 0:
-        return np.zeros((0, coefficients.shape[-1]), dtype=complex)
-    return np.asarray(np.linalg.eigvals(_state_matrices(coefficients, model, speed)),
-                      dtype=complex)
-
-
-def _nearest(values: NDArray[np.complex128], target: NDArray[np.complex128]) -> NDArray[np.intp]:
-    return np.argmin(np.abs(values - target[:, None]), axis=-1)
-
-
-def _crossing_value(kind: str, lam: NDArray[np.complex128], target: NDArray[np.complex128]
-                    ) -> NDArray[np.complex128]:
-    rows = np.arange(lam.shape[0])
-    return lam[rows, _nearest(lam, target)]
-
-
-def _refine(kind: str, model: NDArray[np.intp], speed: NDArray[np.float64],
-            near: NDArray[np.bool_], method: NDArray[np.str_],
-            coefficients: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.str_]]:
-    """Secant steps on the real part of the crossing eigenvalue itself.
-
-    High-degree condition polynomials (controllers, the tyre model) lose digits when expanded
-    in the monomial basis; the eigenvalues of A(v) do not. Simple roots found by companion
-    matrices are therefore finished on ``Re lambda(v)``, each step kept only if it reduces
-    ``|Re lambda|`` and stays within :data:`REFINE_WINDOW` of the polynomial root.
-    """
-    todo = np.nonzero(~near & np.char.startswith(method, "companion"))[0]
-    if todo.size == 0:
-        return speed, method
-    speed = speed.copy()
-    sub_model, start = model[todo], speed[todo]
-    lam = _eigenvalues_at(coefficients, sub_model, start)
-    target = (lam[np.arange(todo.size), np.argmin(np.abs(lam.real), axis=-1)])
-    x0, g0 = start, target.real
-    x1 = start + 1e-7 * (1.0 + np.abs(start))
-    value1 = _crossing_value(kind, _eigenvalues_at(coefficients, sub_model, x1), target)
-    g1 = value1.real
-    best, best_g = x0.copy(), np.abs(g0)
-    window = REFINE_WINDOW * (1.0 + np.abs(start))
-    for _ in range(REFINE_STEPS):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x2 = x1 - g1 * (x1 - x0) / (g1 - g0)
-        x2 = np.where(np.isfinite(x2) & (np.abs(x2 - start) <= window), x2, x1)
-        value2 = _crossing_value(kind, _eigenvalues_at(coefficients, sub_model, x2), value1)
-        g2 = value2.real
-        better = np.abs(g2) < best_g
-        best, best_g = np.where(better, x2, best), np.where(better, np.abs(g2), best_g)
-        x0, g0, x1, g1, value1 = x1, g1, x2, g2, value2
-    moved = best != start
-    speed[todo] = best
-    method = method.astype("<U27")
-    method[todo[moved]] = np.char.add(method[todo[moved]], "+secant")
-    return speed, method
-
-
-def _verify(kind: str, model: NDArray[np.intp], speed: NDArray[np.float64],
-            near: NDArray[np.bool_], method: NDArray[np.str_],
-            coefficients: NDArray[np.float64]) -> dict[str, NDArray]:
-    """Keep the roots where an eigenvalue is on the imaginary axis; name its mode."""
-    n = coefficients.shape[-1]
-    speed, method = _refine(kind, model, speed, near, method, coefficients)
-    if speed.size:
-        lam, vectors = np.linalg.eig(_state_matrices(coefficients, model, speed))
-        lam, vectors = np.asarray(lam, dtype=complex), np.asarray(vectors, dtype=complex)
-    else:
-        lam, vectors = np.zeros((0, n), dtype=complex), np.zeros((0, n, n), dtype=complex)
-    rows = np.arange(lam.shape[0])
-    if kind == "hopf":
-        first, second = np.triu_indices(n, 1)
-        pair = np.argmin(np.abs(lam[:, first] + lam[:, second]), axis=-1)
-        one, other = first[pair], second[pair]
-        branch = np.where(lam[rows, one].imag > 0, one, other)
-        value = lam[rows, branch]
-        genuine = np.abs(value.imag) > modes.REAL_TOLERANCE * (1.0 + np.abs(value))
-        on_axis = np.abs(value.real)
-    else:
-        branch = np.argmin(np.abs(lam), axis=-1)
-        value = lam[rows, branch]
-        genuine = np.abs(value.imag) <= modes.REAL_TOLERANCE * (1.0 + np.abs(value))
-        on_axis = np.abs(value)
-    tolerance = np.where(near, TOUCH_TOLERANCE, AXIS_TOLERANCE) * (1.0 + np.abs(value))
-    genuine &= on_axis <= tolerance
-    # One root per speed: a double root may come out of the solver twice, split by rounding
-    # by up to about sqrt(machine epsilon).
-    same = np.zeros(speed.shape, dtype=bool)
-    same[1:] = ((model[1:] == model[:-1])
-                & (np.abs(np.diff(speed)) <= DOUBLE_ROOT_GAP * (1.0 + np.abs(speed[1:]))))
-    genuine &= ~same
-    keep = np.nonzero(genuine)[0]
-    labels = crossing_modes(kind, coefficients, model[keep], speed[keep], lam[keep],
-                            vectors[keep], branch[keep])
-    return {"model": model[keep], "speed": speed[keep], "value": value[keep],
-            "kind": np.full(keep.shape, kind), "method": method[keep].astype("<U27"),
-            "mode": labels}
-
-
-def _merge(parts: list[dict[str, NDArray]]) -> dict[str, NDArray]:
-    merged = {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
-    order = np.lexsort((merged["speed"], merged["model"]))
-    return {key: array[order] for key, array in merged.items()}
-
-
-def _merge_touches(found: dict[str, NDArray]) -> dict[str, NDArray]:
-    """One tangential root where rounding split it in two neighbouring touches of one kind."""
-    model, speed, kind, direction = found["model"], found["speed"], found["kind"], found["direction"]
-    twin = np.zeros(speed.shape, dtype=bool)
-    twin[1:] = ((model[1:] == model[:-1]) & (kind[1:] == kind[:-1]) & (direction[1:] == "touch")
-                & (direction[:-1] == "touch")
-                & (np.diff(speed) <= REFINE_WINDOW * (1.0 + np.abs(speed[1:]))))
-    if not np.any(twin):
-        return found
-    first = np.nonzero(twin)[0] - 1
-    found = {key: array.copy() for key, array in found.items()}
-    found["speed"][first] = 0.5 * (speed[first] + speed[first + 1])
-    return {key: array[~twin] for key, array in found.items()}
-
-
-def _directions(found: dict[str, NDArray], coefficients: NDArray[np.float64]) -> NDArray[np.str_]:
-    """Sign of the crossing eigenvalue's real part just below and above each root."""
-    model, speed, value = found["model"], found["speed"], found["value"]
-    if speed.size == 0:
-        return np.zeros(0, dtype="<U13")
-    same = np.concatenate([[False], model[1:] == model[:-1]])
-    gap_below = np.where(same, np.diff(speed, prepend=-np.inf), np.inf)
-    gap_above = np.concatenate([gap_below[1:], [np.inf]])
-    gap = np.minimum(gap_below, gap_above)
-    gap = np.where(gap > 0, gap, np.inf)
-    delta = np.minimum(SIDE_STEP * (1.0 + np.abs(speed)), 0.25 * gap)
-    both = _eigenvalues_at(coefficients, np.concatenate([model, model]),
-                           np.concatenate([speed - delta, speed + delta]))
-    below, above = both[:speed.size], both[speed.size:]
-    rows = np.arange(speed.size)
-    re_below = below[rows, _nearest(below, value)].real
-    re_above = above[rows, _nearest(above, value)].real
-    return np.select([(re_below < 0) & (re_above > 0), (re_below > 0) & (re_above < 0)],
-                     ["destabilising", "stabilising"], default="touch")
 
 
 def _stable_segments(found: dict[str, NDArray], characteristic: NDArray[np.float64],

@@ -35,13 +35,6 @@ def _is_real(values: NDArray[np.complex128]) -> NDArray[np.bool_]:
     return np.abs(values.imag) <= modes.REAL_TOLERANCE * (1.0 + np.abs(values))
 
 
-def _roll_share(vectors: NDArray[np.complex128]) -> NDArray[np.float64]:
-    amplitude = np.abs(vectors[..., :2, :])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        share = amplitude[..., 0, :] / (amplitude[..., 0, :] + amplitude[..., 1, :])
-    return np.where(np.isfinite(share), share, 0.5)
-
-
 def _joins_weave(coefficients: NDArray[np.float64], speed: NDArray[np.float64],
                  eigenvalues: NDArray[np.complex128], branch: NDArray[np.intp]
                  ) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
@@ -84,7 +77,7 @@ def _state_matrices(coefficients: NDArray[np.float64], model: NDArray[np.intp],
 
 def crossing_modes(kind: str, coefficients: NDArray[np.float64], model: NDArray[np.intp],
                    speed: NDArray[np.float64], eigenvalues: NDArray[np.complex128],
-                   vectors: NDArray[np.complex128], branch: NDArray[np.intp]) -> NDArray[np.str_]:
+                   share: NDArray[np.float64], branch: NDArray[np.intp]) -> NDArray[np.str_]:
     """Label of the crossing eigenvalue at each root (see the module docstring).
 
     Parameters
@@ -99,8 +92,8 @@ def crossing_modes(kind: str, coefficients: NDArray[np.float64], model: NDArray[
         The roots [m/s].
     eigenvalues : ndarray, shape (R, n), complex
         Eigenvalues [1/s] of A at each root.
-    vectors : ndarray, shape (R, n, n), complex
-        The matching eigenvectors (columns).
+    share : ndarray, shape (R, n)
+        ``|roll| / (|roll| + |steer|)`` of each eigenvector (angles in rad).
     branch : ndarray of int, shape (R,)
         Index of the crossing eigenvalue in `eigenvalues`.
 
@@ -133,7 +126,6 @@ def crossing_modes(kind: str, coefficients: NDArray[np.float64], model: NDArray[
     upper = value.real >= eigenvalues[rows, partner].real
     labels[in_weave] = np.where(upper, modes.WEAVE_UPPER, modes.WEAVE_LOWER)[in_weave]
     # Real modes outside the weave group.
-    share = _roll_share(vectors)
     outside = real.copy()
     outside[in_weave, branch[in_weave]] = False
     outside[in_weave, partner[in_weave]] = False

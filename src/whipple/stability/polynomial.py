@@ -227,7 +227,13 @@ def conditions(coefficients: NDArray[np.float64]) -> Conditions:
     else:
         a = _general_characteristic(coefficients)
         hopf = _hurwitz_determinant(a, n - 1)
-    return Conditions(a, hopf, a[:, n].copy())
+    return Conditions(_trim(a), _trim(hopf), _trim(a[:, n]))
+
+
+def _trim(p: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Drop trailing coefficient columns that are zero in every polynomial of the batch."""
+    used = np.nonzero(np.any(p.reshape(-1, p.shape[-1]) != 0, axis=0))[0]
+    return p[..., :used[-1] + 1] if used.size else p[..., :1]
 
 
 def characteristic_at(characteristic: NDArray[np.float64], speeds: NDArray[np.float64]

@@ -139,6 +139,8 @@ def _polish(polys: NDArray[np.float64], model: NDArray[np.intp], speed: NDArray[
             trial = speed - step
             trial_value, _ = evaluate(target, trial)
             better = np.isfinite(trial) & (np.abs(trial_value) < np.abs(value))
+            if not np.any(better):
+                break
             moved |= better & (trial != speed)
             speed = np.where(better, trial, speed)
             value = np.where(better, trial_value, value)
@@ -162,6 +164,8 @@ def real_roots(polys: NDArray[np.float64], low: float, high: float, polish: bool
     -------
     PolynomialRoots
     """
+    nonzero = np.nonzero(np.any(polys != 0, axis=0))[0]
+    polys = polys[:, :nonzero[-1] + 1] if nonzero.size else polys[:, :1]
     working, even = _reduce(polys)
     row, root, method = _roots_by_degree(working)
     scale = np.maximum(np.abs(root), 1e-300)

@@ -311,21 +311,21 @@ def directions(found: dict[str, NDArray], coefficients: NDArray[np.float64],
     result = np.where(rate.real > 0, "destabilising", "stabilising").astype("<U13")
     doubt = np.nonzero(~clear)[0]
     if doubt.size:
-        result[doubt] = _side_directions(found, coefficients)[doubt]
+        result[doubt] = _side_directions(found, coefficients, doubt)
     return result
 
 
-def _side_directions(found: dict[str, NDArray], coefficients: NDArray[np.float64]) -> NDArray[np.str_]:
-    """Sign of the crossing eigenvalue's real part just below and above each root."""
+def _side_directions(found: dict[str, NDArray], coefficients: NDArray[np.float64],
+                     subset: NDArray[np.intp]) -> NDArray[np.str_]:
+    """Sign of the crossing eigenvalue's real part just below and above the roots `subset`."""
     model, speed, value = found["model"], found["speed"], found["value"]
-    if speed.size == 0:
-        return np.zeros(0, dtype="<U13")
     same = np.concatenate([[False], model[1:] == model[:-1]])
     gap_below = np.where(same, np.diff(speed, prepend=-np.inf), np.inf)
     gap_above = np.concatenate([gap_below[1:], [np.inf]])
     gap = np.minimum(gap_below, gap_above)
     gap = np.where(gap > 0, gap, np.inf)
-    delta = np.minimum(SIDE_STEP * (1.0 + np.abs(speed)), 0.25 * gap)
+    delta = np.minimum(SIDE_STEP * (1.0 + np.abs(speed)), 0.25 * gap)[subset]
+    model, speed, value = model[subset], speed[subset], value[subset]
     both = _eigenvalues_at(coefficients, np.concatenate([model, model]),
                            np.concatenate([speed - delta, speed + delta]))
     below, above = both[:speed.size], both[speed.size:]

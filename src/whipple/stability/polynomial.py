@@ -222,8 +222,8 @@ def conditions(coefficients: NDArray[np.float64]) -> Conditions:
     n = coefficients.shape[-1]
     if is_second_order(coefficients):
         a = _second_order_characteristic(coefficients)
-        hopf = add(multiply(multiply(a[:, 1], a[:, 2]), a[:, 3]),
-                   -multiply(a[:, 3], a[:, 3]), -multiply(multiply(a[:, 1], a[:, 1]), a[:, 4]))
+        a1, a2, a3, a4 = (_trim(a[:, k]) for k in range(1, 5))
+        hopf = add(multiply(multiply(a1, a2), a3), -multiply(a3, a3), -multiply(multiply(a1, a1), a4))
     else:
         a = _general_characteristic(coefficients)
         hopf = _hurwitz_determinant(a, n - 1)
@@ -261,6 +261,12 @@ def hurwitz_stable(a: NDArray[np.float64]) -> NDArray[np.bool_]:
         size = np.max(np.log2(np.maximum(np.abs(a[:, 1:]), 1e-300)) / k, axis=-1)
     sigma = 2.0 ** np.round(size)
     scaled = a * sigma[:, None] ** -np.arange(width)
+    if n == 4:
+        # The bicycle's quartic: the Hurwitz minors written out (monic, so Delta_1 = a_1).
+        a1, a2, a3, a4 = scaled[:, 1], scaled[:, 2], scaled[:, 3], scaled[:, 4]
+        delta2 = a1 * a2 - a3
+        delta3 = delta2 * a3 - a1 * a1 * a4
+        return (a1 > 0) & (a4 > 0) & (delta2 > 0) & (delta3 > 0)
     matrix = np.zeros((count, n, n))
     for (row, column), index in hurwitz_entries(n).items():
         matrix[:, row, column] = scaled[:, index]

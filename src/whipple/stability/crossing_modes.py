@@ -7,10 +7,9 @@ the root, with the same rules read locally:
 * a complex pair (Hopf root) is the ``weave`` when it has the lowest frequency of the complex
   pairs there, else ``mode_<k>`` (k its column after the weave pair and the real modes);
 * a real eigenvalue belongs to the weave group when, followed over speed from the root (a short
-  fixed path, :data:`PATH_POINTS` speeds up to ``max(3 v, v + 10 m/s)``, tracked by
-  :func:`whipple.stability.modes.track`), it merges with another real eigenvalue into a complex
-  pair: then it is ``weave_real_upper`` or ``weave_real_lower`` by its rank against that partner;
-  this tracking is needed only where no complex pair exists at the root;
+  fixed path, :data:`PATH_POINTS` speeds up to ``max(3 v, v + 10 m/s)``), it merges with another
+  real eigenvalue into a complex pair: then it is ``weave_real_upper`` or ``weave_real_lower`` by
+  its rank against that partner; this is needed only where no complex pair exists at the root;
 * otherwise, of the real eigenvalues outside the weave group, ``capsize`` is the one with the
   largest real part among the roll-dominated ones (``|roll| >= |steer|`` in the eigenvector, both
   in rad; among all if none is), ``castering`` the most steer-dominated of the rest, anything
@@ -28,7 +27,7 @@ from numpy.typing import NDArray
 from whipple.stability import modes
 
 #: Speeds on the path along which a real crossing eigenvalue is followed.
-PATH_POINTS = 96
+PATH_POINTS = 24
 
 
 def _is_real(values: NDArray[np.complex128]) -> NDArray[np.bool_]:
@@ -40,31 +39,37 @@ def _joins_weave(coefficients: NDArray[np.float64], speed: NDArray[np.float64],
                  ) -> tuple[NDArray[np.bool_], NDArray[np.intp]]:
     """Follow eigenvalue `branch` forward in speed: whether it becomes complex, and with whom.
 
-    `coefficients` (R, T, n, n) are those of each root's model; returns, per root, whether the
-    branch becomes complex and the index (at the root) of the eigenvalue it pairs with.
+    `coefficients` (R, T, n, n) are those of each root's model; every eigenvalue is real at the
+    root. Real eigenvalues of a real matrix family keep their order until two of them merge
+    into a complex pair, so no tracking is needed: at the first path speed with fewer real
+    eigenvalues, the two real ones of the previous speed that have no counterpart left are
+    the merged pair, and ranks at the root identify them. Returns, per root, whether the
+    branch is one of them and the index (at the root) of the other.
     """
     count, n = eigenvalues.shape
+    rows = np.arange(count)
     top = np.maximum(3.0 * np.abs(speed), np.abs(speed) + 10.0) * np.where(speed < 0, -1.0, 1.0)
-    fractions = np.linspace(0.0, 1.0, PATH_POINTS)[1:] ** 2
+    fractions = np.linspace(0.0, 1.0, PATH_POINTS + 1)[1:] ** 2
     path = speed[:, None] + (top - speed)[:, None] * fractions
-    A = _state_matrices(coefficients, np.repeat(np.arange(count), fractions.size), path.ravel())
+    A = _state_matrices(coefficients, np.repeat(rows, fractions.size), path.ravel())
     walk = np.concatenate([eigenvalues[:, None],
                            np.linalg.eigvals(A).reshape(count, fractions.size, n)], axis=1)
-    order = modes.track(walk)
-    tracked = np.take_along_axis(walk, order, axis=-1)
-    # Branch positions at the root: order[:, 0] maps branch -> position there.
-    mine = np.argmax(order[:, 0] == branch[:, None], axis=-1)
-    rows = np.arange(count)
-    own = tracked[rows, :, mine]
-    complex_ = ~_is_real(own)
-    becomes = np.any(complex_, axis=-1)
-    first = np.argmax(complex_, axis=-1)
-    at_first = tracked[rows, first]
-    gap = np.abs(at_first - np.conj(own[rows, first])[:, None])
-    gap[rows, mine] = np.inf
-    partner_branch = np.argmin(gap, axis=-1)
-    partner = order[rows, 0, partner_branch]
-    return becomes, partner
+    real = _is_real(walk)
+    fewer = np.sum(real, axis=-1) < n
+    becomes = np.any(fewer, axis=-1)
+    after = np.where(becomes, np.argmax(fewer, axis=-1), 1)
+    before = np.sort(walk[rows, after - 1].real, axis=-1)
+    left = np.where(real[rows, after], walk[rows, after].real, np.nan)
+    with np.errstate(invalid="ignore"):
+        distance = np.nanmin(np.abs(before[:, :, None] - left[:, None, :]), axis=-1,
+                             initial=np.inf)
+    merged = np.argsort(-np.where(np.isfinite(distance), distance, np.inf), axis=-1)[:, :2]
+    rank = np.argsort(np.argsort(eigenvalues.real, axis=-1), axis=-1)
+    own = rank[rows, branch]
+    joins = becomes & np.any(merged == own[:, None], axis=-1)
+    other_rank = np.where(merged[:, 0] == own, merged[:, 1], merged[:, 0])
+    partner = np.argmax(rank == other_rank[:, None], axis=-1)
+    return joins, partner
 
 
 def _state_matrices(coefficients: NDArray[np.float64], model: NDArray[np.intp],

@@ -24,7 +24,7 @@ from grid_critical import dense_check
 from whipple.model.assembly import build_linear_model
 from whipple.model.linear import second_order_model
 from whipple.model.parameters import Controller, Extensions, TyreCompliance, load_bicycle
-from whipple.stability.critical import critical_speeds_batch
+from whipple.stability.critical import critical_speed_table, critical_speeds_batch
 from whipple.stability.eigen import eigen_analysis
 
 DATA = Path(__file__).parent / "data" / "bicycleparameters" / "bicycles"
@@ -144,3 +144,18 @@ def test_crossing_modes_match_the_grid_labels_on_benchmark_like_bicycles() -> No
             assert crossing.mode == grid.labels[k][column], (index, crossing)
             checked += 1
     assert checked > 120
+
+
+def test_the_array_table_equals_the_result_objects() -> None:
+    rng = np.random.default_rng(9)
+    model = build_linear_model(perturbed(rng, 120, 0.25))
+    results = critical_speeds_batch(model, 0.0, 12.0, chunk_size=40)
+    table = critical_speed_table(model, 0.0, 12.0, chunk_size=40)
+    for index, result in enumerate(results):
+        for name in ("weave_speed", "capsize_speed"):
+            value = getattr(result, name)
+            assert (np.isnan(getattr(table, name)[index]) if value is None
+                    else getattr(table, name)[index] == value)
+        mine = table.range_model == index
+        assert list(zip(table.range_low[mine].tolist(), table.range_high[mine].tolist(),
+                        strict=True)) == list(result.stable_speed_ranges)

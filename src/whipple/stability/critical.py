@@ -317,9 +317,9 @@ def _first_per_model(model: NDArray[np.intp], values: NDArray[np.float64],
     return out
 
 
-def _package_all(found: dict[str, NDArray], segments: dict[str, NDArray], count: int,
-                 low: float, high: float) -> list[CriticalSpeeds]:
-    """Assemble the results of all `count` models from the chunk's flat arrays (sorted by model).
+def _main_speeds(found: dict[str, NDArray], segments: dict[str, NDArray], count: int
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], dict[str, NDArray]]:
+    """Weave and capsize speed of every model (NaN for none) and the stable segments.
 
     The weave (capsize) speed is the start (end) of the longest stable range when a Hopf (real)
     crossing bounds it there, whatever the mode's label (with a controller the modes need not
@@ -341,6 +341,71 @@ def _package_all(found: dict[str, NDArray], segments: dict[str, NDArray], count:
     weave_speed[seg_model[below]] = start[below]
     above = main[segments["real_end"][stable][main]]
     capsize_speed[seg_model[above]] = end[above]
+    ranges = {"model": seg_model, "low": start, "high": end, "weave": weave, "capsize": capsize}
+    return weave_speed, capsize_speed, ranges
+
+
+@dataclass(frozen=True)
+class CriticalSpeedTable:
+    """Weave and capsize speeds and stable ranges of many models, as arrays (no objects).
+
+    Attributes
+    ----------
+    weave_speed, capsize_speed : ndarray, shape (N,)
+        As :attr:`CriticalSpeeds.weave_speed` and ``capsize_speed`` [m/s]; NaN for none.
+    range_model : ndarray of int, shape (R,)
+        Model (C-order index in the batch) of each stable range, ascending.
+    range_low, range_high : ndarray, shape (R,)
+        Ends [m/s] of each stable range, by increasing speed within a model.
+    """
+
+    weave_speed: NDArray[np.float64]
+    capsize_speed: NDArray[np.float64]
+    range_model: NDArray[np.intp]
+    range_low: NDArray[np.float64]
+    range_high: NDArray[np.float64]
+
+
+def critical_speed_table(model: LinearModel, low: float = 0.0, high: float = 10.0, *,
+                         polish: bool = True, chunk_size: int = CHUNK_SIZE) -> CriticalSpeedTable:
+    """Return the speeds of :func:`critical_speeds_batch` as arrays, for sweeps of many models.
+
+    Same solver and numbers, without building a :class:`CriticalSpeeds` per model (which is
+    most of the cost of a large batch).
+
+    Parameters
+    ----------
+    model : LinearModel
+        Models with any batch shape.
+    low, high, polish, chunk_size
+        As for :func:`critical_speeds_batch` (speeds in m/s).
+
+    Returns
+    -------
+    CriticalSpeedTable
+    """
+    _check_interval(low, high)
+    check_model(model)
+    n, terms = model.n_states, model.A.shape[-3]
+    coefficients = model.A.reshape(-1, terms, n, n)
+    chunk_size = max(1, int(chunk_size * 16 / n**2))
+    parts = []
+    for start in range(0, coefficients.shape[0], chunk_size):
+        chunk = coefficients[start:start + chunk_size]
+        found = crossing_arrays(chunk, float(low), float(high), polish)
+        segments = _stable_segments(found, found["characteristic"], chunk.shape[0], low, high)
+        weave, capsize, ranges = _main_speeds(found, segments, chunk.shape[0])
+        parts.append((weave, capsize, ranges["model"] + start, ranges["low"], ranges["high"]))
+    return CriticalSpeedTable(*(np.concatenate([part[k] for part in parts]) for k in range(5)))
+
+
+def _package_all(found: dict[str, NDArray], segments: dict[str, NDArray], count: int,
+                 low: float, high: float) -> list[CriticalSpeeds]:
+    """Assemble the results of all `count` models from the chunk's flat arrays (sorted by model)."""
+    model, speed = found["model"], found["speed"]
+    weave_speed, capsize_speed, ranges_ = _main_speeds(found, segments, count)
+    weave, capsize = ranges_["weave"], ranges_["capsize"]
+    seg_model, start, end = ranges_["model"], ranges_["low"], ranges_["high"]
 
     crossings = [_instance(Crossing, speed=v, kind=k, mode=m, direction=d, eigenvalue=e, method=t)
                  for v, k, m, d, e, t in zip(

@@ -221,7 +221,9 @@ def verify_roots(kind: str, coefficients: NDArray[np.float64], model: NDArray[np
         if np.any(closed):
             from_char = characteristic_at_roots(coefficients, model[closed], speed[closed])
             lam[closed], genuine[closed] = _closed_form(kind, from_char)
-            share[closed] = _null_shares(coefficients[model[closed]], speed[closed], lam[closed])
+            if kind == "real":  # Hopf labels need no eigenvectors
+                share[closed] = _null_shares(coefficients[model[closed]], speed[closed],
+                                             lam[closed])
     rest = ~closed
     lam[rest], share[rest], branch[rest], genuine[rest] = _by_eig(
         kind, coefficients[model[rest]], speed[rest], near[rest])

@@ -159,3 +159,16 @@ def test_the_array_table_equals_the_result_objects() -> None:
         mine = table.range_model == index
         assert list(zip(table.range_low[mine].tolist(), table.range_high[mine].tolist(),
                         strict=True)) == list(result.stable_speed_ranges)
+
+
+def test_negative_speeds_and_the_crossing_at_rest() -> None:
+    # Whipple models are odd in v (lambda(-v) = -lambda(v)): a weave that is a pure imaginary
+    # pair at v = 0 crosses there, where a1 = a3 = 0 and the closed form is undefined. The
+    # dense grid avoids v = 0 itself, where the count of unstable eigenvalues is not defined.
+    model = build_linear_model(perturbed(np.random.default_rng(4), 200, 0.25))
+    coefficients = model.A.reshape((-1,) + model.A.shape[-3:])
+    results = critical_speeds_batch(model, -10.0, 10.0)
+    report = dense_check(results, coefficients, -10.0, 10.0, 1000)
+    assert sum(c.speed == 0.0 for r in results for c in r.crossings) > 20
+    for key in CHECKS:
+        assert report[key] == 0, report

@@ -168,12 +168,14 @@ def _by_eig(kind: str, coefficients: NDArray[np.float64], speed: NDArray[np.floa
     share = np.where(np.isfinite(share), share, 0.5)
     rows = np.arange(speed.size)
     if kind == "hopf":
-        first, second = np.triu_indices(n, 1)
-        pair = np.argmin(np.abs(lam[:, first] + lam[:, second]), axis=-1)
-        one, other = first[pair], second[pair]
-        branch = np.where(lam[rows, one].imag > 0, one, other)
+        # The pair on the axis: of the complex-conjugate pairs, the one with the smallest
+        # real part (two real eigenvalues of opposite sign also sum to zero, and at v = 0 the
+        # Whipple model may have both at once).
+        size = 1.0 + np.abs(lam)
+        upper = lam.imag > modes.REAL_TOLERANCE * size
+        branch = np.argmin(np.where(upper, np.abs(lam.real), np.inf), axis=-1)
         value = lam[rows, branch]
-        genuine = np.abs(value.imag) > modes.REAL_TOLERANCE * (1.0 + np.abs(value))
+        genuine = upper[rows, branch]
         on_axis = np.abs(value.real)
     else:
         branch = np.argmin(np.abs(lam), axis=-1)
@@ -220,6 +222,11 @@ def verify_roots(kind: str, coefficients: NDArray[np.float64], model: NDArray[np
         closed = ~near
         if np.any(closed):
             from_char = characteristic_at_roots(coefficients, model[closed], speed[closed])
+            if kind == "hopf":
+                # a_1 = 0 (e.g. at v = 0) leaves w^2 = a_3 / a_1 undefined: use eig there.
+                defined = from_char[:, 1] != 0
+                closed[np.nonzero(closed)[0][~defined]] = False
+                from_char = from_char[defined]
             lam[closed], genuine[closed] = _closed_form(kind, from_char)
             if kind == "real":  # Hopf labels need no eigenvectors
                 share[closed] = _null_shares(coefficients[model[closed]], speed[closed],

@@ -18,12 +18,13 @@ The method, batched over bicycles, with no speed grid (its cost does not depend 
 2. all their real roots in ``[low, high]`` (:mod:`whipple.stability.polyroots`): closed form for
    the Whipple model's quadratics in v^2, companion-matrix eigenvalues otherwise, polished by
    Newton's method;
-3. each root verified on the eigenvalues there: a Hopf root where the pair summing to zero is two
-   real eigenvalues of opposite sign (not an axis crossing; e.g. at v = 0 for the Whipple model)
-   is dropped, as is a candidate whose eigenvalue is not on the axis. The eigenvalues just
-   either side give the direction; a tangential root (an eigenvalue touching the axis without
-   crossing) is reported with direction ``touch`` and splits a stable range, since stability is
-   not asymptotic at that single speed;
+3. each root verified on the spectrum there (:mod:`whipple.stability.root_spectrum`, in closed
+   form for 4-state models): a Hopf root where the pair summing to zero is two real
+   eigenvalues of opposite sign (not an axis crossing; e.g. at v = 0 for the Whipple model) is
+   dropped, as is a candidate whose eigenvalue is not on the axis. The sign of
+   ``Re d lambda / dv`` gives the direction; a tangential root (an eigenvalue touching the axis
+   without crossing) is reported with direction ``touch`` and splits a stable range, since
+   stability is not asymptotic at that single speed;
 4. the crossing mode named at the root (:mod:`whipple.stability.crossing_modes`);
 5. stability between consecutive crossings from the Routh-Hurwitz test at the midpoint
    (:func:`whipple.stability.polynomial.hurwitz_stable`), no eigenvalues.

@@ -137,6 +137,15 @@ def _closed_form(kind: str, a: NDArray[np.float64]
     if kind == "hopf":
         with np.errstate(divide="ignore", invalid="ignore"):
             w2 = a[:, 3] / a[:, 1]
+        # a_1 = a_3 = 0 (v = 0 for the Whipple model): s^4 + a_2 s^2 + a_4, so s^2 solves a
+        # quadratic; a pair is on the axis where a root s^2 = -w^2 is real and negative.
+        even = a[:, 1] == 0
+        if np.any(even):
+            disc = a[even, 2] ** 2 - 4.0 * a[even, 4]
+            lower = np.where(disc >= 0, 0.5 * (-a[even, 2] - np.sqrt(np.abs(disc))), np.nan)
+            upper = np.where(disc >= 0, 0.5 * (-a[even, 2] + np.sqrt(np.abs(disc))), np.nan)
+            # The lowest-frequency pair on the axis: the negative root nearest zero.
+            w2[even] = np.where(upper < 0, -upper, np.where(lower < 0, -lower, np.nan))
         genuine = np.isfinite(w2) & (w2 > 0)
         w = np.sqrt(np.where(genuine, w2, 0.0))
         genuine &= w > modes.REAL_TOLERANCE * (1.0 + w)
@@ -224,7 +233,7 @@ def verify_roots(kind: str, coefficients: NDArray[np.float64], model: NDArray[np
             from_char = characteristic_at_roots(coefficients, model[closed], speed[closed])
             if kind == "hopf":
                 # a_1 = 0 (e.g. at v = 0) leaves w^2 = a_3 / a_1 undefined: use eig there.
-                defined = from_char[:, 1] != 0
+                defined = (from_char[:, 1] != 0) | (from_char[:, 3] == 0)
                 closed[np.nonzero(closed)[0][~defined]] = False
                 from_char = from_char[defined]
             lam[closed], genuine[closed] = _closed_form(kind, from_char)

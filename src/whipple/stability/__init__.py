@@ -13,6 +13,8 @@ polynomial
     the Routh-Hurwitz test.
 polyroots
     All real roots of many polynomials in a speed interval at once.
+root_spectrum
+    The spectrum at each root: verification, direction and mode of a crossing.
 crossing_modes
     The mode that crosses at a critical speed, named at the root.
 critical

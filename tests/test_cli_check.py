@@ -66,6 +66,14 @@ def test_check_seed_bicycle_stable_between_weave_and_capsize(capsys):
     assert report["stable_speed_ranges"] == [[report["weave_speed"], report["capsize_speed"]]]
 
 
+def test_check_any_speed_range_width(capsys):
+    # The critical speeds have no speed grid: a range to 1e9 m/s gives the same crossings.
+    assert main(["check", "benchmark", "--json", "--speeds", "0:1e9"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert abs(report["weave_speed"] - 4.29238253634111) < 1e-12
+    assert report["stable_speed_ranges"] == [[report["weave_speed"], report["capsize_speed"]]]
+
+
 def test_check_speed_range_without_crossings(capsys):
     assert main(["check", "benchmark", "--json", "--speeds", "7:9"]) == 0
     report = json.loads(capsys.readouterr().out)

@@ -16,10 +16,12 @@ speed v [m/s]:
   ``det A = prod_i lambda_i`` vanishes. For the Whipple model ``det A = det(K0 + v^2 K2) /
   det M``.
 
-Both conditions are computed twice. In NumPy, batched, from eigenvalues (the products above):
-as accurate as the eigenvalues themselves, for bracketing roots on a speed grid. And as CasADi
+Both conditions are computed here twice. In NumPy, batched, from eigenvalues (the products
+above): as accurate as the eigenvalues themselves, for figures and tests. And as CasADi
 expressions, exact and differentiable in v and in any parameters, from the characteristic
-coefficients and the Hurwitz determinant, for ``casadi.rootfinder`` and for sensitivities. The
+coefficients and the Hurwitz determinant, for the sensitivities of
+:mod:`whipple.stability.uncertainty`. The critical-speed solver uses the same conditions as
+exact polynomials in v (:mod:`whipple.stability.polynomial`). The
 coefficients are sums of principal minors expanded without division; the Faddeev-LeVerrier
 recursion was tried and rejected: its rounding error grows like ``||A||^k`` and it moved the
 weave speed of a random bicycle with a stiff castering mode (eigenvalue -563 1/s) by
@@ -35,8 +37,8 @@ import casadi
 import numpy as np
 from numpy.typing import NDArray
 
-#: Options of the CasADi Newton solver used to polish roots: iterate until the step is at
-#: round-off level (residuals are scaled to be of order one on the bracketing grid).
+#: Options of the CasADi Newton solver (used by the uncertainty analysis): iterate until the
+#: step is at round-off level.
 NEWTON_OPTIONS: dict[str, Any] = {
     "abstol": 1e-15,
     "abstolStep": 1e-14,
@@ -220,20 +222,3 @@ def condition_functions(pattern: Pattern) -> casadi.Function:
     hopf, real = casadi_conditions(casadi_polynomial_matrix(coefficients, speed, pattern))
     return casadi.Function("conditions", [speed, coefficients], [hopf, real],
                            ["v", "c"], ["hopf", "real"])
-
-
-@lru_cache(maxsize=64)
-def condition_rootfinder(pattern: Pattern, kind: str, count: int) -> casadi.Function:
-    """Return a mapped CasADi Newton solver for ``condition(v, c) / scale = 0``, `count` roots at once.
-
-    Inputs ``(v0, c, scale)`` as rows/columns of `count` problems; output the roots [m/s].
-    """
-    terms, n = len(pattern), len(pattern[0])
-    conditions = condition_functions(pattern)
-    speed = casadi.SX.sym("v")
-    coefficients = casadi.SX.sym("c", terms * n * n)
-    scale = casadi.SX.sym("scale")
-    value = conditions(speed, coefficients)[0 if kind == "hopf" else 1]
-    residual = casadi.Function("residual", [speed, coefficients, scale], [value / scale])
-    solver = casadi.rootfinder("critical_speed", "newton", residual, NEWTON_OPTIONS)
-    return solver.map(count) if count > 1 else solver

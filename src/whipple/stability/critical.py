@@ -1,28 +1,36 @@
-"""Critical speeds and stable speed ranges of linear bicycle models.
+"""Critical speeds and stable speed ranges of linear bicycle models, from exact polynomial conditions.
 
 A model ``x' = A(v) x`` is asymptotically stable at speed v [m/s] when every eigenvalue of
 A(v) has a negative real part. Stability changes only where an eigenvalue crosses the
-imaginary axis, at a zero of one of two scalar conditions (:mod:`whipple.stability.characteristic`):
+imaginary axis, at a zero of one of two scalar conditions, both exact polynomials in v for every
+model of the package (:mod:`whipple.stability.polynomial`):
 
 * the Hopf condition (Hurwitz determinant Delta_(n-1)), where a complex pair crosses: for the
   bicycle the **weave speed**;
-* the real condition ``det A(v)``, where a real eigenvalue crosses zero: the **capsize speed**
-  (``det(K0 + v^2 K2) = 0`` for the Whipple model).
+* the real condition ``a_n = det(-A(v))``, where a real eigenvalue crosses zero: the **capsize
+  speed** (``det(K0 + v^2 K2) = 0`` for the Whipple model).
 
-Every zero in ``[low, high]`` is bracketed on a speed grid, refined, and solved with
-``casadi.rootfinder`` (:mod:`whipple.stability.roots`). Each root is then checked on the
-eigenvalues there: a Hopf root where the pair summing to zero is two real eigenvalues of
-opposite sign (not an axis crossing; e.g. at v = 0 for the Whipple model) is dropped. The
-eigenvalues just either side give the direction, and the tracked mode labels
-(:mod:`whipple.stability.modes`) say which mode crosses. Tangential roots (an eigenvalue touching the
-axis without crossing) are reported as crossings with direction ``touch``; a stable range is
-split at them since stability is not asymptotic at that single speed. Stable ranges are read
-off the eigenvalues at the midpoints between consecutive crossings.
+The method, batched over bicycles, with no speed grid (its cost does not depend on the width of
+``[low, high]``):
 
-As a safety net, stability on the grid is compared with the stable ranges; a change of
-stability between grid points without a crossing found is located by bisection on the
-largest real part (method ``eigenvalue-bisection``). The property tests check that this net
-is never needed on random bicycles.
+1. the characteristic coefficients, the Hopf and the real condition as polynomials in v, by
+   exact polynomial arithmetic on A's coefficients (:mod:`whipple.stability.polynomial`);
+2. all their real roots in ``[low, high]`` (:mod:`whipple.stability.polyroots`): closed form for
+   the Whipple model's quadratics in v^2, companion-matrix eigenvalues otherwise, polished by
+   Newton's method;
+3. each root verified on the spectrum there (:mod:`whipple.stability.root_spectrum`, in closed
+   form for 4-state models): a Hopf root where the pair summing to zero is two real
+   eigenvalues of opposite sign (not an axis crossing; e.g. at v = 0 for the Whipple model) is
+   dropped, as is a candidate whose eigenvalue is not on the axis. The sign of
+   ``Re d lambda / dv`` gives the direction; a tangential root (an eigenvalue touching the axis
+   without crossing) is reported with direction ``touch`` and splits a stable range, since
+   stability is not asymptotic at that single speed;
+4. the crossing mode named at the root (:mod:`whipple.stability.crossing_modes`);
+5. stability between consecutive crossings from the Routh-Hurwitz test at the midpoint
+   (:func:`whipple.stability.polynomial.hurwitz_stable`), no eigenvalues.
+
+The dense-grid method this replaced (eigenvalues on a 0.01 m/s grid, brackets, Newton) lives on
+as an independent check in the tests (tests/grid_critical.py).
 """
 
 from __future__ import annotations
@@ -37,16 +45,14 @@ from numpy.typing import NDArray
 from whipple.errors import InputError
 from whipple.model.linear import LinearModel
 from whipple.stability import modes
-from whipple.stability.eigen import check_model, tracked_eigenvalues, tracking_grid
-from whipple.stability.roots import KINDS, Roots, condition, find_roots, polynomial_matrices
+from whipple.stability.eigen import check_model
+from whipple.stability.polynomial import characteristic_at, conditions, hurwitz_stable
+from whipple.stability.polyroots import real_roots
+from whipple.stability.root_spectrum import directions, merge, merge_touches, verify_roots
 
-#: Largest |real part| [1/s, relative to 1 + |lambda|] of an eigenvalue accepted as touching
-#: the imaginary axis at a tangential root.
-TOUCH_TOLERANCE = 1e-9
-#: Offset [m/s, relative to 1 + |v|] either side of a root where the direction is read.
-SIDE_STEP = 1e-6
-#: Steps in which eigenvalues are followed from the nearest grid speed to a root.
-MODE_SUBSTEPS = 8
+#: Parameter sets of a 4-state model solved together (scaled by 16 / n^2 for n states).
+CHUNK_SIZE = 8192
+KINDS = ("hopf", "real")
 
 
 @dataclass(frozen=True)
@@ -67,8 +73,8 @@ class Crossing:
     eigenvalue : complex
         The eigenvalue on the axis at the crossing [1/s] (positive imaginary part for hopf).
     method : str
-        How the speed was solved: ``casadi-newton``, ``bisection``, ``grid`` (exactly on the
-        grid), ``touch`` (minimum of the condition) or ``eigenvalue-bisection``.
+        How the root was found: ``closed-form`` (a quadratic in v or v^2) or ``companion``
+        (companion-matrix eigenvalues), with ``+newton`` when Newton's method then moved it.
     """
 
     speed: float
@@ -150,15 +156,13 @@ class CriticalSpeeds:
         return lines
 
 
-def _check_interval(low: float, high: float, step: float) -> None:
+def _check_interval(low: float, high: float) -> None:
     if not (np.isfinite(low) and np.isfinite(high) and low < high):
         raise InputError(f"speed range must satisfy low < high, got {low}:{high}")
-    if not (np.isfinite(step) and step > 0):
-        raise InputError(f"speed step must be positive, got {step}")
 
 
 def critical_speeds(model: LinearModel, low: float = 0.0, high: float = 10.0, *,
-                    step: float = 0.01, polish: bool = True) -> CriticalSpeeds:
+                    step: float | None = None, polish: bool = True) -> CriticalSpeeds:
     """All critical speeds and stable speed ranges of one model between `low` and `high`.
 
     Parameters
@@ -166,12 +170,11 @@ def critical_speeds(model: LinearModel, low: float = 0.0, high: float = 10.0, *,
     model : LinearModel
         A single model (no batch); any number of states.
     low, high : float
-        Speed interval searched [m/s].
-    step : float
-        Spacing [m/s] of the grid on which roots are bracketed and modes tracked. Two
-        crossings closer than this are still found (see :mod:`whipple.stability.roots`).
+        Speed interval searched [m/s]; any finite width, at the same cost.
+    step : float, optional
+        Ignored (the solver has no speed grid); accepted so that older calls keep working.
     polish : bool
-        Solve each root with ``casadi.rootfinder`` (default); otherwise bisection only.
+        Polish each root by Newton's method on its polynomial (default).
 
     Returns
     -------
@@ -188,7 +191,8 @@ def critical_speeds(model: LinearModel, low: float = 0.0, high: float = 10.0, *,
 
 
 def critical_speeds_batch(model: LinearModel, low: float = 0.0, high: float = 10.0, *,
-                          step: float = 0.01, polish: bool = True, chunk_size: int = 256,
+                          step: float | None = None, polish: bool = True,
+                          chunk_size: int = CHUNK_SIZE,
                           progress: Callable[[int], None] | None = None
                           ) -> list[CriticalSpeeds]:
     """:func:`critical_speeds` for every parameter set of a batched model, vectorised.
@@ -200,8 +204,7 @@ def critical_speeds_batch(model: LinearModel, low: float = 0.0, high: float = 10
     low, high, step, polish
         As for :func:`critical_speeds` (speeds in m/s).
     chunk_size : int
-        Parameter sets of a 4-state model analysed together; scaled by 16 / n^2 for n states
-        (bounds memory to about ``chunk_size * 1e4 / step`` bytes for 10 m/s).
+        Parameter sets of a 4-state model solved together; scaled by 16 / n^2 for n states.
     progress : callable, optional
         Called with the number of parameter sets finished after each chunk.
 
@@ -210,222 +213,219 @@ def critical_speeds_batch(model: LinearModel, low: float = 0.0, high: float = 10
     list of CriticalSpeeds
         One per parameter set, in C order of ``model.batch_shape``.
     """
-    _check_interval(low, high, step)
+    del step
+    _check_interval(low, high)
     check_model(model)
     n, terms = model.n_states, model.A.shape[-3]
     coefficients = model.A.reshape(-1, terms, n, n)
-    grid = tracking_grid(np.array([low, high], dtype=float), step)
     chunk_size = max(1, int(chunk_size * 16 / n**2))
     results: list[CriticalSpeeds] = []
     for start in range(0, coefficients.shape[0], chunk_size):
         chunk = coefficients[start:start + chunk_size]
-        results += _analyse_chunk(chunk, grid, float(low), float(high), polish)
+        results += _analyse_chunk(chunk, float(low), float(high), polish)
         if progress is not None:
             progress(len(results))
     return results
 
 
-def _analyse_chunk(coefficients: NDArray[np.float64], grid: NDArray[np.float64], low: float,
-                   high: float, polish: bool) -> list[CriticalSpeeds]:
-    count, _, n, _ = coefficients.shape
-    chunk_model = LinearModel(coefficients, np.zeros(coefficients.shape[:2] + (n, 1)))
-    A = chunk_model.state_matrix(grid)
-    tracked = tracked_eigenvalues(A, grid, vectors=False)
-    size = np.max(np.linalg.norm(A, axis=(-2, -1)), axis=1) / np.sqrt(n)
-    scale = np.asarray(2.0 ** np.round(np.log2(np.where(size > 0, size, 1.0))), dtype=float)
-    inside = (grid >= low) & (grid <= high)
-    crossings = []
-    for kind in KINDS:
-        values = condition(kind, tracked["eigenvalues"][:, inside] / scale[:, None, None])
-        roots = find_roots(kind, coefficients, scale, grid[inside], values, polish)
-        crossings.append(_verify(kind, roots, coefficients, tracked, grid))
-    found = _safety_net(_merge(crossings), coefficients, tracked, grid, inside)
-    directions = _directions(found, coefficients)
-    segments = _stable_segments(found, coefficients, count, low, high)
-    return [_package(found, directions, segments, index, low, high) for index in range(count)]
+def crossing_arrays(coefficients: NDArray[np.float64], low: float, high: float,
+                    polish: bool = True) -> dict[str, NDArray]:
+    """Every verified crossing of a batch of models, as flat arrays sorted by (model, speed).
 
+    Parameters
+    ----------
+    coefficients : ndarray, shape (B, T, n, n)
+        Polynomial coefficients of the state matrices, constant term first.
+    low, high : float
+        Speed interval [m/s].
+    polish : bool
+        Newton polishing of the roots.
 
-def _eigenvalues_at(coefficients: NDArray[np.float64], model: NDArray[np.intp],
-                    speed: NDArray[np.float64]) -> NDArray[np.complex128]:
-    if speed.size == 0:
-        return np.zeros((0, coefficients.shape[-1]), dtype=complex)
-    return np.asarray(np.linalg.eigvals(polynomial_matrices(coefficients[model], speed)),
-                      dtype=complex)
-
-
-def _nearest(values: NDArray[np.complex128], target: NDArray[np.complex128]) -> NDArray[np.intp]:
-    return np.argmin(np.abs(values - target[:, None]), axis=-1)
-
-
-def _verify(kind: str, roots: Roots, coefficients: NDArray[np.float64],
-            tracked: dict[str, NDArray], grid: NDArray[np.float64]) -> dict[str, NDArray]:
-    """Keep the roots where an eigenvalue is on the imaginary axis; name its mode."""
-    lam = _eigenvalues_at(coefficients, roots.model, roots.speed)
-    rows = np.arange(lam.shape[0])
-    n = lam.shape[-1]
-    if kind == "hopf":
-        first, second = np.triu_indices(n, 1)
-        pair = np.argmin(np.abs(lam[:, first] + lam[:, second]), axis=-1)
-        one, other = lam[rows, first[pair]], lam[rows, second[pair]]
-        value = np.where(one.imag > 0, one, other)
-        genuine = np.abs(value.imag) > modes.REAL_TOLERANCE * (1.0 + np.abs(value))
-        on_axis = np.abs(value.real)
-    else:
-        value = lam[rows, np.argmin(np.abs(lam), axis=-1)]
-        genuine = np.abs(value.imag) <= modes.REAL_TOLERANCE * (1.0 + np.abs(value))
-        on_axis = np.abs(value)
-    touch = roots.method == "touch"
-    genuine &= ~touch | (on_axis <= TOUCH_TOLERANCE * (1.0 + np.abs(value)))
-    model, speed, value = roots.model[genuine], roots.speed[genuine], value[genuine]
-    return {"model": model, "speed": speed, "value": value,
-            "kind": np.full(speed.shape, kind), "method": roots.method[genuine],
-            "mode": _mode_of(kind, model, speed, value, coefficients, tracked, grid)}
-
-
-def _mode_of(kind: str, model: NDArray[np.intp], speed: NDArray[np.float64],
-             value: NDArray[np.complex128], coefficients: NDArray[np.float64],
-             tracked: dict[str, NDArray], grid: NDArray[np.float64]) -> NDArray[np.str_]:
-    """Label of the crossing eigenvalue `value` at each root.
-
-    The eigenvalues are tracked in a few small steps from the closest grid speed, where
-    labels are known, to the root; there a weave-group eigenvalue is renamed by what it is
-    at the root (complex: weave; real: upper or lower of the group's real ones).
+    Returns
+    -------
+    dict
+        ``model``, ``speed`` [m/s], ``value`` (eigenvalue on the axis [1/s]), ``kind``,
+        ``method``, ``mode``, ``direction``; plus ``conditions`` (the polynomials).
     """
-    if speed.size == 0:
-        return np.zeros(0, dtype="<U16")
-    after = np.clip(np.searchsorted(grid, speed), 1, grid.size - 1)
-    index = np.where(np.abs(grid[after - 1] - speed) <= np.abs(grid[after] - speed),
-                     after - 1, after)
-    fractions = np.linspace(0.0, 1.0, MODE_SUBSTEPS + 1)[1:]
-    path = grid[index, None] + (speed - grid[index])[:, None] * fractions
-    walk = _eigenvalues_at(coefficients, np.repeat(model, fractions.size), path.ravel())
-    walk = np.concatenate([tracked["eigenvalues"][model, index][:, None],
-                           walk.reshape(speed.size, fractions.size, -1)], axis=1)
-    order = modes.track(walk)
-    rows = np.arange(speed.size)
-    at_root = np.take_along_axis(walk[:, -1], order[:, -1], axis=-1)
-    codes = np.take_along_axis(tracked["codes"][model, index], order[:, 0], axis=-1)
-    branch = _nearest(at_root, value)
-    code = codes[rows, branch]
-    in_weave = codes <= modes.NAMES.index(modes.WEAVE_LOWER)
-    real = np.abs(at_root.imag) <= modes.REAL_TOLERANCE * (1.0 + np.abs(at_root))
-    higher = np.where(in_weave & real, at_root.real, -np.inf)
-    ranked_first = np.sum(higher > higher[rows, branch][:, None], axis=-1) == 0
-    renamed = np.where(~real[rows, branch], 0, np.where(ranked_first, 1, 2))
-    code = np.where(in_weave[rows, branch], renamed, code)
-    return modes.names(code)
+    polynomials = conditions(coefficients)
+    parts = []
+    for kind, poly in (("hopf", polynomials.hopf), ("real", polynomials.real)):
+        roots = real_roots(poly, low, high, polish)
+        parts.append(verify_roots(kind, coefficients, roots.model, roots.speed, roots.near,
+                                  roots.method))
+    found = merge(parts)
+    found["direction"] = directions(found, coefficients, polynomials.characteristic)
+    found = merge_touches(found)
+    return {**found, "characteristic": polynomials.characteristic}
 
 
-def _merge(parts: list[dict[str, NDArray]]) -> dict[str, NDArray]:
-    merged = {key: np.concatenate([part[key] for part in parts]) for key in parts[0]}
-    order = np.lexsort((merged["speed"], merged["model"]))
-    return {key: array[order] for key, array in merged.items()}
+def _analyse_chunk(coefficients: NDArray[np.float64], low: float, high: float,
+                   polish: bool) -> list[CriticalSpeeds]:
+    count = coefficients.shape[0]
+    found = crossing_arrays(coefficients, low, high, polish)
+    segments = _stable_segments(found, found["characteristic"], count, low, high)
+    return _package_all(found, segments, count, low, high)
 
 
-def _directions(found: dict[str, NDArray], coefficients: NDArray[np.float64]) -> NDArray[np.str_]:
-    """Sign of the crossing eigenvalue's real part just below and above each root."""
-    model, speed, value = found["model"], found["speed"], found["value"]
-    if speed.size == 0:
-        return np.zeros(0, dtype=str)
-    same = np.concatenate([[False], model[1:] == model[:-1]])
-    gap_below = np.where(same, np.diff(speed, prepend=-np.inf), np.inf)
-    gap_above = np.concatenate([gap_below[1:], [np.inf]])
-    gap = np.minimum(gap_below, gap_above)
-    gap = np.where(gap > 0, gap, np.inf)
-    delta = np.minimum(SIDE_STEP * (1.0 + np.abs(speed)), 0.25 * gap)
-    below = _eigenvalues_at(coefficients, model, speed - delta)
-    above = _eigenvalues_at(coefficients, model, speed + delta)
-    rows = np.arange(speed.size)
-    re_below = below[rows, _nearest(below, value)].real
-    re_above = above[rows, _nearest(above, value)].real
-    return np.select([(re_below < 0) & (re_above > 0), (re_below > 0) & (re_above < 0)],
-                     ["destabilising", "stabilising"], default="touch")
+def _stable_segments(found: dict[str, NDArray], characteristic: NDArray[np.float64],
+                     model_count: int, low: float, high: float) -> dict[str, NDArray]:
+    """Segments between consecutive crossings of every model and whether each is stable.
 
-
-def _stable_segments(found: dict[str, NDArray], coefficients: NDArray[np.float64],
-                     model_count: int, low: float, high: float
-                     ) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64],
-                                NDArray[np.bool_]]:
-    """Segments between consecutive crossings of every model and whether each is stable."""
-    inside = (found["speed"] > low) & (found["speed"] < high)
+    Stability at each segment's midpoint by the Routh-Hurwitz test on the characteristic
+    polynomial there (no crossing inside a segment, so it holds on the whole segment). Each
+    segment also says whether a (non-touch) Hopf crossing starts it and a real one ends it.
+    """
+    speed, moving = found["speed"], found["direction"] != "touch"
+    inside = (speed > low) & (speed < high)
     model = np.concatenate([found["model"][inside], np.arange(model_count),
                             np.arange(model_count)])
-    knots = np.concatenate([found["speed"][inside], np.full(model_count, low),
-                            np.full(model_count, high)])
+    knots = np.concatenate([speed[inside], np.full(model_count, low), np.full(model_count, high)])
+    flags = np.zeros(model_count)
+    hopf = np.concatenate([(moving & (found["kind"] == "hopf"))[inside], flags, flags])
+    real = np.concatenate([(moving & (found["kind"] == "real"))[inside], flags, flags])
     order = np.lexsort((knots, model))
-    model, knots = model[order], knots[order]
-    keep = np.concatenate([[True], (model[1:] != model[:-1]) | (knots[1:] != knots[:-1])])
-    model, knots = model[keep], knots[keep]
+    model, knots, hopf, real = model[order], knots[order], hopf[order], real[order]
+    first = np.concatenate([[True], (model[1:] != model[:-1]) | (knots[1:] != knots[:-1])])
+    starts = np.nonzero(first)[0]
+    hopf = np.maximum.reduceat(hopf, starts) > 0
+    real = np.maximum.reduceat(real, starts) > 0
+    model, knots = model[first], knots[first]
     segment = model[1:] == model[:-1]
     seg_model, start, end = model[:-1][segment], knots[:-1][segment], knots[1:][segment]
-    lam = _eigenvalues_at(coefficients, seg_model, 0.5 * (start + end))
-    return seg_model, start, end, np.max(lam.real, axis=-1, initial=-np.inf) < 0
+    a = characteristic_at(characteristic[seg_model], 0.5 * (start + end))
+    return {"model": seg_model, "start": start, "end": end, "stable": hurwitz_stable(a),
+            "hopf_start": hopf[:-1][segment], "real_end": real[1:][segment]}
 
 
-def _safety_net(found: dict[str, NDArray], coefficients: NDArray[np.float64],
-                tracked: dict[str, NDArray], grid: NDArray[np.float64],
-                inside: NDArray[np.bool_]) -> dict[str, NDArray]:
-    """Locate changes of stability between grid points that no crossing explains."""
-    speeds = grid[inside]
-    lam = tracked["eigenvalues"][:, inside]
-    largest = np.max(lam.real, axis=-1)
-    clear = np.abs(largest) > 1e-12 * (1.0 + np.max(np.abs(lam), axis=-1))
-    stable = largest < 0
-    change = clear[:, :-1] & clear[:, 1:] & (stable[:, :-1] != stable[:, 1:])
-    # Number of crossings found in each grid cell, from keys that sort by (model, speed).
-    span = float(speeds[-1] - speeds[0]) + 1.0
-    crossing_key = found["model"] * span + (found["speed"] - speeds[0])
-    cell_key = np.arange(coefficients.shape[0])[:, None] * span + (speeds - speeds[0])
-    position = np.searchsorted(crossing_key, cell_key)
-    explained = np.searchsorted(crossing_key, cell_key[:, 1:], side="right") > position[:, :-1]
-    model, index = np.nonzero(change & ~explained)
-    if model.size == 0:
-        return found
-    a, b = speeds[index], speeds[index + 1]
-    for _ in range(60):
-        middle = 0.5 * (a + b)
-        lam_mid = _eigenvalues_at(coefficients, model, middle)
-        same = (np.max(lam_mid.real, axis=-1) < 0) == stable[model, index]
-        a, b = np.where(same, middle, a), np.where(same, b, middle)
-    speed = 0.5 * (a + b)
-    lam_root = _eigenvalues_at(coefficients, model, speed)
-    value = lam_root[np.arange(speed.size), np.argmin(np.abs(lam_root.real), axis=-1)]
-    is_hopf = np.abs(value.imag) > modes.REAL_TOLERANCE * (1.0 + np.abs(value))
-    value = np.where(is_hopf, value.real + 1j * np.abs(value.imag), value)
-    mode = np.empty(speed.shape, dtype="<U16")
-    for kind, mask in (("hopf", is_hopf), ("real", ~is_hopf)):
-        mode[mask] = _mode_of(kind, model[mask], speed[mask], value[mask], coefficients,
-                              tracked, grid)
-    extra = {"model": model, "speed": speed, "value": value,
-             "kind": np.where(is_hopf, "hopf", "real"),
-             "method": np.full(speed.shape, "eigenvalue-bisection"), "mode": mode}
-    return _merge([found, extra])
+def _instance(cls: type, **fields: Any) -> Any:
+    """Return a frozen dataclass instance made without its __init__ (fields already checked).
+
+    Packaging is most of the cost of a large batch; filling ``__dict__`` directly gives the
+    same object, about twice as fast as the frozen ``__init__``.
+    """
+    instance: Any = object.__new__(cls)
+    instance.__dict__.update(fields)
+    return instance
 
 
-def _package(found: dict[str, NDArray], directions: NDArray[np.str_],
-             segments: tuple[NDArray, ...], index: int, low: float, high: float
-             ) -> CriticalSpeeds:
-    """Assemble the result of model `index` from the chunk's flat arrays."""
-    mine = found["model"] == index
-    crossings = tuple(
-        Crossing(float(speed), str(kind), str(mode), str(direction), complex(value),
-                 str(method))
-        for speed, kind, mode, direction, value, method in zip(
-            found["speed"][mine], found["kind"][mine], found["mode"][mine], directions[mine],
-            found["value"][mine], found["method"][mine], strict=True))
-    seg_model, start, end, stable = segments
-    ranges = tuple((float(a), float(b)) for a, b in zip(
-        start[(seg_model == index) & stable], end[(seg_model == index) & stable], strict=True))
-    weave = tuple(c.speed for c in crossings if c.mode == modes.WEAVE and c.kind == "hopf"
-                  and c.direction != "touch")
-    capsize = tuple(c.speed for c in crossings if c.mode == modes.CAPSIZE and c.kind == "real"
-                    and c.direction != "touch")
-    main = max(ranges, key=lambda r: r[1] - r[0]) if ranges else None
-    # The main range's bounds by kind of crossing: with a controller the oscillatory and real
-    # modes that bound it need not carry the uncontrolled bicycle's labels.
-    hopf = {c.speed for c in crossings if c.kind == "hopf" and c.direction != "touch"}
-    real = {c.speed for c in crossings if c.kind == "real" and c.direction != "touch"}
-    weave_speed = main[0] if main and main[0] in hopf else (weave[0] if weave else None)
-    capsize_speed = main[1] if main and main[1] in real else (capsize[0] if capsize else None)
-    return CriticalSpeeds(low, high, crossings, weave, capsize, ranges, weave_speed,
-                          capsize_speed)
+def _first_per_model(model: NDArray[np.intp], values: NDArray[np.float64],
+                     count: int) -> NDArray[np.float64]:
+    """Return the first of `values` of each model (sorted by model), NaN where there is none."""
+    out = np.full(count, np.nan)
+    if model.size:
+        first = np.concatenate([[True], model[1:] != model[:-1]])
+        out[model[first]] = values[first]
+    return out
+
+
+def _main_speeds(found: dict[str, NDArray], segments: dict[str, NDArray], count: int
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], dict[str, NDArray]]:
+    """Weave and capsize speed of every model (NaN for none) and the stable segments.
+
+    The weave (capsize) speed is the start (end) of the longest stable range when a Hopf (real)
+    crossing bounds it there, whatever the mode's label (with a controller the modes need not
+    look like the uncontrolled bicycle's); otherwise the first weave (capsize) crossing.
+    """
+    model, speed = found["model"], found["speed"]
+    moving = found["direction"] != "touch"
+    weave = moving & (found["mode"] == modes.WEAVE) & (found["kind"] == "hopf")
+    capsize = moving & (found["mode"] == modes.CAPSIZE) & (found["kind"] == "real")
+    stable = segments["stable"]
+    seg_model, start, end = (segments[key][stable] for key in ("model", "start", "end"))
+    # The longest stable range of each model (the first of equal ones).
+    order = np.lexsort((np.arange(seg_model.size), -(end - start), seg_model))
+    leading = np.concatenate([[True], seg_model[order][1:] != seg_model[order][:-1]])
+    main = order[leading[:order.size]]
+    weave_speed = _first_per_model(model[weave], speed[weave], count)
+    capsize_speed = _first_per_model(model[capsize], speed[capsize], count)
+    below = main[segments["hopf_start"][stable][main]]
+    weave_speed[seg_model[below]] = start[below]
+    above = main[segments["real_end"][stable][main]]
+    capsize_speed[seg_model[above]] = end[above]
+    ranges = {"model": seg_model, "low": start, "high": end, "weave": weave, "capsize": capsize}
+    return weave_speed, capsize_speed, ranges
+
+
+@dataclass(frozen=True)
+class CriticalSpeedTable:
+    """Weave and capsize speeds and stable ranges of many models, as arrays (no objects).
+
+    Attributes
+    ----------
+    weave_speed, capsize_speed : ndarray, shape (N,)
+        As :attr:`CriticalSpeeds.weave_speed` and ``capsize_speed`` [m/s]; NaN for none.
+    range_model : ndarray of int, shape (R,)
+        Model (C-order index in the batch) of each stable range, ascending.
+    range_low, range_high : ndarray, shape (R,)
+        Ends [m/s] of each stable range, by increasing speed within a model.
+    """
+
+    weave_speed: NDArray[np.float64]
+    capsize_speed: NDArray[np.float64]
+    range_model: NDArray[np.intp]
+    range_low: NDArray[np.float64]
+    range_high: NDArray[np.float64]
+
+
+def critical_speed_table(model: LinearModel, low: float = 0.0, high: float = 10.0, *,
+                         polish: bool = True, chunk_size: int = CHUNK_SIZE) -> CriticalSpeedTable:
+    """Return the speeds of :func:`critical_speeds_batch` as arrays, for sweeps of many models.
+
+    Same solver and numbers, without building a :class:`CriticalSpeeds` per model (which is
+    most of the cost of a large batch).
+
+    Parameters
+    ----------
+    model : LinearModel
+        Models with any batch shape.
+    low, high, polish, chunk_size
+        As for :func:`critical_speeds_batch` (speeds in m/s).
+
+    Returns
+    -------
+    CriticalSpeedTable
+    """
+    _check_interval(low, high)
+    check_model(model)
+    n, terms = model.n_states, model.A.shape[-3]
+    coefficients = model.A.reshape(-1, terms, n, n)
+    chunk_size = max(1, int(chunk_size * 16 / n**2))
+    parts = []
+    for start in range(0, coefficients.shape[0], chunk_size):
+        chunk = coefficients[start:start + chunk_size]
+        found = crossing_arrays(chunk, float(low), float(high), polish)
+        segments = _stable_segments(found, found["characteristic"], chunk.shape[0], low, high)
+        weave, capsize, ranges = _main_speeds(found, segments, chunk.shape[0])
+        parts.append((weave, capsize, ranges["model"] + start, ranges["low"], ranges["high"]))
+    return CriticalSpeedTable(*(np.concatenate([part[k] for part in parts]) for k in range(5)))
+
+
+def _package_all(found: dict[str, NDArray], segments: dict[str, NDArray], count: int,
+                 low: float, high: float) -> list[CriticalSpeeds]:
+    """Assemble the results of all `count` models from the chunk's flat arrays (sorted by model)."""
+    model, speed = found["model"], found["speed"]
+    weave_speed, capsize_speed, ranges_ = _main_speeds(found, segments, count)
+    weave, capsize = ranges_["weave"], ranges_["capsize"]
+    seg_model, start, end = ranges_["model"], ranges_["low"], ranges_["high"]
+
+    crossings = [_instance(Crossing, speed=v, kind=k, mode=m, direction=d, eigenvalue=e, method=t)
+                 for v, k, m, d, e, t in zip(
+                     speed.tolist(), found["kind"].tolist(), found["mode"].tolist(),
+                     found["direction"].tolist(), found["value"].astype(complex).tolist(),
+                     found["method"].tolist(), strict=True)]
+    ranges = list(zip(start.tolist(), end.tolist(), strict=True))
+    weave_list, capsize_list = speed[weave].tolist(), speed[capsize].tolist()
+    cuts = np.arange(count + 1)
+    bounds = np.searchsorted(model, cuts).tolist()
+    range_bounds = np.searchsorted(seg_model, cuts).tolist()
+    weave_bounds = np.searchsorted(model[weave], cuts).tolist()
+    capsize_bounds = np.searchsorted(model[capsize], cuts).tolist()
+    weave_main = [None if x != x else x for x in weave_speed.tolist()]
+    capsize_main = [None if x != x else x for x in capsize_speed.tolist()]
+    return [_instance(CriticalSpeeds, low=low, high=high,
+                      crossings=tuple(crossings[bounds[i]:bounds[i + 1]]),
+                      weave_speeds=tuple(weave_list[weave_bounds[i]:weave_bounds[i + 1]]),
+                      capsize_speeds=tuple(capsize_list[capsize_bounds[i]:capsize_bounds[i + 1]]),
+                      stable_speed_ranges=tuple(ranges[range_bounds[i]:range_bounds[i + 1]]),
+                      weave_speed=weave_main[i], capsize_speed=capsize_main[i])
+            for i in range(count)]

@@ -249,6 +249,13 @@ def _format(value: float | None) -> str:
     return "" if value is None else repr(float(value))
 
 
+def _quoted(cell: str) -> str:
+    """Write one CSV cell as the csv module does (quoted only if it must be)."""
+    buffer = io.StringIO()
+    csv.writer(buffer, lineterminator="").writerow([cell])
+    return buffer.getvalue()
+
+
 def analyse_chunk(task: SweepTask) -> ChunkResult:
     """Analyse one chunk of a table and format its rows of the results table.
 
@@ -257,17 +264,16 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     separated by ``;``, and the problem of a row that was not analysed.
     """
     problems, critical = analyse_sets(task.chunk, task.base, task.speed_range)
-    cells = [[repr(value) for value in row] for row in task.chunk.values.tolist()]
-    for row, result in enumerate(critical):
+    lines = []
+    for cells, result, problem in zip(task.chunk.values.tolist(), critical, problems, strict=True):
+        inputs = ",".join(map(repr, cells))
         if result is None:
-            cells[row] += ["", "", "", problems[row]]
+            lines.append(f"{inputs},,,,{_quoted(problem)}\n")
         else:
             ranges = ";".join(f"{low!r}:{high!r}" for low, high in result.stable_speed_ranges)
-            cells[row] += [_format(result.weave_speed), _format(result.capsize_speed), ranges, ""]
-    buffer = io.StringIO()
-    csv.writer(buffer, lineterminator="\n").writerows(cells)
+            lines.append(f"{inputs},{_format(result.weave_speed)},{_format(result.capsize_speed)},{ranges},\n")
     skipped = sum(1 for result in critical if result is None)
-    return ChunkResult(buffer.getvalue(), len(cells), skipped)
+    return ChunkResult("".join(lines), len(lines), skipped)
 
 
 def header_line(names: tuple[str, ...]) -> str:

@@ -114,7 +114,8 @@ def test_dask_cluster_gives_the_serial_output(tmp_path, capsys):
     _table(sets, 7, seed=5, bad=(2,))
     serial, on_cluster = tmp_path / "serial.csv", tmp_path / "cluster.csv"
     assert main(["sweep", str(sets), "-o", str(serial), "--quiet", "--chunk", "3"]) == 0
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) as cluster:
+    # Two threads in one worker process: tasks must not run in both at once (CasADi).
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
         assert main(["sweep", str(sets), "-o", str(on_cluster), "--quiet", "--chunk", "2",
                      "--scheduler", cluster.scheduler_address]) == 0
     assert serial.read_bytes() == on_cluster.read_bytes()
@@ -155,3 +156,14 @@ def test_serial_sweep_does_not_import_dask(tmp_path):
         assert not loaded, loaded
     """)
     subprocess.run([sys.executable, "-c", script], check=True, capture_output=True)
+
+
+@pytest.mark.slow
+def test_local_worker_processes_give_the_serial_output(tmp_path):
+    pytest.importorskip("distributed")
+    sets = tmp_path / "sets.csv"
+    _table(sets, 6, seed=8, bad=(1,))
+    serial, on_cluster = tmp_path / "serial.csv", tmp_path / "cluster.csv"
+    assert main(["sweep", str(sets), "-o", str(serial), "--quiet"]) == 0
+    assert main(["sweep", str(sets), "-o", str(on_cluster), "--quiet", "--chunk", "2", "--workers", "2"]) == 0
+    assert serial.read_bytes() == on_cluster.read_bytes()

@@ -16,6 +16,7 @@ from __future__ import annotations
 import collections
 import itertools
 import logging
+import threading
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, Generic, TypeVar
 
@@ -99,13 +100,16 @@ def map_ordered(function: Callable[[Task], Result], tasks: Iterable[Task], *,
 
     Notes
     -----
-    A task's exception is raised when its result is next in order.
+    A task's exception is raised when its result is next in order. Tasks run one at a time in
+    each worker process, whatever its number of threads: CasADi functions, which the analyses
+    use, are not safe to call from several threads at once (give workers one thread each, as
+    ``workers=N`` does, to use every core).
     """
     check_cluster_options(scheduler, workers)
     if scheduler is None and workers is None:
         return OrderedMap(map(function, tasks))
     client, cluster = _connect(scheduler, workers, processes)
-    return OrderedMap(_submitted(client, function, iter(tasks)), client, cluster)
+    return OrderedMap(_submitted(client, _OneAtATime(function), iter(tasks)), client, cluster)
 
 
 def _submitted(client: Any, function: Callable[[Task], Result], tasks: Iterator[Task]) -> Iterator[Result]:
@@ -121,6 +125,21 @@ def _submitted(client: Any, function: Callable[[Task], Result], tasks: Iterator[
     finally:
         for future in pending:
             future.cancel()
+
+
+#: Held while a task runs in a worker process (see :func:`map_ordered`).
+_TASK_LOCK = threading.Lock()
+
+
+class _OneAtATime(Generic[Task, Result]):
+    """`function`, called under this process's task lock (picklable if `function` is)."""
+
+    def __init__(self, function: Callable[[Task], Result]) -> None:
+        self.function = function
+
+    def __call__(self, task: Task) -> Result:
+        with _TASK_LOCK:
+            return self.function(task)
 
 
 class OrderedMap(Generic[Result]):

@@ -5,8 +5,8 @@ Tracking
     speeds of a fine grid each eigenvalue is matched to the nearest one at the next speed; where
     nearest neighbours do not form a one-to-one matching (near a double root, say), the optimal
     assignment on squared distance is solved with ``scipy.optimize.linear_sum_assignment``. The
-    step permutations are then composed with a parallel prefix scan, so there is no Python
-    loop over speeds or parameter sets (only over the rare ambiguous steps).
+    few steps that reorder eigenvalues are then composed with a segmented parallel prefix scan,
+    so there is no Python loop over speeds or parameter sets (only over the rare ambiguous steps).
 
 Labelling
     A tracked *branch* keeps its identity over the whole grid; the labels below are properties
@@ -68,32 +68,60 @@ def track(eigenvalues: NDArray[np.complex128]) -> NDArray[np.intp]:
         return start[:, None, :]
     distance = np.abs(eigenvalues[:, :-1, :, None] - eigenvalues[:, 1:, None, :])
     step = np.argmin(distance, axis=-1)  # step[b, s, i]: position at s+1 of position i at s
-    ambiguous = np.any(np.sort(step, axis=-1) != np.arange(n), axis=-1)
-    for b, s in zip(*np.nonzero(ambiguous), strict=True):
-        rows, columns = linear_sum_assignment(distance[b, s] ** 2)
-        step[b, s, rows] = columns
-    # Inclusive prefix scan of the step maps (composition is associative): after it,
-    # maps[b, s] sends a position at speed 0 to the position of the same branch at speed s.
-    maps = np.concatenate([np.broadcast_to(np.arange(n), (batch, 1, n)), step], axis=1)
+    # Most steps keep every eigenvalue in place; only the others need checking and composing.
+    model, moved = np.nonzero(np.any(step != np.arange(n), axis=-1))
+    maps = step[model, moved]
+    ambiguous = np.flatnonzero(np.any(np.sort(maps, axis=-1) != np.arange(n), axis=-1))
+    for k in ambiguous.tolist():
+        rows, columns = linear_sum_assignment(distance[model[k], moved[k]] ** 2)
+        maps[k, rows] = columns
+    # Segmented inclusive prefix scan of the moving steps of each model (composition is
+    # associative): after it, maps[k] sends a position at speed 0 to that of the same branch
+    # just after step k.
     shift = 1
-    while shift < speeds:
-        composed = np.take_along_axis(maps[:, shift:], maps[:, :-shift], axis=-1)
-        maps = np.concatenate([maps[:, :shift], composed], axis=1)
+    while shift < maps.shape[0]:
+        same = model[shift:] == model[:-shift]
+        composed = np.take_along_axis(maps[shift:], maps[:-shift], axis=-1)
+        maps[shift:] = np.where(same[:, None], composed, maps[shift:])
         shift *= 2
-    return np.take_along_axis(maps, np.broadcast_to(start[:, None, :], maps.shape), axis=-1)
+    if maps.shape[0] == 0:
+        return np.broadcast_to(start[:, None, :], (batch, speeds, n)).copy()
+    # At each speed, the map of the last moving step before it in the same model (identity if none).
+    after = np.zeros((batch, speeds), dtype=bool)
+    after[model, moved + 1] = True
+    latest = np.cumsum(after.ravel()).reshape(batch, speeds) - 1
+    clipped = np.maximum(latest, 0)
+    own = (latest >= 0) & (model[clipped] == np.arange(batch)[:, None])
+    positions = np.where(own[..., None], maps[clipped], np.arange(n))
+    return np.take_along_axis(positions, np.broadcast_to(start[:, None, :], positions.shape), axis=-1)
 
 
 def _groups(eigenvalues: NDArray[np.complex128], complex_: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """``same[b, j, k]``: branches j and k are linked by being complex conjugates somewhere."""
-    n = eigenvalues.shape[-1]
+    batch, n = eigenvalues.shape[0], eigenvalues.shape[-1]
     gap = np.abs(eigenvalues[..., :, None] - np.conj(eigenvalues[..., None, :]))
     gap[..., np.arange(n), np.arange(n)] = np.inf
     partner = np.argmin(gap, axis=-1)
-    linked = np.any((partner[..., None] == np.arange(n)) & complex_[..., None], axis=1)
+    model, speed, branch = np.nonzero(complex_)
+    linked = np.zeros((batch, n, n), dtype=bool)
+    linked[model, branch, partner[model, speed, branch]] = True
     same = (linked | np.swapaxes(linked, -1, -2) | np.eye(n, dtype=bool)).astype(np.int64)
     for _ in range(int(np.ceil(np.log2(max(n, 2))))):
         same = np.minimum(same @ same, 1)
     return same.astype(bool)
+
+
+def _median_frequency(eigenvalues: NDArray[np.complex128], complex_: NDArray[np.bool_]) -> NDArray[np.float64]:
+    """Median |imaginary part| [1/s] of each branch over the speeds where it is complex; inf if never.
+
+    As ``numpy.nanmedian`` computes it (the middle value, or the mean of the two middle ones),
+    batched: one sort over speed for all branches.
+    """
+    frequency = np.sort(np.where(complex_, np.abs(eigenvalues.imag), np.nan), axis=1)  # NaN last
+    count = complex_.sum(axis=1)
+    low = np.take_along_axis(frequency, np.maximum(count - 1, 0)[:, None, :] // 2, axis=1)[:, 0]
+    high = np.take_along_axis(frequency, (count // 2)[:, None, :], axis=1)[:, 0]
+    return np.where(count > 0, (low + high) / 2, np.inf)
 
 
 def label(
@@ -127,15 +155,14 @@ def label(
     # Modes are characterised by forward motion: at negative speeds the spectrum is mirrored
     # (for the Whipple model lambda(-v) = -lambda(v)) and other branches pair up.
     forward = speeds >= 0 if np.any(speeds >= 0) else np.ones(speeds.shape, dtype=bool)
-    same = _groups(eigenvalues[:, forward], complex_[:, forward])
+    if np.all(forward):  # the usual case: no copies
+        forward_values, forward_complex = eigenvalues, complex_
+    else:
+        forward_values, forward_complex = eigenvalues[:, forward], complex_[:, forward]
+    same = _groups(forward_values, forward_complex)
     oscillatory = same.sum(axis=-1) >= 2
-    share_complex = complex_[:, forward].mean(axis=1)
-    frequency = np.where(complex_, np.abs(eigenvalues.imag), np.nan)[:, forward]
-    has_complex = np.any(np.isfinite(frequency), axis=1)
-    median_frequency = np.full((batch, n), np.inf)
-    if np.any(has_complex):
-        median_frequency[has_complex] = np.nanmedian(
-            np.moveaxis(frequency, 1, -1)[has_complex], axis=-1)
+    share_complex = forward_complex.mean(axis=1)
+    median_frequency = _median_frequency(forward_values, forward_complex)
     persistent = oscillatory & (share_complex >= 0.5)
     rows = np.arange(batch)
     seed = np.where(
@@ -146,8 +173,9 @@ def label(
     weave = same[rows, seed] & np.any(oscillatory, axis=-1)[:, None]
 
     single = ~oscillatory
-    mean_real = eigenvalues.real[:, forward].mean(axis=1)
-    mean_roll = np.nanmean(np.where(np.isfinite(roll_share), roll_share, 0.5)[:, forward], axis=1)
+    mean_real = forward_values.real.mean(axis=1)
+    # NaN shares (not computed) count as 0.5: neither roll nor steer.
+    mean_roll = np.where(np.isfinite(roll_share), roll_share, 0.5)[:, forward].mean(axis=1)
     rolling = single & (mean_roll >= 0.5)
     candidates = np.where(np.any(rolling, axis=-1)[:, None], rolling, single)
     capsize_index = np.argmax(np.where(candidates, mean_real, -np.inf), axis=-1)
@@ -157,7 +185,7 @@ def label(
     castering = (np.arange(n) == castering_index[:, None]) & np.any(remaining, axis=-1)[:, None]
 
     rank = np.select([weave, capsize, castering], [0, 1, 2], default=3)
-    mean_imag = eigenvalues.imag[:, forward].mean(axis=1)
+    mean_imag = forward_values.imag.mean(axis=1)
     columns = np.lexsort((-mean_imag, -mean_real, rank), axis=-1)
 
     def ordered(array: NDArray) -> NDArray:
@@ -168,14 +196,16 @@ def label(
     is_complex = np.take_along_axis(complex_, columns[:, None, :], axis=-1)
     codes = np.broadcast_to(len(NAMES) + np.arange(n), eig.shape).copy()
     real_weave = weave[:, None, :] & ~is_complex
-    higher = np.where(real_weave, eig.real, -np.inf)
     # Count the weave-group eigenvalues ranked above each one; ties (the double root itself)
-    # go to the lower column so that the two members still get different labels.
+    # go to the lower column so that the two members still get different labels. Only speeds
+    # where the weave group has real members need it.
+    where = np.nonzero(np.any(real_weave, axis=-1))
+    higher = np.where(real_weave[where], eig.real[where], -np.inf)
     column = np.arange(n)
     above = np.sum((higher[..., None, :] > higher[..., :, None])
                    | ((higher[..., None, :] == higher[..., :, None])
                       & (column[None, :] < column[:, None])), axis=-1)
-    codes[real_weave] = np.where(above == 0, 1, 2)[real_weave]
+    codes[where] = np.where(real_weave[where], np.where(above == 0, 1, 2), codes[where])
     codes[weave[:, None, :] & is_complex] = 0
     codes[np.broadcast_to(capsize[:, None, :], eig.shape)] = 3
     codes[np.broadcast_to(castering[:, None, :], eig.shape)] = 4

@@ -4,7 +4,9 @@ Tracking
     Eigenvalues come out of ``numpy.linalg.eig`` in no particular order. Between neighbouring
     speeds of a fine grid each eigenvalue is matched to the nearest one at the next speed; where
     nearest neighbours do not form a one-to-one matching (near a double root, say), the optimal
-    assignment on squared distance is solved with ``scipy.optimize.linear_sum_assignment``. The
+    assignment on squared distance is solved (Hungarian method, :func:`assignment`; a few lines
+    here rather than importing ``scipy.optimize``, which would double the start-up time of
+    ``whipple sweep``). The
     few steps that reorder eigenvalues are then composed with a segmented parallel prefix scan,
     so there is no Python loop over speeds or parameter sets (only over the rare ambiguous steps).
 
@@ -31,9 +33,10 @@ Labelling
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 #: Relative size of an imaginary part below which an eigenvalue is treated as real (eig
 #: resolves a double root only to about the square root of machine precision).
@@ -46,6 +49,66 @@ CAPSIZE = "capsize"
 CASTERING = "castering"
 #: Labels by integer code; code ``len(NAMES) + k`` is ``mode_<k + 1>``.
 NAMES = (WEAVE, WEAVE_UPPER, WEAVE_LOWER, CAPSIZE, CASTERING)
+
+
+def assignment(cost: NDArray[np.float64]) -> NDArray[np.intp]:
+    """Optimal assignment: the permutation p minimising ``sum(cost[i, p[i]])``.
+
+    Shortest augmenting paths with dual potentials (Crouse 2016, IEEE Trans. Aerosp. Electron.
+    Syst. 52(4), 1679-1696), with the tie rules of ``scipy.optimize.linear_sum_assignment``
+    (SciPy 1.17: columns scanned from the last; among equally short paths, one ending at a
+    free column), so that ties, such as two equal eigenvalues at a double root, are broken the
+    same way.
+
+    Parameters
+    ----------
+    cost : ndarray, shape (n, n)
+        Finite costs (here squared distances between eigenvalues [1/s^2]).
+
+    Returns
+    -------
+    ndarray of int, shape (n,)
+        ``p[i]``: the column assigned to row i.
+    """
+    n = cost.shape[0]
+    cost = cost.tolist()
+    u, v = [0.0] * n, [0.0] * n
+    row_of, column_of = [-1] * n, [-1] * n
+    for first in range(n):
+        distance, previous = [math.inf] * n, [-1] * n
+        rows_seen, columns_seen = {first}, []
+        pending = list(range(n - 1, -1, -1))  # columns not yet reached, in scan order
+        row, reached, sink = first, 0.0, -1
+        while sink < 0:
+            rows_seen.add(row)
+            best, pick = math.inf, -1
+            for position, column in enumerate(pending):
+                length = reached + cost[row][column] - u[row] - v[column]
+                if length < distance[column]:
+                    distance[column], previous[column] = length, row
+                if distance[column] < best or (distance[column] == best and row_of[column] < 0):
+                    best, pick = distance[column], position
+            reached, column = best, pending[pick]
+            pending[pick] = pending[-1]
+            pending.pop()
+            columns_seen.append(column)
+            if row_of[column] < 0:
+                sink = column
+            else:
+                row = row_of[column]
+        u[first] += reached
+        for other in rows_seen - {first}:
+            u[other] += reached - distance[column_of[other]]
+        for column in columns_seen:
+            v[column] -= reached - distance[column]
+        column = sink
+        while True:  # flip the matching along the path
+            row = previous[column]
+            row_of[column] = row
+            column_of[row], column = column, column_of[row]
+            if row == first:
+                break
+    return np.array(column_of, dtype=np.intp)
 
 
 def track(eigenvalues: NDArray[np.complex128]) -> NDArray[np.intp]:
@@ -73,8 +136,7 @@ def track(eigenvalues: NDArray[np.complex128]) -> NDArray[np.intp]:
     maps = step[model, moved]
     ambiguous = np.flatnonzero(np.any(np.sort(maps, axis=-1) != np.arange(n), axis=-1))
     for k in ambiguous.tolist():
-        rows, columns = linear_sum_assignment(distance[model[k], moved[k]] ** 2)
-        maps[k, rows] = columns
+        maps[k] = assignment(distance[model[k], moved[k]] ** 2)
     # Segmented inclusive prefix scan of the moving steps of each model (composition is
     # associative): after it, maps[k] sends a position at speed 0 to that of the same branch
     # just after step k.

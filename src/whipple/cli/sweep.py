@@ -2,7 +2,7 @@
 
 Columns are benchmark parameter names; absent ones come from --bicycle (default: the
 benchmark), whose extensions and controller apply to every row. The output CSV repeats the
-input columns and adds ``weave_speed``, ``capsize_speed``, ``stable_speed_ranges`` (as
+input rows as written and adds ``weave_speed``, ``capsize_speed``, ``stable_speed_ranges`` (as
 ``low:high`` pairs separated by ``;``) and ``problem`` (why a row was not analysed).
 
 The table is read and analysed in chunks of --chunk rows and the results are written in
@@ -15,10 +15,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from collections.abc import Iterator
 from pathlib import Path
-
-from tqdm import tqdm
 
 from whipple.atomic import atomic_path, refuse_input_overwrite
 from whipple.cli.arguments import speed_range
@@ -55,6 +54,27 @@ def _count_rows(path: Path) -> int | None:
         return None
 
 
+class _Progress:
+    """Sets done, total and rate on one line of stderr (tqdm would double the start-up time)."""
+
+    def __init__(self, total: int | None, shown: bool) -> None:
+        self.total, self.shown, self.done = total, shown, 0
+        self.start = self.last = time.perf_counter()
+
+    def update(self, rows: int) -> None:
+        self.done += rows
+        now = time.perf_counter()
+        if self.shown and (now - self.last > 0.5 or self.done == self.total):
+            self.last = now
+            of = f" of {self.total}" if self.total else ""
+            rate = self.done / max(now - self.start, 1e-9)
+            print(f"\r{self.done}{of} parameter sets, {rate:.0f}/s", end="", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.shown and self.done:
+            print(file=sys.stderr)
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     refuse_input_overwrite(args.output, [args.table, args.bicycle])
@@ -66,14 +86,15 @@ def run(args: argparse.Namespace) -> int:
     tasks: Iterator[SweepTask] = (SweepTask(chunk, base, args.speeds) for chunk in chunks)
     total = _count_rows(args.table) if not args.quiet else None
     rows = skipped = 0
+    progress = _Progress(total, not args.quiet and (total or 0) >= 200)
     with (map_ordered(analyse_chunk, tasks, scheduler=args.scheduler, workers=args.workers) as results,
-          tqdm(total=total, unit="set", disable=args.quiet or (total or 0) < 200, file=sys.stderr) as bar,
           atomic_path(args.output) as temporary, temporary.open("w", encoding="utf-8", newline="") as out):
         out.write(header_line(names))
         for result in results:
             out.write(result.text)
             rows, skipped = rows + result.rows, skipped + result.skipped
-            bar.update(result.rows)
+            progress.update(result.rows)
+    progress.close()
     print(f"analysed {rows - skipped} of {rows} parameter sets"
           + (f" ({skipped} not physical, see the problem column)" if skipped else "") + f"; wrote {args.output}")
     return 0

@@ -55,10 +55,14 @@ class TableChunk:
         Column names (benchmark parameters).
     values : ndarray, shape (rows, columns)
         The cells, in the parameters' SI units.
+    lines : tuple of str, optional
+        The rows as written in the file (without line ends), repeated in the results table;
+        without them the cells are written as ``repr`` of the numbers.
     """
 
     names: tuple[str, ...]
     values: NDArray[np.float64]
+    lines: tuple[str, ...] | None = None
 
 
 def _data_lines(handle: Iterable[str], first: int) -> Iterator[tuple[int, str]]:
@@ -157,7 +161,8 @@ def table_chunks(path: str | Path, rows: int = CHUNK_ROWS) -> tuple[tuple[str, .
         with handle:
             try:
                 while block:
-                    yield TableChunk(header, _parse_block(block, header, path))
+                    yield TableChunk(header, _parse_block(block, header, path),
+                                     tuple(line.rstrip("\r\n") for _, line in block))
                     block = list(itertools.islice(lines, rows))
             except UnicodeDecodeError:
                 raise InputError("not a text (UTF-8) file", path) from None
@@ -259,14 +264,16 @@ def _quoted(cell: str) -> str:
 def analyse_chunk(task: SweepTask) -> ChunkResult:
     """Analyse one chunk of a table and format its rows of the results table.
 
-    The input cells are repeated as ``repr`` of the numbers (they read back exactly), then
-    the weave and capsize speeds [m/s], the stable speed ranges as ``low:high`` pairs [m/s]
-    separated by ``;``, and the problem of a row that was not analysed.
+    The input row is repeated as written (or as ``repr`` of the numbers, which read back
+    exactly), then the weave and capsize speeds [m/s], the stable speed ranges as ``low:high``
+    pairs [m/s] separated by ``;``, and the problem of a row that was not analysed.
     """
     problems, critical = analyse_sets(task.chunk, task.base, task.speed_range)
+    rows = task.chunk.lines
+    if rows is None:
+        rows = tuple(",".join(map(repr, cells)) for cells in task.chunk.values.tolist())
     lines = []
-    for cells, result, problem in zip(task.chunk.values.tolist(), critical, problems, strict=True):
-        inputs = ",".join(map(repr, cells))
+    for inputs, result, problem in zip(rows, critical, problems, strict=True):
         if result is None:
             lines.append(f"{inputs},,,,{_quoted(problem)}\n")
         else:

@@ -250,10 +250,6 @@ def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, flo
     return problems, critical
 
 
-def _format(value: float | None) -> str:
-    return "" if value is None else repr(float(value))
-
-
 def _quoted(cell: str) -> str:
     """Write one CSV cell as the csv module does (quoted only if it must be)."""
     buffer = io.StringIO()
@@ -273,12 +269,15 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     if rows is None:
         rows = tuple(",".join(map(repr, cells)) for cells in task.chunk.values.tolist())
     lines = []
+    append = lines.append
     for inputs, result, problem in zip(rows, critical, problems, strict=True):
         if result is None:
-            lines.append(f"{inputs},,,,{_quoted(problem)}\n")
-        else:
-            ranges = ";".join(f"{low!r}:{high!r}" for low, high in result.stable_speed_ranges)
-            lines.append(f"{inputs},{_format(result.weave_speed)},{_format(result.capsize_speed)},{ranges},\n")
+            append(f"{inputs},,,,{_quoted(problem)}\n")
+            continue
+        weave, capsize = result.weave_speed, result.capsize_speed
+        ranges = ";".join([f"{float(low)!r}:{float(high)!r}" for low, high in result.stable_speed_ranges])
+        append(f"{inputs},{'' if weave is None else repr(float(weave))},"
+               f"{'' if capsize is None else repr(float(capsize))},{ranges},\n")
     skipped = sum(1 for result in critical if result is None)
     return ChunkResult("".join(lines), len(lines), skipped)
 

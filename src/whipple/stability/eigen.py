@@ -181,13 +181,12 @@ def tracked_eigenvalues(
     with np.errstate(invalid="ignore", divide="ignore"):
         roll_share = amplitude[..., 0, :] / (amplitude[..., 0, :] + amplitude[..., 1, :])
     order = modes.track(values)
-    columns, codes = modes.label(np.take_along_axis(values, order, axis=-1),
-                                 np.take_along_axis(roll_share, order, axis=-1), grid)
+    columns, codes = modes.label(modes.reorder(values, order), modes.reorder(roll_share, order), grid)
     # One gather from eig's order to display order: branch order, then label order.
-    full = np.take_along_axis(order, columns[:, None, :], axis=-1)
-    result: dict[str, Any] = {"eigenvalues": np.take_along_axis(values, full, axis=-1), "codes": codes}
+    full = modes.reorder(order, columns[:, None, :])
+    result: dict[str, Any] = {"eigenvalues": modes.reorder(values, full), "codes": codes}
     if vectors:
-        result["eigenvectors"] = np.take_along_axis(vecs, full[..., None, :], axis=-1)
+        result["eigenvectors"] = modes.reorder(vecs, full[..., None, :])
     return result
 
 

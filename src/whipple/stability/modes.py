@@ -51,6 +51,18 @@ CASTERING = "castering"
 NAMES = (WEAVE, WEAVE_UPPER, WEAVE_LOWER, CAPSIZE, CASTERING)
 
 
+def reorder(array: NDArray, order: NDArray[np.intp]) -> NDArray:
+    """Permute the last axis of `array` by `order`, separately for every leading index.
+
+    The same as ``numpy.take_along_axis(array, order, axis=-1)`` for an `order` that broadcasts
+    to ``array.shape`` (one index per element), but a single flat gather: several times faster
+    on the large arrays of eigenvectors.
+    """
+    n = array.shape[-1]
+    offsets = np.arange(0, array.size, n).reshape(array.shape[:-1] + (1,))
+    return np.take(array.reshape(-1), np.broadcast_to(order, array.shape) + offsets)
+
+
 def assignment(cost: NDArray[np.float64]) -> NDArray[np.intp]:
     """Optimal assignment: the permutation p minimising ``sum(cost[i, p[i]])``.
 
@@ -129,14 +141,22 @@ def track(eigenvalues: NDArray[np.complex128]) -> NDArray[np.intp]:
     start = np.lexsort((eigenvalues[:, 0].imag, eigenvalues[:, 0].real), axis=-1)
     if speeds == 1:
         return start[:, None, :]
-    distance = np.abs(eigenvalues[:, :-1, :, None] - eigenvalues[:, 1:, None, :])
-    step = np.argmin(distance, axis=-1)  # step[b, s, i]: position at s+1 of position i at s
+    # step[b, s, i]: position at s+1 of position i at s (the nearest; the first of equals). One
+    # position at a time: no (B, S, n, n) temporaries, whose allocation costs more than the work.
+    now, after = eigenvalues[:, :-1], eigenvalues[:, 1:]
+    step = np.zeros(now.shape, dtype=np.intp)
+    nearest = np.abs(now - after[..., :1])
+    for position in range(1, n):
+        distance = np.abs(now - after[..., position:position + 1])
+        np.copyto(step, position, where=distance < nearest)
+        np.minimum(nearest, distance, out=nearest)
     # Most steps keep every eigenvalue in place; only the others need checking and composing.
     model, moved = np.nonzero(np.any(step != np.arange(n), axis=-1))
     maps = step[model, moved]
     ambiguous = np.flatnonzero(np.any(np.sort(maps, axis=-1) != np.arange(n), axis=-1))
     for k in ambiguous.tolist():
-        maps[k] = assignment(distance[model[k], moved[k]] ** 2)
+        b, speed = model[k], moved[k]
+        maps[k] = assignment(np.abs(eigenvalues[b, speed, :, None] - eigenvalues[b, speed + 1, None, :]) ** 2)
     # Segmented inclusive prefix scan of the moving steps of each model (composition is
     # associative): after it, maps[k] sends a position at speed 0 to that of the same branch
     # just after step k.
@@ -155,15 +175,22 @@ def track(eigenvalues: NDArray[np.complex128]) -> NDArray[np.intp]:
     clipped = np.maximum(latest, 0)
     own = (latest >= 0) & (model[clipped] == np.arange(batch)[:, None])
     positions = np.where(own[..., None], maps[clipped], np.arange(n))
-    return np.take_along_axis(positions, np.broadcast_to(start[:, None, :], positions.shape), axis=-1)
+    return reorder(positions, start[:, None, :])
 
 
 def _groups(eigenvalues: NDArray[np.complex128], complex_: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """``same[b, j, k]``: branches j and k are linked by being complex conjugates somewhere."""
     batch, n = eigenvalues.shape[0], eigenvalues.shape[-1]
-    gap = np.abs(eigenvalues[..., :, None] - np.conj(eigenvalues[..., None, :]))
-    gap[..., np.arange(n), np.arange(n)] = np.inf
-    partner = np.argmin(gap, axis=-1)
+    # partner[b, s, j]: the branch nearest to the conjugate of branch j (the first of equals),
+    # one branch at a time to avoid (B, S, n, n) temporaries.
+    partner = np.zeros(eigenvalues.shape, dtype=np.intp)
+    nearest = np.full(eigenvalues.shape, np.inf)
+    conjugate = np.conj(eigenvalues)
+    for other in range(n):
+        gap = np.abs(eigenvalues - conjugate[..., other:other + 1])
+        gap[..., other] = np.inf
+        np.copyto(partner, other, where=gap < nearest)
+        np.minimum(nearest, gap, out=nearest)
     model, speed, branch = np.nonzero(complex_)
     linked = np.zeros((batch, n, n), dtype=bool)
     linked[model, branch, partner[model, speed, branch]] = True
@@ -250,12 +277,9 @@ def label(
     mean_imag = forward_values.imag.mean(axis=1)
     columns = np.lexsort((-mean_imag, -mean_real, rank), axis=-1)
 
-    def ordered(array: NDArray) -> NDArray:
-        return np.take_along_axis(array, columns, axis=-1)
-
-    eig = np.take_along_axis(eigenvalues, columns[:, None, :], axis=-1)
-    weave, capsize, castering = ordered(weave), ordered(capsize), ordered(castering)
-    is_complex = np.take_along_axis(complex_, columns[:, None, :], axis=-1)
+    eig = reorder(eigenvalues, columns[:, None, :])
+    weave, capsize, castering = (reorder(part, columns) for part in (weave, capsize, castering))
+    is_complex = reorder(complex_, columns[:, None, :])
     codes = np.broadcast_to(len(NAMES) + np.arange(n), eig.shape).copy()
     real_weave = weave[:, None, :] & ~is_complex
     # Count the weave-group eigenvalues ranked above each one; ties (the double root itself)

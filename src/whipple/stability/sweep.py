@@ -268,7 +268,7 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     rows = task.chunk.lines
     if rows is None:
         rows = tuple(",".join(map(repr, cells)) for cells in task.chunk.values.tolist())
-    lines = []
+    lines: list[str] = []
     append = lines.append
     for inputs, result, problem in zip(rows, critical, problems, strict=True):
         if result is None:

@@ -36,11 +36,13 @@ def interleaved_best(functions: dict[str, Callable[[], object]], repeats: int) -
 
 
 def case(label: str, model: LinearModel, speeds: np.ndarray, repeats: int) -> float:
-    times = interleaved_best({
+    functions = {
         "eigen_analysis": lambda: eigen_analysis(model, speeds),
         "eigvals": lambda: np.linalg.eigvals(model.state_matrix(speeds)),
         "eig": lambda: np.linalg.eig(model.state_matrix(speeds)),
-    }, repeats)
+    }
+    interleaved_best(functions, 3)  # warm up (the allocator settles on these array sizes)
+    times = interleaved_best(functions, repeats)
     ratio = times["eigen_analysis"] / times["eigvals"]
     print(f"{label:44s} eigen_analysis {times['eigen_analysis'] * 1e3:7.2f} ms   eigvals "
           f"{times['eigvals'] * 1e3:6.2f} ms   eig {times['eig'] * 1e3:6.2f} ms   "

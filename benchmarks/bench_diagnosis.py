@@ -6,7 +6,10 @@ and count how often the cause is named correctly, how often ``none`` is said, an
 the named cause's interval (value +/- 2 std) covers the true values. Also times
 ``diagnose_observations`` on the observations of 40 simulated runs.
 
-Run: ``python benchmarks/bench_diagnosis.py [--seeds 50] [--workers 2]``.
+Run: ``python benchmarks/bench_diagnosis.py [--seeds 50] [--workers 2 | --scheduler ADDRESS]``: the trials
+run on a local Dask cluster of N worker processes, or on an existing Dask cluster
+(:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this repository's
+``tests`` folder on their path, for ``hidden_effects``).
 """
 
 from __future__ import annotations
@@ -14,12 +17,12 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from hidden_effects import CAUSES, run_trial  # noqa: E402
 
+from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
 
 
@@ -36,15 +39,23 @@ def _trial(arguments: tuple[str, int]) -> tuple[str, int, str, str, bool, bool, 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=50)
-    parser.add_argument("--workers", type=int, default=2)
+    cluster = parser.add_mutually_exclusive_group()
+    cluster.add_argument("--workers", type=int, default=2, help="local Dask worker processes")
+    cluster.add_argument("--scheduler", help="address of an existing Dask scheduler")
     parser.add_argument("--causes", nargs="*", default=list(CAUSES))
     args = parser.parse_args()
     jobs = [(cause, seed) for cause in args.causes for seed in range(args.seeds)]
     started = time.perf_counter()
-    with ProcessPoolExecutor(args.workers) as pool:
-        results = list(pool.map(_trial, jobs, chunksize=2))
+    workers = None if args.scheduler else args.workers
+    results = []
+    with map_ordered(_trial, jobs, scheduler=args.scheduler, workers=workers) as trials:
+        for result in trials:
+            results.append(result)
+            print(f"\r{len(results)}/{len(jobs)} trials", end="", file=sys.stderr, flush=True)
+    print(file=sys.stderr)
     elapsed = time.perf_counter() - started
-    print(f"{len(jobs)} trials in {elapsed:.0f} s ({args.workers} workers)")
+    where = args.scheduler or f"{args.workers} local workers"
+    print(f"{len(jobs)} trials in {elapsed:.0f} s ({where})")
     print(f"{'hidden cause':<18}{'seeds':>6}{'named right':>13}{'said none':>11}{'covered':>9}  wrong verdicts")
     for cause in args.causes:
         rows = [r for r in results if r[0] == cause]

@@ -7,6 +7,8 @@ src/whipple/data/reference/meijaard2007-benchmark.toml.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
@@ -137,3 +139,21 @@ def test_controller_with_speed_dependent_gain_keeps_labels_consistent() -> None:
         for index in changes:
             assert labels[index + 1, column] == "weave"
             assert labels[index, column].startswith("weave_real")
+
+
+def test_assignment_is_optimal_and_breaks_ties_like_scipy() -> None:
+    # Independent check of the assignment used at ambiguous tracking steps: brute force over
+    # all permutations for the optimum, and SciPy's solver for the choice among equal optima.
+    linear_sum_assignment = pytest.importorskip("scipy.optimize").linear_sum_assignment
+    rng = np.random.default_rng(7)
+    for n in (1, 2, 3, 4, 5):
+        permutations = np.array(list(itertools.permutations(range(n))))
+        for _ in range(200):
+            cost = rng.random((n, n)) ** 2
+            if rng.random() < 0.5:  # equal rows: two equal eigenvalues at a double root
+                cost = np.round(cost * 3) / 3
+                cost[1 % n] = cost[0]
+            chosen = modes.assignment(cost)
+            totals = cost[np.arange(n), permutations].sum(axis=-1)
+            assert cost[np.arange(n), chosen].sum() == pytest.approx(totals.min(), abs=1e-12)
+            np.testing.assert_array_equal(chosen, linear_sum_assignment(cost)[1])

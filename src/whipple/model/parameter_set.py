@@ -328,6 +328,26 @@ class _Findings:
             text += f" (in {int(bad.sum())} of {bad.size} sets, first at index {first})"
         (self.warnings if warning else self.problems).append(text)
 
+    def gating_problems(self) -> bool:
+        """Whether problems found so far make the mass-matrix check pointless."""
+        return bool(self.problems)
+
+
+class _RowFindings(_Findings):
+    """Only where (which sets of a batch) any problem was found; no messages, no warnings."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.rows: NDArray[np.bool_] = np.zeros((), dtype=bool)
+
+    def flag(self, bad: ArrayLike, text: str, warning: bool = False) -> None:
+        if not warning:
+            self.rows = self.rows | np.asarray(bad, dtype=bool)
+
+    def gating_problems(self) -> bool:
+        # Other sets' problems must not skip this check for the sets without any.
+        return False
+
 
 def _show(name: str, value: NDArray[np.float64]) -> str:
     """``name = value`` for one set, just ``name`` for a batch."""
@@ -357,6 +377,43 @@ def validate(bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike]) -> Valida
         found.warnings.extend(bicycle_or_parameters.notes)
     else:
         parameters = bicycle_or_parameters
+    _check_parameters(parameters, found, uncertainty)
+    return ValidationReport(tuple(found.problems), tuple(found.warnings))
+
+
+def validate_rows(parameters: Mapping[str, ArrayLike]) -> tuple[str, ...]:
+    """Return the problems of every set of a batch, as :func:`validate` states them one by one.
+
+    Equal to ``"; ".join(validate(set).problems)`` for each set, but vectorised: the checks run
+    once over the batch to find the sets with problems, and only those are checked again one
+    by one for their messages.
+
+    Parameters
+    ----------
+    parameters : mapping of str to array_like
+        Benchmark parameters by name, 1-D arrays (one value per set) or scalars that broadcast.
+
+    Returns
+    -------
+    tuple of str
+        One entry per set: its problems joined by ``"; "``, empty if it has none.
+    """
+    arrays = {name: np.asarray(value) for name, value in parameters.items()}
+    found = _RowFindings()
+    with np.errstate(all="ignore"):  # overflow in absurd sets is reported, not warned about
+        _check_parameters(arrays, found, {})
+    count = int(np.broadcast_shapes(*(value.shape for value in arrays.values()), (1,))[0])
+    bad = np.broadcast_to(found.rows, (count,))
+    problems = [""] * count
+    for row in np.flatnonzero(bad).tolist():
+        one = {name: value if value.ndim == 0 else value[row] for name, value in arrays.items()}
+        problems[row] = "; ".join(validate(one).problems)
+    return tuple(problems)
+
+
+def _check_parameters(parameters: Mapping[str, ArrayLike], found: _Findings,
+                      uncertainty: Mapping[str, float]) -> None:
+    """Run the checks of :func:`validate` on parameter values (any broadcast shape)."""
     unknown = [key for key in parameters if key not in PARAMETER_NAMES]
     found.flag(bool(unknown), f"unknown parameter(s): {', '.join(map(str, unknown))}")
     missing = [n for n in PARAMETER_NAMES if n not in parameters and n not in OPTIONAL_PARAMETERS]
@@ -395,12 +452,11 @@ def validate(bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike]) -> Valida
     for label, xx, yy, zz, xz in _BODIES:
         singular.append(_check_inertia(label, (xx, yy, zz, xz), finite, found, uncertainty))
     needed = whipple_numpy.PARAMETERS
-    if not found.problems and any(np.any(s) for s in singular) and all(n in finite for n in needed):
+    if not found.gating_problems() and any(np.any(s) for s in singular) and all(n in finite for n in needed):
         # Point masses: the bicycle as a whole may have no inertia to roll or to steer.
         bad = singular_mass_matrix({n: finite[n] for n in needed})
         found.flag(bad, "the mass matrix M is not positive definite: with these point masses the "
                         "bicycle has no inertia to roll or to steer (e.g. all front mass on the steer axis)")
-    return ValidationReport(tuple(found.problems), tuple(found.warnings))
 
 
 def _check_inertia(

@@ -41,6 +41,7 @@ from whipple.model.parameter_set import (
     ValidationReport,
     check_physical,
     validate,
+    validate_rows,
 )
 
 __all__ = [
@@ -61,6 +62,7 @@ __all__ = [
     "read_benchmark_txt",
     "read_bicycle_toml",
     "validate",
+    "validate_rows",
     "write_bicycle_toml",
 ]
 

@@ -120,6 +120,8 @@ def tracking_grid(speeds: NDArray[np.float64], step: float = TRACKING_STEP) -> N
     starts = np.repeat(knots[:-1], pieces)
     offsets = np.arange(pieces.sum()) - np.repeat(np.cumsum(pieces) - pieces, pieces)
     linear = starts + offsets * np.repeat(gaps / pieces, pieces)
+    if max(-low, high) <= GEOMETRIC_FROM:
+        return np.concatenate([linear, knots[-1:]])
     # Beyond GEOMETRIC_FROM the points are uniform in the grid coordinate instead.
     curved = _speed(np.repeat(u[:-1], pieces) + offsets * np.repeat(np.diff(u) / pieces, pieces), step)
     flat = np.repeat((np.abs(knots[:-1]) <= GEOMETRIC_FROM) & (np.abs(knots[1:]) <= GEOMETRIC_FROM), pieces)
@@ -176,19 +178,15 @@ def tracked_eigenvalues(
         values[:, sub] = sub_values
         amplitude = np.full(values.shape[:2] + (2, n), np.nan)
         amplitude[:, sub] = np.abs(sub_vecs[..., :2, :])
-    order = modes.track(values)
-    values = np.take_along_axis(values, order, axis=-1)
-    amplitude = np.take_along_axis(amplitude, order[..., None, :], axis=-1)
     with np.errstate(invalid="ignore", divide="ignore"):
         roll_share = amplitude[..., 0, :] / (amplitude[..., 0, :] + amplitude[..., 1, :])
-    columns, codes = modes.label(values, roll_share, grid)
-    result: dict[str, Any] = {
-        "eigenvalues": np.take_along_axis(values, columns[:, None, :], axis=-1),
-        "codes": codes,
-    }
+    order = modes.track(values)
+    columns, codes = modes.label(modes.reorder(values, order), modes.reorder(roll_share, order), grid)
+    # One gather from eig's order to display order: branch order, then label order.
+    full = modes.reorder(order, columns[:, None, :])
+    result: dict[str, Any] = {"eigenvalues": modes.reorder(values, full), "codes": codes}
     if vectors:
-        full = np.take_along_axis(order, columns[:, None, :], axis=-1)
-        result["eigenvectors"] = np.take_along_axis(vecs, full[..., None, :], axis=-1)
+        result["eigenvectors"] = modes.reorder(vecs, full[..., None, :])
     return result
 
 
@@ -218,12 +216,16 @@ def eigen_analysis(model: LinearModel, speeds: ArrayLike) -> EigenResult:
     batch, n = model.batch_shape, model.n_states
     A = model.state_matrix(grid).reshape(-1, grid.size, n, n)
     analysed = tracked_eigenvalues(A, grid, vectors=True)
-    index = np.clip(np.searchsorted(grid, speeds), 0, grid.size - 1)
+    if speeds.size == grid.size and np.array_equal(speeds, grid):
+        picked = analysed  # the requested speeds are the tracking grid: no copies
+    else:
+        index = np.clip(np.searchsorted(grid, speeds), 0, grid.size - 1)
+        picked = {key: value[:, index] for key, value in analysed.items()}
     return EigenResult(
         speeds=speeds,
-        eigenvalues=analysed["eigenvalues"][:, index].reshape(batch + (speeds.size, n)),
-        eigenvectors=analysed["eigenvectors"][:, index].reshape(batch + (speeds.size, n, n)),
-        labels=modes.names(analysed["codes"][:, index]).reshape(batch + (speeds.size, n)),
+        eigenvalues=picked["eigenvalues"].reshape(batch + (speeds.size, n)),
+        eigenvectors=picked["eigenvectors"].reshape(batch + (speeds.size, n, n)),
+        labels=modes.names(picked["codes"]).reshape(batch + (speeds.size, n)),
         state_names=model.state_names,
     )
 

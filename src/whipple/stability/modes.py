@@ -4,9 +4,11 @@ Tracking
     Eigenvalues come out of ``numpy.linalg.eig`` in no particular order. Between neighbouring
     speeds of a fine grid each eigenvalue is matched to the nearest one at the next speed; where
     nearest neighbours do not form a one-to-one matching (near a double root, say), the optimal
-    assignment on squared distance is solved with ``scipy.optimize.linear_sum_assignment``. The
-    step permutations are then composed with a parallel prefix scan, so there is no Python
-    loop over speeds or parameter sets (only over the rare ambiguous steps).
+    assignment on squared distance is solved (Hungarian method, :func:`assignment`; a few lines
+    here rather than importing ``scipy.optimize``, which would double the start-up time of
+    ``whipple sweep``). The
+    few steps that reorder eigenvalues are then composed with a segmented parallel prefix scan,
+    so there is no Python loop over speeds or parameter sets (only over the rare ambiguous steps).
 
 Labelling
     A tracked *branch* keeps its identity over the whole grid; the labels below are properties
@@ -31,9 +33,10 @@ Labelling
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import linear_sum_assignment
 
 #: Relative size of an imaginary part below which an eigenvalue is treated as real (eig
 #: resolves a double root only to about the square root of machine precision).
@@ -46,6 +49,78 @@ CAPSIZE = "capsize"
 CASTERING = "castering"
 #: Labels by integer code; code ``len(NAMES) + k`` is ``mode_<k + 1>``.
 NAMES = (WEAVE, WEAVE_UPPER, WEAVE_LOWER, CAPSIZE, CASTERING)
+
+
+def reorder(array: NDArray, order: NDArray[np.intp]) -> NDArray:
+    """Permute the last axis of `array` by `order`, separately for every leading index.
+
+    The same as ``numpy.take_along_axis(array, order, axis=-1)`` for an `order` that broadcasts
+    to ``array.shape`` (one index per element), but a single flat gather: several times faster
+    on the large arrays of eigenvectors.
+    """
+    n = array.shape[-1]
+    offsets = np.arange(0, array.size, n).reshape(array.shape[:-1] + (1,))
+    return np.take(array.reshape(-1), np.broadcast_to(order, array.shape) + offsets)
+
+
+def assignment(cost: NDArray[np.float64]) -> NDArray[np.intp]:
+    """Optimal assignment: the permutation p minimising ``sum(cost[i, p[i]])``.
+
+    Shortest augmenting paths with dual potentials (Crouse 2016, IEEE Trans. Aerosp. Electron.
+    Syst. 52(4), 1679-1696), with the tie rules of ``scipy.optimize.linear_sum_assignment``
+    (SciPy 1.17: columns scanned from the last; among equally short paths, one ending at a
+    free column), so that ties, such as two equal eigenvalues at a double root, are broken the
+    same way.
+
+    Parameters
+    ----------
+    cost : ndarray, shape (n, n)
+        Finite costs (here squared distances between eigenvalues [1/s^2]).
+
+    Returns
+    -------
+    ndarray of int, shape (n,)
+        ``p[i]``: the column assigned to row i.
+    """
+    n = cost.shape[0]
+    cost = cost.tolist()
+    u, v = [0.0] * n, [0.0] * n
+    row_of, column_of = [-1] * n, [-1] * n
+    for first in range(n):
+        distance, previous = [math.inf] * n, [-1] * n
+        rows_seen, columns_seen = {first}, []
+        pending = list(range(n - 1, -1, -1))  # columns not yet reached, in scan order
+        row, reached, sink = first, 0.0, -1
+        while sink < 0:
+            rows_seen.add(row)
+            best, pick = math.inf, -1
+            for position, column in enumerate(pending):
+                length = reached + cost[row][column] - u[row] - v[column]
+                if length < distance[column]:
+                    distance[column], previous[column] = length, row
+                if distance[column] < best or (distance[column] == best and row_of[column] < 0):
+                    best, pick = distance[column], position
+            reached, column = best, pending[pick]
+            pending[pick] = pending[-1]
+            pending.pop()
+            columns_seen.append(column)
+            if row_of[column] < 0:
+                sink = column
+            else:
+                row = row_of[column]
+        u[first] += reached
+        for other in rows_seen - {first}:
+            u[other] += reached - distance[column_of[other]]
+        for column in columns_seen:
+            v[column] -= reached - distance[column]
+        column = sink
+        while True:  # flip the matching along the path
+            row = previous[column]
+            row_of[column] = row
+            column_of[row], column = column, column_of[row]
+            if row == first:
+                break
+    return np.array(column_of, dtype=np.intp)
 
 
 def track(eigenvalues: NDArray[np.complex128]) -> NDArray[np.intp]:
@@ -66,34 +141,76 @@ def track(eigenvalues: NDArray[np.complex128]) -> NDArray[np.intp]:
     start = np.lexsort((eigenvalues[:, 0].imag, eigenvalues[:, 0].real), axis=-1)
     if speeds == 1:
         return start[:, None, :]
-    distance = np.abs(eigenvalues[:, :-1, :, None] - eigenvalues[:, 1:, None, :])
-    step = np.argmin(distance, axis=-1)  # step[b, s, i]: position at s+1 of position i at s
-    ambiguous = np.any(np.sort(step, axis=-1) != np.arange(n), axis=-1)
-    for b, s in zip(*np.nonzero(ambiguous), strict=True):
-        rows, columns = linear_sum_assignment(distance[b, s] ** 2)
-        step[b, s, rows] = columns
-    # Inclusive prefix scan of the step maps (composition is associative): after it,
-    # maps[b, s] sends a position at speed 0 to the position of the same branch at speed s.
-    maps = np.concatenate([np.broadcast_to(np.arange(n), (batch, 1, n)), step], axis=1)
+    # step[b, s, i]: position at s+1 of position i at s (the nearest; the first of equals). One
+    # position at a time: no (B, S, n, n) temporaries, whose allocation costs more than the work.
+    now, after = eigenvalues[:, :-1], eigenvalues[:, 1:]
+    step = np.zeros(now.shape, dtype=np.intp)
+    nearest = np.abs(now - after[..., :1])
+    for position in range(1, n):
+        distance = np.abs(now - after[..., position:position + 1])
+        np.copyto(step, position, where=distance < nearest)
+        np.minimum(nearest, distance, out=nearest)
+    # Most steps keep every eigenvalue in place; only the others need checking and composing.
+    model, moved = np.nonzero(np.any(step != np.arange(n), axis=-1))
+    maps = step[model, moved]
+    ambiguous = np.flatnonzero(np.any(np.sort(maps, axis=-1) != np.arange(n), axis=-1))
+    for k in ambiguous.tolist():
+        b, speed = model[k], moved[k]
+        maps[k] = assignment(np.abs(eigenvalues[b, speed, :, None] - eigenvalues[b, speed + 1, None, :]) ** 2)
+    # Segmented inclusive prefix scan of the moving steps of each model (composition is
+    # associative): after it, maps[k] sends a position at speed 0 to that of the same branch
+    # just after step k.
     shift = 1
-    while shift < speeds:
-        composed = np.take_along_axis(maps[:, shift:], maps[:, :-shift], axis=-1)
-        maps = np.concatenate([maps[:, :shift], composed], axis=1)
+    while shift < maps.shape[0]:
+        same = model[shift:] == model[:-shift]
+        composed = np.take_along_axis(maps[shift:], maps[:-shift], axis=-1)
+        maps[shift:] = np.where(same[:, None], composed, maps[shift:])
         shift *= 2
-    return np.take_along_axis(maps, np.broadcast_to(start[:, None, :], maps.shape), axis=-1)
+    if maps.shape[0] == 0:
+        return np.broadcast_to(start[:, None, :], (batch, speeds, n)).copy()
+    # At each speed, the map of the last moving step before it in the same model (identity if none).
+    after = np.zeros((batch, speeds), dtype=bool)
+    after[model, moved + 1] = True
+    latest = np.cumsum(after.ravel()).reshape(batch, speeds) - 1
+    clipped = np.maximum(latest, 0)
+    own = (latest >= 0) & (model[clipped] == np.arange(batch)[:, None])
+    positions = np.where(own[..., None], maps[clipped], np.arange(n))
+    return reorder(positions, start[:, None, :])
 
 
 def _groups(eigenvalues: NDArray[np.complex128], complex_: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """``same[b, j, k]``: branches j and k are linked by being complex conjugates somewhere."""
-    n = eigenvalues.shape[-1]
-    gap = np.abs(eigenvalues[..., :, None] - np.conj(eigenvalues[..., None, :]))
-    gap[..., np.arange(n), np.arange(n)] = np.inf
-    partner = np.argmin(gap, axis=-1)
-    linked = np.any((partner[..., None] == np.arange(n)) & complex_[..., None], axis=1)
+    batch, n = eigenvalues.shape[0], eigenvalues.shape[-1]
+    # partner[b, s, j]: the branch nearest to the conjugate of branch j (the first of equals),
+    # one branch at a time to avoid (B, S, n, n) temporaries.
+    partner = np.zeros(eigenvalues.shape, dtype=np.intp)
+    nearest = np.full(eigenvalues.shape, np.inf)
+    conjugate = np.conj(eigenvalues)
+    for other in range(n):
+        gap = np.abs(eigenvalues - conjugate[..., other:other + 1])
+        gap[..., other] = np.inf
+        np.copyto(partner, other, where=gap < nearest)
+        np.minimum(nearest, gap, out=nearest)
+    model, speed, branch = np.nonzero(complex_)
+    linked = np.zeros((batch, n, n), dtype=bool)
+    linked[model, branch, partner[model, speed, branch]] = True
     same = (linked | np.swapaxes(linked, -1, -2) | np.eye(n, dtype=bool)).astype(np.int64)
     for _ in range(int(np.ceil(np.log2(max(n, 2))))):
         same = np.minimum(same @ same, 1)
     return same.astype(bool)
+
+
+def _median_frequency(eigenvalues: NDArray[np.complex128], complex_: NDArray[np.bool_]) -> NDArray[np.float64]:
+    """Median |imaginary part| [1/s] of each branch over the speeds where it is complex; inf if never.
+
+    As ``numpy.nanmedian`` computes it (the middle value, or the mean of the two middle ones),
+    batched: one sort over speed for all branches.
+    """
+    frequency = np.sort(np.where(complex_, np.abs(eigenvalues.imag), np.nan), axis=1)  # NaN last
+    count = complex_.sum(axis=1)
+    low = np.take_along_axis(frequency, np.maximum(count - 1, 0)[:, None, :] // 2, axis=1)[:, 0]
+    high = np.take_along_axis(frequency, (count // 2)[:, None, :], axis=1)[:, 0]
+    return np.where(count > 0, (low + high) / 2, np.inf)
 
 
 def label(
@@ -127,15 +244,14 @@ def label(
     # Modes are characterised by forward motion: at negative speeds the spectrum is mirrored
     # (for the Whipple model lambda(-v) = -lambda(v)) and other branches pair up.
     forward = speeds >= 0 if np.any(speeds >= 0) else np.ones(speeds.shape, dtype=bool)
-    same = _groups(eigenvalues[:, forward], complex_[:, forward])
+    if np.all(forward):  # the usual case: no copies
+        forward_values, forward_complex = eigenvalues, complex_
+    else:
+        forward_values, forward_complex = eigenvalues[:, forward], complex_[:, forward]
+    same = _groups(forward_values, forward_complex)
     oscillatory = same.sum(axis=-1) >= 2
-    share_complex = complex_[:, forward].mean(axis=1)
-    frequency = np.where(complex_, np.abs(eigenvalues.imag), np.nan)[:, forward]
-    has_complex = np.any(np.isfinite(frequency), axis=1)
-    median_frequency = np.full((batch, n), np.inf)
-    if np.any(has_complex):
-        median_frequency[has_complex] = np.nanmedian(
-            np.moveaxis(frequency, 1, -1)[has_complex], axis=-1)
+    share_complex = forward_complex.mean(axis=1)
+    median_frequency = _median_frequency(forward_values, forward_complex)
     persistent = oscillatory & (share_complex >= 0.5)
     rows = np.arange(batch)
     seed = np.where(
@@ -146,8 +262,9 @@ def label(
     weave = same[rows, seed] & np.any(oscillatory, axis=-1)[:, None]
 
     single = ~oscillatory
-    mean_real = eigenvalues.real[:, forward].mean(axis=1)
-    mean_roll = np.nanmean(np.where(np.isfinite(roll_share), roll_share, 0.5)[:, forward], axis=1)
+    mean_real = forward_values.real.mean(axis=1)
+    # NaN shares (not computed) count as 0.5: neither roll nor steer.
+    mean_roll = np.where(np.isfinite(roll_share), roll_share, 0.5)[:, forward].mean(axis=1)
     rolling = single & (mean_roll >= 0.5)
     candidates = np.where(np.any(rolling, axis=-1)[:, None], rolling, single)
     capsize_index = np.argmax(np.where(candidates, mean_real, -np.inf), axis=-1)
@@ -157,25 +274,24 @@ def label(
     castering = (np.arange(n) == castering_index[:, None]) & np.any(remaining, axis=-1)[:, None]
 
     rank = np.select([weave, capsize, castering], [0, 1, 2], default=3)
-    mean_imag = eigenvalues.imag[:, forward].mean(axis=1)
+    mean_imag = forward_values.imag.mean(axis=1)
     columns = np.lexsort((-mean_imag, -mean_real, rank), axis=-1)
 
-    def ordered(array: NDArray) -> NDArray:
-        return np.take_along_axis(array, columns, axis=-1)
-
-    eig = np.take_along_axis(eigenvalues, columns[:, None, :], axis=-1)
-    weave, capsize, castering = ordered(weave), ordered(capsize), ordered(castering)
-    is_complex = np.take_along_axis(complex_, columns[:, None, :], axis=-1)
+    eig = reorder(eigenvalues, columns[:, None, :])
+    weave, capsize, castering = (reorder(part, columns) for part in (weave, capsize, castering))
+    is_complex = reorder(complex_, columns[:, None, :])
     codes = np.broadcast_to(len(NAMES) + np.arange(n), eig.shape).copy()
     real_weave = weave[:, None, :] & ~is_complex
-    higher = np.where(real_weave, eig.real, -np.inf)
     # Count the weave-group eigenvalues ranked above each one; ties (the double root itself)
-    # go to the lower column so that the two members still get different labels.
+    # go to the lower column so that the two members still get different labels. Only speeds
+    # where the weave group has real members need it.
+    where = np.nonzero(np.any(real_weave, axis=-1))
+    higher = np.where(real_weave[where], eig.real[where], -np.inf)
     column = np.arange(n)
     above = np.sum((higher[..., None, :] > higher[..., :, None])
                    | ((higher[..., None, :] == higher[..., :, None])
                       & (column[None, :] < column[:, None])), axis=-1)
-    codes[real_weave] = np.where(above == 0, 1, 2)[real_weave]
+    codes[where] = np.where(real_weave[where], np.where(above == 0, 1, 2), codes[where])
     codes[weave[:, None, :] & is_complex] = 0
     codes[np.broadcast_to(capsize[:, None, :], eig.shape)] = 3
     codes[np.broadcast_to(castering[:, None, :], eig.shape)] = 4

@@ -1,14 +1,24 @@
-"""Design studies: the stability analysis of many parameter sets at once.
+"""Design studies: the stability analysis of many parameter sets, in chunks.
 
 A parameter table is a CSV file with a header of benchmark parameter names and one parameter
 set per row. Columns that are absent take the value of a base bicycle (so a study can vary
 just a few parameters); the base's extensions and controller apply to every row.
+
+Tables of any length are read and analysed in chunks of rows (:data:`CHUNK_ROWS`), so memory
+is bounded by the chunk size: :func:`table_chunks` reads a chunk at a time (with NumPy's
+parser; a chunk it refuses is read again cell by cell for a one-line error naming the line and
+column), :func:`analyse_chunk` validates a chunk's sets together and analyses the valid ones
+with :func:`whipple.stability.critical.critical_speeds_batch`, and returns the chunk's rows of
+the results table as text. A chunk is a self-contained task, so chunks can be analysed on
+other processes or machines (:mod:`whipple.distributed`) and written in order.
 """
 
 from __future__ import annotations
 
 import csv
-from collections.abc import Callable
+import io
+import itertools
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -17,8 +27,13 @@ from numpy.typing import NDArray
 
 from whipple.errors import InputError
 from whipple.model.assembly import build_linear_model
-from whipple.model.parameters import PARAMETER_NAMES, Bicycle, validate
+from whipple.model.parameters import PARAMETER_NAMES, Bicycle, validate_rows
 from whipple.stability.critical import CriticalSpeeds, critical_speeds_batch
+
+#: Rows of a parameter table read and analysed together.
+CHUNK_ROWS = 10_000
+#: Columns the results table adds to the input columns.
+RESULT_COLUMNS = ("weave_speed", "capsize_speed", "stable_speed_ranges", "problem")
 
 
 @dataclass(frozen=True)
@@ -30,49 +45,246 @@ class ParameterTable:
     source: str
 
 
-def read_parameter_table(path: str | Path) -> ParameterTable:
-    """Read a CSV of parameter sets; every cell must be a finite number.
+@dataclass(frozen=True)
+class TableChunk:
+    """Consecutive rows of a parameter table.
+
+    Attributes
+    ----------
+    names : tuple of str
+        Column names (benchmark parameters).
+    values : ndarray, shape (rows, columns)
+        The cells, in the parameters' SI units.
+    lines : tuple of str, optional
+        The rows as written in the file (without line ends), repeated in the results table;
+        without them the cells are written as ``repr`` of the numbers.
+    """
+
+    names: tuple[str, ...]
+    values: NDArray[np.float64]
+    lines: tuple[str, ...] | None = None
+
+
+def _data_lines(handle: Iterable[str], first: int) -> Iterator[tuple[int, str]]:
+    """(line number, line) of the lines that hold data: no comments, no blank lines."""
+    for number, line in enumerate(handle, start=first):
+        stripped = line.strip()
+        if stripped and not stripped.startswith("#") and stripped.strip(",").strip():
+            yield number, line
+
+
+def _parse_cells(lines: list[tuple[int, str]], header: tuple[str, ...], path: Path) -> NDArray[np.float64]:
+    """Cells of `lines` one by one: the values, or an InputError naming the first bad cell."""
+    values = np.empty((len(lines), len(header)))
+    rows = csv.reader(line for _, line in lines)
+    for r, ((number, _), row) in enumerate(zip(lines, rows, strict=True)):
+        if len(row) != len(header):
+            raise InputError(f"line {number}: {len(row)} cells, header has {len(header)}", path)
+        for c, cell in enumerate(row):
+            try:
+                number_value = float(cell)
+            except ValueError:
+                raise InputError(f"line {number}, column {header[c]}: not a number: {cell.strip()!r}",
+                                 path) from None
+            if not np.isfinite(number_value):
+                raise InputError(f"line {number}, column {header[c]}: not finite: {cell.strip()!r}", path)
+            values[r, c] = number_value
+    return values
+
+
+def _parse_block(lines: list[tuple[int, str]], header: tuple[str, ...], path: Path) -> NDArray[np.float64]:
+    """Cells of `lines` with NumPy's parser; anything it refuses is read again cell by cell."""
+    try:
+        values = np.loadtxt([line for _, line in lines], delimiter=",", dtype=float, ndmin=2,
+                            comments=None, quotechar='"')
+    except ValueError:
+        return _parse_cells(lines, header, path)
+    if values.shape != (len(lines), len(header)) or not np.all(np.isfinite(values)):
+        return _parse_cells(lines, header, path)
+    return values
+
+
+def _open_text(path: Path) -> io.TextIOWrapper:
+    try:
+        return path.open(newline="", encoding="utf-8")
+    except OSError as error:
+        raise InputError(f"cannot read: {error.strerror}", path) from None
+
+
+def table_chunks(path: str | Path, rows: int = CHUNK_ROWS) -> tuple[tuple[str, ...], Iterator[TableChunk]]:
+    """Read the header of a parameter table now and its rows lazily, `rows` at a time.
+
+    Every cell must be a finite number. Lines starting with ``#`` and blank lines are ignored.
+
+    Returns
+    -------
+    names : tuple of str
+        The columns (benchmark parameter names).
+    chunks : iterator of TableChunk
+        The rows in order, at most `rows` per chunk; reading it raises InputError at the first
+        bad line.
 
     Raises
     ------
     InputError
-        Unknown or repeated column, empty table, a non-numeric or non-finite cell (named by
-        row and column).
+        Unreadable file, unknown or repeated column, empty table, no rows, and (while
+        iterating) a line with the wrong number of cells or a non-numeric or non-finite cell,
+        named by line number and column.
     """
     path = Path(path)
+    handle = _open_text(path)
     try:
-        with path.open(newline="", encoding="utf-8") as handle:
-            lines = [row for row in csv.reader(line for line in handle if not line.lstrip().startswith("#"))]
-    except OSError as error:
-        raise InputError(f"cannot read: {error.strerror}", path) from None
+        lines = _data_lines(handle, 1)
+        first = next(lines, None)
+        if first is None:
+            raise InputError("empty parameter table", path)
+        header = tuple(cell.strip() for cell in next(csv.reader([first[1]])))
+        unknown = [name for name in header if name not in PARAMETER_NAMES]
+        if unknown:
+            raise InputError(f"unknown column(s) {', '.join(unknown)}; columns must be benchmark parameter "
+                             "names", path)
+        repeated = sorted({name for name in header if header.count(name) > 1})
+        if repeated:
+            raise InputError(f"repeated column(s) {', '.join(repeated)}", path)
+        block = list(itertools.islice(lines, rows))
+        if not block:
+            raise InputError("no parameter sets (only a header)", path)
     except UnicodeDecodeError:
+        handle.close()
         raise InputError("not a text (UTF-8) file", path) from None
-    lines = [row for row in lines if any(cell.strip() for cell in row)]
-    if not lines:
-        raise InputError("empty parameter table", path)
-    header = [cell.strip() for cell in lines[0]]
-    unknown = [name for name in header if name not in PARAMETER_NAMES]
-    if unknown:
-        raise InputError(f"unknown column(s) {', '.join(unknown)}; columns must be benchmark parameter names", path)
-    repeated = sorted({name for name in header if header.count(name) > 1})
-    if repeated:
-        raise InputError(f"repeated column(s) {', '.join(repeated)}", path)
-    body = lines[1:]
-    if not body:
-        raise InputError("no parameter sets (only a header)", path)
-    values = np.empty((len(body), len(header)))
-    for r, row in enumerate(body, start=2):
-        if len(row) != len(header):
-            raise InputError(f"line {r}: {len(row)} cells, header has {len(header)}", path)
-        for c, cell in enumerate(row):
+    except BaseException:
+        handle.close()
+        raise
+
+    def chunks() -> Iterator[TableChunk]:
+        nonlocal block
+        with handle:
             try:
-                number = float(cell)
-            except ValueError:
-                raise InputError(f"line {r}, column {header[c]}: not a number: {cell.strip()!r}", path) from None
-            if not np.isfinite(number):
-                raise InputError(f"line {r}, column {header[c]}: not finite: {cell.strip()!r}", path)
-            values[r - 2, c] = number
-    return ParameterTable({name: values[:, c] for c, name in enumerate(header)}, len(body), str(path))
+                while block:
+                    yield TableChunk(header, _parse_block(block, header, path),
+                                     tuple(line.rstrip("\r\n") for _, line in block))
+                    block = list(itertools.islice(lines, rows))
+            except UnicodeDecodeError:
+                raise InputError("not a text (UTF-8) file", path) from None
+
+    return header, chunks()
+
+
+def read_parameter_table(path: str | Path) -> ParameterTable:
+    """Read a whole CSV of parameter sets; every cell must be a finite number.
+
+    Raises
+    ------
+    InputError
+        As :func:`table_chunks`.
+    """
+    header, chunks = table_chunks(path)
+    values = np.concatenate([chunk.values for chunk in chunks])
+    return ParameterTable({name: values[:, c] for c, name in enumerate(header)}, values.shape[0], str(path))
+
+
+@dataclass(frozen=True)
+class ChunkResult:
+    """The analysis of one chunk: its rows of the results table, and counts.
+
+    Attributes
+    ----------
+    text : str
+        CSV lines (no header) with the input cells and :data:`RESULT_COLUMNS`.
+    rows, skipped : int
+        Rows in the chunk, and rows not analysed (not physical; see the problem column).
+    """
+
+    text: str
+    rows: int
+    skipped: int
+
+
+@dataclass(frozen=True)
+class SweepTask:
+    """Everything one chunk's analysis needs (picklable, for other processes or machines).
+
+    Attributes
+    ----------
+    chunk : TableChunk
+        The parameter sets.
+    base : Bicycle
+        Supplies absent parameters, the extensions and the controller.
+    speed_range : tuple of float
+        Speed interval searched [m/s].
+    """
+
+    chunk: TableChunk
+    base: Bicycle
+    speed_range: tuple[float, float]
+
+
+def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, float],
+                 progress: Callable[[int], None] | None = None
+                 ) -> tuple[tuple[str, ...], list[CriticalSpeeds | None]]:
+    """Problems (empty if none) and critical speeds (None if not analysed) of each row.
+
+    Parameters
+    ----------
+    chunk : TableChunk
+        The parameter sets.
+    base : Bicycle
+        Supplies absent parameters, the extensions and the controller.
+    speed_range : tuple of float
+        Speed interval searched [m/s].
+    progress : callable, optional
+        Passed on to :func:`~whipple.stability.critical.critical_speeds_batch`.
+    """
+    count = chunk.values.shape[0]
+    parameters = {name: np.full(count, value) for name, value in base.parameters.items()}
+    parameters.update({name: chunk.values[:, c] for c, name in enumerate(chunk.names)})
+    problems = validate_rows(parameters)
+    critical: list[CriticalSpeeds | None] = [None] * count
+    rows = [row for row, problem in enumerate(problems) if not problem]
+    if rows:
+        model = build_linear_model({name: values[rows] for name, values in parameters.items()},
+                                   base.extensions, base.controller)
+        for row, result in zip(rows, critical_speeds_batch(model, *speed_range, progress=progress),
+                               strict=True):
+            critical[row] = result
+    return problems, critical
+
+
+def _quoted(cell: str) -> str:
+    """Write one CSV cell as the csv module does (quoted only if it must be)."""
+    buffer = io.StringIO()
+    csv.writer(buffer, lineterminator="").writerow([cell])
+    return buffer.getvalue()
+
+
+def analyse_chunk(task: SweepTask) -> ChunkResult:
+    """Analyse one chunk of a table and format its rows of the results table.
+
+    The input row is repeated as written (or as ``repr`` of the numbers, which read back
+    exactly), then the weave and capsize speeds [m/s], the stable speed ranges as ``low:high``
+    pairs [m/s] separated by ``;``, and the problem of a row that was not analysed.
+    """
+    problems, critical = analyse_sets(task.chunk, task.base, task.speed_range)
+    rows = task.chunk.lines
+    if rows is None:
+        rows = tuple(",".join(map(repr, cells)) for cells in task.chunk.values.tolist())
+    lines: list[str] = []
+    append = lines.append
+    for inputs, result, problem in zip(rows, critical, problems, strict=True):
+        if result is None:
+            append(f"{inputs},,,,{_quoted(problem)}\n")
+            continue
+        weave, capsize = result.weave_speed, result.capsize_speed
+        ranges = ";".join([f"{float(low)!r}:{float(high)!r}" for low, high in result.stable_speed_ranges])
+        append(f"{inputs},{'' if weave is None else repr(float(weave))},"
+               f"{'' if capsize is None else repr(float(capsize))},{ranges},\n")
+    skipped = sum(1 for result in critical if result is None)
+    return ChunkResult("".join(lines), len(lines), skipped)
+
+
+def header_line(names: tuple[str, ...]) -> str:
+    """Return the header line of the results table of a table with columns `names`."""
+    return ",".join(names + RESULT_COLUMNS) + "\n"
 
 
 @dataclass(frozen=True)
@@ -86,22 +298,21 @@ class SweepResult:
 
 def sweep(table: ParameterTable, base: Bicycle, speed_range: tuple[float, float] = (0.0, 10.0),
           progress: Callable[[int], None] | None = None) -> SweepResult:
-    """Critical speeds and stable ranges of every row (vectorised over rows)."""
-    parameters = {name: np.full(table.rows, value) for name, value in base.parameters.items()}
-    parameters.update(table.columns)
-    valid = np.ones(table.rows, dtype=bool)
-    problems = [""] * table.rows
-    for row in range(table.rows):  # cheap scalar checks give each row its own message
-        report = validate({name: values[row] for name, values in parameters.items()})
-        if report.problems:
-            valid[row] = False
-            problems[row] = "; ".join(report.problems)
-    critical: list[CriticalSpeeds | None] = [None] * table.rows
-    rows = np.flatnonzero(valid)
-    if rows.size:
-        model = build_linear_model({name: values[rows] for name, values in parameters.items()},
-                                   base.extensions, base.controller)
-        results = critical_speeds_batch(model, *speed_range, progress=progress)
-        for row, result in zip(rows.tolist(), results, strict=True):
-            critical[row] = result
-    return SweepResult(valid, tuple(problems), tuple(critical))
+    """Critical speeds and stable ranges of every row of a table read whole (vectorised over rows).
+
+    Parameters
+    ----------
+    table : ParameterTable
+        The parameter sets.
+    base : Bicycle
+        Supplies absent parameters, the extensions and the controller.
+    speed_range : tuple of float
+        Speed interval searched [m/s].
+    progress : callable, optional
+        Called with the number of valid sets analysed so far.
+    """
+    names = tuple(table.columns)
+    values = np.stack([table.columns[name] for name in names], axis=-1).reshape(table.rows, len(names))
+    problems, critical = analyse_sets(TableChunk(names, values), base, speed_range, progress)
+    valid = np.array([result is not None for result in critical], dtype=bool)
+    return SweepResult(valid, problems, tuple(critical))

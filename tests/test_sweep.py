@@ -16,7 +16,14 @@ import pytest
 from whipple import distributed
 from whipple.cli import main
 from whipple.model.parameters import load_bicycle, validate, validate_rows
-from whipple.stability.sweep import SweepTask, TableChunk, analyse_chunk, read_parameter_table, table_chunks
+from whipple.stability.sweep import (
+    SweepTask,
+    TableChunk,
+    analyse_chunk,
+    analyse_sets,
+    read_parameter_table,
+    table_chunks,
+)
 
 NAMES = ("c", "lam", "mB", "xB", "IBxx", "mH", "w")
 
@@ -79,6 +86,28 @@ def test_chunks_give_the_output_of_one_chunk(tmp_path, capsys):
     # The input cells are repeated exactly.
     table = read_parameter_table(sets)
     assert float(lines[3].split(",")[1]) == table.columns["lam"][2]
+
+
+def test_result_rows_equal_the_critical_speed_objects(tmp_path):
+    """The sweep's array path gives each row the speeds and ranges of :class:`CriticalSpeeds`."""
+    sets = tmp_path / "sets.csv"
+    _table(sets, 300, seed=3, bad=(7, 100))
+    table = read_parameter_table(sets)
+    names = tuple(table.columns)
+    chunk = TableChunk(names, np.stack([table.columns[name] for name in names], axis=-1))
+    base = load_bicycle("benchmark")
+    rows = analyse_chunk(SweepTask(chunk, base, (0.0, 10.0))).text.splitlines()
+    problems, critical = analyse_sets(chunk, base, (0.0, 10.0))
+    assert len(rows) == 300 and sum(1 for result in critical if result is None) == 2
+    for row, result, problem in zip(rows, critical, problems, strict=True):
+        cells = row.split(",")[len(names):]
+        if result is None:
+            assert cells[:3] == ["", "", ""] and problem
+            continue
+        expected = [result.weave_speed, result.capsize_speed]
+        assert [float(c) if c else None for c in cells[:2]] == expected
+        ranges = [tuple(map(float, pair.split(":"))) for pair in cells[2].split(";") if pair]
+        assert ranges == list(result.stable_speed_ranges)
 
 
 def test_reader_parses_like_python_floats_and_names_bad_cells(tmp_path):

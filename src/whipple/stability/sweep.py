@@ -8,7 +8,7 @@ Tables of any length are read and analysed in chunks of rows (:data:`CHUNK_ROWS`
 is bounded by the chunk size: :func:`table_chunks` reads a chunk at a time (with NumPy's
 parser; a chunk it refuses is read again cell by cell for a one-line error naming the line and
 column), :func:`analyse_chunk` validates a chunk's sets together and analyses the valid ones
-with :func:`whipple.stability.critical.critical_speeds_batch`, and returns the chunk's rows of
+with :func:`whipple.stability.critical.critical_speed_table`, and returns the chunk's rows of
 the results table as text. A chunk is a self-contained task, so chunks can be analysed on
 other processes or machines (:mod:`whipple.distributed`) and written in order.
 """
@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from whipple.errors import InputError
 from whipple.model.assembly import build_linear_model
 from whipple.model.parameters import PARAMETER_NAMES, Bicycle, validate_rows
-from whipple.stability.critical import CriticalSpeeds, critical_speeds_batch
+from whipple.stability.critical import CriticalSpeeds, critical_speed_table, critical_speeds_batch
 
 #: Rows of a parameter table read and analysed together.
 CHUNK_ROWS = 10_000
@@ -219,6 +219,14 @@ class SweepTask:
     speed_range: tuple[float, float]
 
 
+def _parameter_columns(chunk: TableChunk, base: Bicycle) -> dict[str, NDArray[np.float64]]:
+    """Every parameter of every row: the chunk's columns, the base's values for the others."""
+    count = chunk.values.shape[0]
+    parameters = {name: np.full(count, value) for name, value in base.parameters.items()}
+    parameters.update({name: chunk.values[:, c] for c, name in enumerate(chunk.names)})
+    return parameters
+
+
 def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, float],
                  progress: Callable[[int], None] | None = None
                  ) -> tuple[tuple[str, ...], list[CriticalSpeeds | None]]:
@@ -235,11 +243,9 @@ def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, flo
     progress : callable, optional
         Passed on to :func:`~whipple.stability.critical.critical_speeds_batch`.
     """
-    count = chunk.values.shape[0]
-    parameters = {name: np.full(count, value) for name, value in base.parameters.items()}
-    parameters.update({name: chunk.values[:, c] for c, name in enumerate(chunk.names)})
+    parameters = _parameter_columns(chunk, base)
     problems = validate_rows(parameters)
-    critical: list[CriticalSpeeds | None] = [None] * count
+    critical: list[CriticalSpeeds | None] = [None] * len(problems)
     rows = [row for row, problem in enumerate(problems) if not problem]
     if rows:
         model = build_linear_model({name: values[rows] for name, values in parameters.items()},
@@ -257,29 +263,47 @@ def _quoted(cell: str) -> str:
     return buffer.getvalue()
 
 
+def _speed_cell(value: float) -> str:
+    return "" if value != value else repr(value)
+
+
 def analyse_chunk(task: SweepTask) -> ChunkResult:
     """Analyse one chunk of a table and format its rows of the results table.
 
     The input row is repeated as written (or as ``repr`` of the numbers, which read back
     exactly), then the weave and capsize speeds [m/s], the stable speed ranges as ``low:high``
-    pairs [m/s] separated by ``;``, and the problem of a row that was not analysed.
+    pairs [m/s] separated by ``;``, and the problem of a row that was not analysed. The speeds
+    come from :func:`~whipple.stability.critical.critical_speed_table` (the same solver as
+    :func:`analyse_sets`, without a result object per row).
     """
-    problems, critical = analyse_sets(task.chunk, task.base, task.speed_range)
+    parameters = _parameter_columns(task.chunk, task.base)
+    problems = validate_rows(parameters)
+    valid = [row for row, problem in enumerate(problems) if not problem]
+    weave: list[float] = []
+    capsize: list[float] = []
+    ranges: list[str] = [""] * len(valid)
+    if valid:
+        model = build_linear_model({name: values[valid] for name, values in parameters.items()},
+                                   task.base.extensions, task.base.controller)
+        table = critical_speed_table(model, *task.speed_range)
+        weave, capsize = table.weave_speed.tolist(), table.capsize_speed.tolist()
+        for index, low, high in zip(table.range_model.tolist(), table.range_low.tolist(),
+                                    table.range_high.tolist(), strict=True):
+            pair = f"{low!r}:{high!r}"
+            ranges[index] = f"{ranges[index]};{pair}" if ranges[index] else pair
     rows = task.chunk.lines
     if rows is None:
         rows = tuple(",".join(map(repr, cells)) for cells in task.chunk.values.tolist())
     lines: list[str] = []
     append = lines.append
-    for inputs, result, problem in zip(rows, critical, problems, strict=True):
-        if result is None:
+    position = 0
+    for inputs, problem in zip(rows, problems, strict=True):
+        if problem:
             append(f"{inputs},,,,{_quoted(problem)}\n")
             continue
-        weave, capsize = result.weave_speed, result.capsize_speed
-        ranges = ";".join([f"{float(low)!r}:{float(high)!r}" for low, high in result.stable_speed_ranges])
-        append(f"{inputs},{'' if weave is None else repr(float(weave))},"
-               f"{'' if capsize is None else repr(float(capsize))},{ranges},\n")
-    skipped = sum(1 for result in critical if result is None)
-    return ChunkResult("".join(lines), len(lines), skipped)
+        append(f"{inputs},{_speed_cell(weave[position])},{_speed_cell(capsize[position])},{ranges[position]},\n")
+        position += 1
+    return ChunkResult("".join(lines), len(lines), len(rows) - len(valid))
 
 
 def header_line(names: tuple[str, ...]) -> str:

@@ -92,6 +92,19 @@ def test_eigenpairs_match_numpy_in_any_speed_order() -> None:
     np.testing.assert_array_equal(result.eigenvalues[1], result.eigenvalues[3])
 
 
+def test_without_eigenvectors_the_eigenvalues_and_labels_are_the_same() -> None:
+    """Tables and plots skip the eigenvectors; the labels must not depend on that."""
+    rng = np.random.default_rng(5)
+    scale = np.exp(0.2 * rng.standard_normal((12, 1, 1)))
+    models = [benchmark(), second_order_model(np.array(M) * scale, C1, np.array(K0) * G, K2)]
+    for model in models:
+        for speeds in (np.linspace(0.0, 10.0, 501), np.array([7.3, -2.0, 0.0, 15.0])):
+            full, quick = eigen_analysis(model, speeds), eigen_analysis(model, speeds, vectors=False)
+            assert quick.eigenvectors is None
+            np.testing.assert_array_equal(quick.labels, full.labels)
+            np.testing.assert_allclose(quick.eigenvalues, full.eigenvalues, rtol=0, atol=1e-12)
+
+
 def test_batch_equals_one_model_at_a_time() -> None:
     scale = np.array([0.9, 1.0, 1.15])[:, None, None]
     batch = second_order_model(np.array(M) * scale, C1, np.array(K0) * G, K2)

@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
     bicycle = load_bicycle(args.bicycle)
     model = linear_model(bicycle)
     low, high = args.speeds
-    result = eigen_analysis(model, np.linspace(low, high, args.points))
+    result = eigen_analysis(model, np.linspace(low, high, args.points), vectors=False)
     critical = critical_speeds(model, low, high)
     if args.csv is not None:
         header, rows = eigenvalue_table(result)

@@ -343,7 +343,7 @@ def fit_figures(measured: Sequence[RunMeasurement], bicycle: Bicycle | None = No
         scale = float(bicycle.extensions.speed_scale)
         top = max([10.0, *(1.1 * float(bicycle.model_speed(m.speed.high)) for m in timed if m.speed is not None)])
         linear = linear_model(bicycle)
-        model = eigen_analysis(linear, np.linspace(0.0, top, 1001))
+        model = eigen_analysis(linear, np.linspace(0.0, top, 1001), vectors=False)
         critical = critical_speeds(linear, 0.0, top)
         title = f"measured weave eigenvalues and the model of {bicycle.name or 'the bicycle'}"
     yield "eigenvalues.png", plot_measured_eigenvalues(

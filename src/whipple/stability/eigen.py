@@ -45,9 +45,10 @@ class EigenResult:
         Forward speeds [m/s], as requested.
     eigenvalues : ndarray, shape batch + (S, n), complex
         Eigenvalues [1/s]; column k follows one mode continuously over speed.
-    eigenvectors : ndarray, shape batch + (S, n, n), complex
+    eigenvectors : ndarray, shape batch + (S, n, n), complex, or None
         Unit eigenvectors as columns: ``eigenvectors[..., s, :, k]`` belongs to
-        ``eigenvalues[..., s, k]``; state order and units as the model's states.
+        ``eigenvalues[..., s, k]``; state order and units as the model's states. None when
+        not asked for (``eigen_analysis(..., vectors=False)``).
     labels : ndarray of str, shape batch + (S, n)
         Mode of each eigenvalue: ``weave``, ``weave_real_upper``, ``weave_real_lower``,
         ``capsize``, ``castering`` or ``mode_<column>``.
@@ -57,7 +58,7 @@ class EigenResult:
 
     speeds: NDArray[np.float64]
     eigenvalues: NDArray[np.complex128]
-    eigenvectors: NDArray[np.complex128]
+    eigenvectors: NDArray[np.complex128] | None
     labels: NDArray[np.str_]
     state_names: tuple[str, ...] = ()
 
@@ -190,7 +191,7 @@ def tracked_eigenvalues(
     return result
 
 
-def eigen_analysis(model: LinearModel, speeds: ArrayLike) -> EigenResult:
+def eigen_analysis(model: LinearModel, speeds: ArrayLike, *, vectors: bool = True) -> EigenResult:
     """Eigenvalues, eigenvectors and mode labels of `model` at forward speeds.
 
     Parameters
@@ -199,6 +200,10 @@ def eigen_analysis(model: LinearModel, speeds: ArrayLike) -> EigenResult:
         One model or a batch of parameter sets (``model.batch_shape``).
     speeds : array_like, shape (S,)
         Forward speeds [m/s], in any order.
+    vectors : bool, optional
+        Return the eigenvectors at every speed (default). Without them (tables, plots, the
+        weave eigenvalue) the analysis costs little more than the eigenvalues alone: the labels
+        need eigenvectors at a tenth of the speeds only.
 
     Returns
     -------
@@ -215,7 +220,7 @@ def eigen_analysis(model: LinearModel, speeds: ArrayLike) -> EigenResult:
     grid = tracking_grid(speeds)
     batch, n = model.batch_shape, model.n_states
     A = model.state_matrix(grid).reshape(-1, grid.size, n, n)
-    analysed = tracked_eigenvalues(A, grid, vectors=True)
+    analysed = tracked_eigenvalues(A, grid, vectors=vectors)
     if speeds.size == grid.size and np.array_equal(speeds, grid):
         picked = analysed  # the requested speeds are the tracking grid: no copies
     else:
@@ -224,7 +229,7 @@ def eigen_analysis(model: LinearModel, speeds: ArrayLike) -> EigenResult:
     return EigenResult(
         speeds=speeds,
         eigenvalues=picked["eigenvalues"].reshape(batch + (speeds.size, n)),
-        eigenvectors=picked["eigenvectors"].reshape(batch + (speeds.size, n, n)),
+        eigenvectors=picked["eigenvectors"].reshape(batch + (speeds.size, n, n)) if vectors else None,
         labels=modes.names(picked["codes"]).reshape(batch + (speeds.size, n)),
         state_names=model.state_names,
     )
@@ -238,7 +243,7 @@ def weave_eigenvalue(model: LinearModel, speeds: ArrayLike) -> NDArray[np.comple
     ndarray, shape ``model.batch_shape + (S,)``, complex
         NaN where the weave is not oscillatory (below the speed where it forms).
     """
-    return eigen_analysis(model, speeds).mode(modes.WEAVE)
+    return eigen_analysis(model, speeds, vectors=False).mode(modes.WEAVE)
 
 
 def eigenvalue_table(result: EigenResult) -> tuple[list[str], list[list[Any]]]:

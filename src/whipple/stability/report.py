@@ -112,4 +112,4 @@ def analyse_bicycle(bicycle: Bicycle, speed_range: tuple[float, float] = (0.0, 1
     speed_std, notes = _uncertainty(bicycle, critical)
     speeds = [v for v in REPORT_SPEEDS if low <= v <= high] or [low, high]
     return BicycleReport(bicycle, tuple(report.warnings), {k: m.tolist() for k, m in shown.items()},
-                         critical, speed_std, notes, eigen_analysis(model, speeds))
+                         critical, speed_std, notes, eigen_analysis(model, speeds, vectors=False))

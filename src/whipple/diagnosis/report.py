@@ -220,16 +220,13 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     observations = [observation(m) for m in used]
     causes = candidate_causes(bicycle, include_parameters)
     diagnosis = diagnose_observations(bicycle, observations, causes)
-    chosen = None
-    if diagnosis.best is not None:
-        forms = [c for c in causes if c.name == diagnosis.best.cause]
-        chosen = max(forms, key=lambda c: len(c.parameters))
+    chosen = diagnosis.chosen
     extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle
     gain, note = None, ""
     if chosen is not None:
         series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
         try:
-            gain = held_out_gain(bicycle, chosen, observations, series)
+            gain = held_out_gain(bicycle, observations, causes, series)
         except AnalysisError as error:
             note = str(error)
     else:

@@ -298,9 +298,10 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     When the best single cause leaves a dispersion above ``COMBINE_DISPERSION``, pairs of the
     leading causes are fitted jointly as well (:func:`whipple.diagnosis.families.combined_cause`).
     ``estimate_spread``: also compute the jackknife spread of the leading cause's values
-    (skipped by the held-out gain, which uses only the values). ``quick``: start each fit once,
-    from the cause's no-effect values, and the refit at the dispersion from the first fit's
-    values (several times faster; used by the held-out gain's folds).
+    (skipped by the held-out gain, which uses only the values). ``quick``: start each fit from
+    the cause's no-effect values and a step of 5% of its bounds away, and the refit at the
+    dispersion from the first fit's values (several times faster; used by the held-out gain's
+    folds).
     """
     observations = tuple(observations)
     if len(observations) < 2:
@@ -312,7 +313,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
     n = sum(counts)
     base, fits = _fit_all(bicycle, causes, observations, whitening,
-                          [[cause.start] for cause in causes] if quick else None)
+                          [_quick_starts(cause) for cause in causes] if quick else None)
     scales = single_scales = _dispersions([base, *fits], counts)
     pairs: list[Cause] = []
     if max(scales) > COMBINE_DISPERSION:
@@ -355,6 +356,13 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                      family=describe_family([name, *rivals]) if verdict == "ambiguous" else "",
                      reasons=reasons, combinations=tuple(pair.name for pair in pairs),
                      single_scales=single_scales)
+
+
+def _quick_starts(cause: Cause) -> list[list[float]]:
+    """Return two starts: the no-effect values, and 5% of the bounds away (a fit started on a bound can stall)."""
+    start = np.array(cause.start, dtype=float)
+    lower, upper = (np.array([b[k] for b in cause.bounds]) for k in (0, 1))
+    return [list(start), [float(v) for v in np.clip(start + 0.05 * (upper - lower), lower, upper)]]
 
 
 def separation(first: CauseFit, second: CauseFit) -> float:

@@ -244,18 +244,21 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     if len(cause.parameters) > 1:
         tries += [lower + (upper - lower) * np.resize(np.array(f), len(lower))
                   for f in ((0.02, 0.1, 0.5), (0.1, 0.3, 0.4), (0.4, 0.05, 0.6))]
-    if starts is not None:
-        tries = [np.array(start, dtype=float) for start in starts]
+    # Given starts first; the default ones only if every given start fails.
+    rounds = [tries] if starts is None else [[np.array(start, dtype=float) for start in starts], tries]
     best = None
-    for start in tries:
-        x0 = np.clip(start, lower, upper) / scale
-        try:
-            result = least_squares(residual, x0, bounds=(lower / scale, upper / scale), x_scale="jac",
-                                   diff_step=1e-6, loss="soft_l1", f_scale=ROBUST_SCALE)
-        except (np.linalg.LinAlgError, ValueError):
-            continue
-        if best is None or result.cost < best.cost:
-            best = result
+    for round_ in rounds:
+        for start in round_:
+            x0 = np.clip(start, lower, upper) / scale
+            try:
+                result = least_squares(residual, x0, bounds=(lower / scale, upper / scale), x_scale="jac",
+                                       diff_step=1e-6, loss="soft_l1", f_scale=ROBUST_SCALE)
+            except (np.linalg.LinAlgError, ValueError):
+                continue
+            if best is None or result.cost < best.cost:
+                best = result
+        if best is not None:
+            break
     if best is None:
         raise AnalysisError(f"fit of {cause.name} failed")
     values = best.x * scale

@@ -10,7 +10,9 @@ On the bundled treadmill runs (sbw2024 with its controller):
    per fold, summarised by the median over all left-out windows pooled;
 3. whole speeds never seen: the diagnosis on alternate speeds (the lowest, middle and highest)
    predicts the two speeds in between, like the three speeds the bundled files leave out of
-   the same experiment.
+   the same experiment;
+4. for a controlled bicycle, each controller cause fitted on all speeds: how much of the
+   disagreement at each speed it can explain at best.
 
 ``--no-parameters`` restricts the candidates to the physical causes (no ``parameter:<key>``).
 Every number is an RMS or median of |measured - predicted| weave eigenvalue [1/s].
@@ -23,7 +25,7 @@ import argparse
 import numpy as np
 
 from whipple.diagnosis.causes import candidate_causes
-from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.evidence import diagnose_observations, fit_cause
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
 from whipple.measurement.bundled import bundled_runs
@@ -85,6 +87,19 @@ def main() -> None:
             print("   " + _line(f"never seen {np.mean([seen[i].speed for i in group]):.2f} m/s ({len(group)} windows)",
                                base_error[mask], extended_error[mask]))
     print("   " + _line(f"all never-seen speeds ({len(held)} windows)", base_error, extended_error))
+
+    controller = [cause for cause in causes if cause.name.startswith("controller_")]
+    if controller:
+        print("4. controller causes fitted on all speeds (in sample: the most they can explain), RMS by speed:")
+        eigenvalues = np.array([o.eigenvalue for o in seen])
+        base_all = np.abs(eigenvalues - predicted_weave(bicycle, seen))
+        for cause in controller:
+            fit = fit_cause(bicycle, cause, seen)
+            error = np.abs(eigenvalues - predicted_weave(cause.apply(bicycle, fit.values), seen))
+            by_speed = "; ".join(f"{np.mean([seen[i].speed for i in g]):.2f} m/s "
+                                 f"{np.sqrt(np.mean(base_all[g] ** 2)):.2f} -> {np.sqrt(np.mean(error[g] ** 2)):.2f}"
+                                 for g in groups)
+            print(f"   {cause.name} = {fit.values[0]:.4g}: {by_speed}")
 
 
 if __name__ == "__main__":

@@ -100,6 +100,14 @@ def main() -> None:
                                  f"{np.sqrt(np.mean(base_all[g] ** 2)):.2f} -> {np.sqrt(np.mean(error[g] ** 2)):.2f}"
                                  for g in groups)
             print(f"   {cause.name} = {fit.values[0]:.4g}: {by_speed}")
+        low = [i for g in groups[:2] for i in g]
+        print("   fitted on the two lowest speeds only (in sample), RMS there:")
+        for cause in controller:
+            fit = fit_cause(bicycle, cause, [seen[i] for i in low])
+            error = np.abs(eigenvalues[low] - predicted_weave(cause.apply(bicycle, fit.values), [seen[i] for i in low]))
+            print(f"   {cause.name} = {fit.values[0]:.4g}: RMS {np.sqrt(np.mean(base_all[low] ** 2)):.2f} -> "
+                  f"{np.sqrt(np.mean(error ** 2)):.2f}, median {np.median(base_all[low]):.2f} -> "
+                  f"{np.median(error):.2f}")
 
 
 if __name__ == "__main__":

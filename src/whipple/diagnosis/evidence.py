@@ -15,7 +15,11 @@ with n residuals, k fitted values, and each kind of residual (eigenvalue, shape)
 its own s^2 >= 1, the reduced chi-square of the best model on that kind (window uncertainties
 that are too small inflate every chi-square alike). ``none`` has evidence 0. The verdict:
 ``none`` when no cause reaches ``named_threshold``; ``ambiguous`` when the runner-up is within
-``margin`` of the best; otherwise ``named``.
+``margin`` of the best, when a runner-up within ``CLOSE_EVIDENCE`` predicts the observations
+within ``SEPARATION`` of the best (:func:`separation`), or when even the best model leaves the
+typical window far off (:func:`typical_dispersion` above ``HIGH_DISPERSION``); otherwise
+``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
+(:mod:`whipple.diagnosis.families`) and kept only when they beat every single cause by ``margin``.
 """
 
 from __future__ import annotations

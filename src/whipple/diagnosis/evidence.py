@@ -314,9 +314,9 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     leading causes are fitted jointly as well (:func:`whipple.diagnosis.families.combined_cause`).
     ``estimate_spread``: also compute the jackknife spread of the leading cause's values
     (skipped by the held-out gain, which uses only the values). ``quick``: start each fit from
-    the cause's no-effect values and a step of 5% of its bounds away, and the refit at the
-    dispersion from the first fit's values (several times faster; used by the held-out gain's
-    folds).
+    the cause's no-effect values and a step of 5% of its bounds away (each pair once, from its
+    members' values), and rescale the residuals by the dispersions instead of refitting (several
+    times faster; used by the held-out gain's folds).
     """
     observations = tuple(observations)
     if len(observations) < 2:
@@ -338,15 +338,20 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         started = _leading_pairs(causes, _scored(causes, base, fits, n))
         started += _screened_pairs(bicycle, causes, observations, whitening, {pair.name for pair, _ in started})
         pairs = [pair for pair, _ in started]
-        pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start, list(pair.start)])
+        pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start] if quick else [start, list(pair.start)])
                      for pair, start in started]
         causes, fits = causes + pairs, fits + pair_fits
         scales = _dispersions([base, *fits], counts)
-    if scales != (1.0, 1.0):
+    if scales != (1.0, 1.0) and quick:
+        # The fits' values kept, their residuals rescaled: no refit (the held-out gain's folds).
+        whitening = replace(whitening, scales=scales)
+        base = _rescaled(base, counts[0], scales)
+        fits = [_rescaled(fit, counts[0], scales) for fit in fits]
+    elif scales != (1.0, 1.0):
         # Refit with each kind of residual at its own dispersion (weights the fits, too).
         whitening = replace(whitening, scales=scales)
         single = len(causes) - len(pairs)
-        again = [[fit.values] if quick or n_cause >= single else None for n_cause, fit in enumerate(fits)]
+        again = [[fit.values] if n_cause >= single else None for n_cause, fit in enumerate(fits)]
         base, fits = _fit_all(bicycle, causes, observations, whitening, again)
     scored = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n)), margin)
     chosen = None
@@ -402,6 +407,12 @@ def typical_dispersion(fits: Sequence[CauseFit], counts: tuple[int, int], scales
                    for fit in fits if fit.residuals.size >= end]
         result.append(max(1.0, float(min(medians)) / _MEDIAN_CHI2_2) if medians else 1.0)
     return result[0], result[1]
+
+
+def _rescaled(fit: CauseFit, split: int, scales: tuple[float, float]) -> CauseFit:
+    """Return a fit at unit dispersion with its residuals divided by the dispersions (no refit)."""
+    residuals = np.concatenate([fit.residuals[:split] / np.sqrt(scales[0]), fit.residuals[split:] / np.sqrt(scales[1])])
+    return replace(fit, residuals=residuals, chi2=robust_chi2(residuals))
 
 
 def _quick_starts(cause: Cause) -> list[list[float]]:

@@ -83,6 +83,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
         lines += [f"| all | {sum(s.windows for s in g.speeds)} | | {g.base_rms:.2f} | {g.extended_rms:.2f} | "
                   f"{100 * g.cut:+.0f}% | {g.base:.2f} | {g.extended:.2f} |", ""]
         lines += [f"- {sentence[0].upper() + sentence[1:]}." for sentence in gain_sentences(g)]
+        if "gain" in figures:
+            lines += ["", f"![held-out gain]({figures['gain']})", ""]
         if g.time_base is not None and g.time_extended is not None:
             lines.append(f"- Time domain (median rms roll-rate residual / window rms, held out): base "
                          f"{g.time_base:.3f}, extended {g.time_extended:.3f}.")

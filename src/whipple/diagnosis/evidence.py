@@ -416,18 +416,14 @@ def _rescaled(fit: CauseFit, split: int, scales: tuple[float, float]) -> CauseFi
 
 
 def _quick_starts(cause: Cause) -> list[list[float]]:
-    """Return two starts: the no-effect values, and 5% of the bounds away (a fit started on a bound can stall)."""
+    """Return the no-effect values and 5% of the bounds away (a fit started on a bound can stall)."""
     start = np.array(cause.start, dtype=float)
     lower, upper = (np.array([b[k] for b in cause.bounds]) for k in (0, 1))
     return [list(start), [float(v) for v in np.clip(start + 0.05 * (upper - lower), lower, upper)]]
 
 
 def _clearly_better_pairs(scored: list[CauseFit], margin: float) -> list[CauseFit]:
-    """Drop the pairs of causes that do not beat every single cause by ``margin``.
-
-    A pair is reported only when clearly better than one cause alone: a pair that is merely
-    about as good is a single cause with a second one the data do not need.
-    """
+    """Drop the pairs of causes that do not beat every single cause by ``margin`` (not clearly better)."""
     singles = [fit.evidence for fit in scored if COMBINATION not in fit.cause]
     best_single = max(singles) if singles else -np.inf
     return [fit for fit in scored if COMBINATION not in fit.cause or fit.evidence >= best_single + margin]
@@ -462,8 +458,7 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     close = [fit.cause for fit in scored[1:] if fit.evidence > best.evidence - margin]
     if close:
         reasons.append(f"{', '.join(close)} within {margin:g} of the best evidence")
-    # A combination holding the best single cause is a more general form of it: that the
-    # general form predicts alike says the second cause is not needed, not that it competes.
+    # A pair holding the best cause predicting alike says its second cause is not needed.
     alike = [fit.cause for fit in scored[1:] if fit.cause not in close
              and fit.evidence > best.evidence - CLOSE_EVIDENCE and best.cause not in components(fit.cause)
              and separation(best, fit) < SEPARATION]
@@ -503,15 +498,12 @@ def _leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[
 
 def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
                     whitening: _Whitening, tried: set[str]) -> list[tuple[Cause, list[float]]]:
-    """Return the ``PAIR_SCREENED`` pairs of all causes that best explain the base model's residuals.
+    """Return the ``PAIR_SCREENED`` pairs, not in ``tried``, that best explain the base model's residuals.
 
-    Linearised at the base model: each cause's residual derivative by a finite step of 5% of its
-    bounds, and for every pair the least-squares step of both together. Two effects together
-    often lead to a single wrong cause that mimics both (in a simulated trial, steer damping
-    with a 40% larger rear-frame roll inertia made a front-wheel mass the best single cause,
-    the roll inertia only 14th), so the leading singles alone miss the true pair; the
-    linearised screen ranked it first. Each pair starts from its linearised values (within
-    bounds); pairs already in ``tried`` are skipped.
+    Linearised at the base model (each cause's residual derivative by a step of 5% of its
+    bounds; for every pair the least-squares step of both together); each pair starts from its
+    linearised values within bounds. The true pair is often not among the leading singles
+    (docs/diagnosis.md, "Two causes together").
     """
     residual = _residuals(bicycle, observations, whitening)[0]
     columns = []

@@ -16,12 +16,26 @@ from hidden_effects import CAUSES, run_trial
 EFFECTS = [cause for cause in CAUSES if cause != "none"]
 
 
+def _identified(trial) -> bool:
+    """Named right, or ambiguous with the hidden cause leading and in the family the verdict names.
+
+    Some causes cannot be told apart by weave eigenvalues and mode shapes: a steer inertia is
+    predicted within the noise by a front-wheel diametral inertia IFxx or a front payload (issue
+    12: the verdict is then ``ambiguous``, naming the family, rather than a name decided by a
+    prior alone).
+    """
+    diagnosis = trial.diagnosis
+    return trial.named_correctly or (diagnosis.verdict == "ambiguous" and diagnosis.cause == trial.cause
+                                     and trial.cause in diagnosis.family)
+
+
 @pytest.mark.parametrize("cause", EFFECTS)
 def test_hidden_cause_is_named_fast_subset(cause):
     trials = [run_trial(cause, seed) for seed in range(3)]
-    named = sum(trial.named_correctly for trial in trials)
-    verdicts = [(trial.diagnosis.verdict, trial.diagnosis.cause) for trial in trials]
-    assert named >= 2, verdicts
+    identified = sum(_identified(trial) for trial in trials)
+    verdicts = [(trial.diagnosis.verdict, trial.diagnosis.cause, trial.diagnosis.family) for trial in trials]
+    assert identified >= 2, verdicts
+    assert not any(trial.diagnosis.verdict == "named" and trial.diagnosis.cause != cause for trial in trials), verdicts
 
 
 def test_no_effect_says_none_fast_subset():

@@ -8,8 +8,11 @@ causes
     Candidate causes: each a model change with one or two physical parameters.
 evidence
     Each cause fitted to all observations; evidence and verdict.
+families
+    Families of causes that change the same physics (named when the data cannot tell their
+    members apart), and pairs of causes fitted jointly.
 gain
-    The extended model's error on held-out speeds.
+    The extended model's error on speeds that its choice and fit never saw.
 amplitude
     The nonlinear model's weave at each window's measured amplitude against the linear one.
 report

@@ -161,7 +161,8 @@ def plot_time_overlay(report: DiagnosisReport, count: int = 4) -> Figure:
 def plot_ranking(report: DiagnosisReport, count: int = 10) -> Figure:
     """Evidence of the best-supported causes (and none at 0)."""
     ranking = report.diagnosis.ranking()[:count]
-    figure = Figure(figsize=(7, 0.35 * len(ranking) + 1.2))
+    width = max([len(cause) for cause, _ in ranking] + [20])
+    figure = Figure(figsize=(5 + 0.07 * width, 0.35 * len(ranking) + 1.2))
     axis = figure.subplots()
     names = [cause for cause, _ in ranking][::-1]
     values = [evidence for _, evidence in ranking][::-1]
@@ -172,14 +173,40 @@ def plot_ranking(report: DiagnosisReport, count: int = 10) -> Figure:
     return figure
 
 
+def plot_gain(report: DiagnosisReport) -> Figure:
+    """RMS and median weave-eigenvalue error on each held-out speed, base and extended model."""
+    gain = report.gain
+    figure = Figure(figsize=(7, 3.2))
+    axes = figure.subplots(1, 2, sharey=True)
+    if gain is None:
+        return figure
+    positions = np.arange(len(gain.speeds))
+    labels = [f"{s.speed:.2f}" for s in gain.speeds]
+    for axis, (title, base, extended) in zip(axes, (
+            ("RMS", [s.base_rms for s in gain.speeds], [s.extended_rms for s in gain.speeds]),
+            ("median", [s.base_median for s in gain.speeds], [s.extended_median for s in gain.speeds])),
+            strict=True):
+        axis.bar(positions - 0.2, base, 0.4, color="0.6", label="base model")
+        axis.bar(positions + 0.2, extended, 0.4, color="C3", label="extended without this speed")
+        axis.set_xticks(positions, labels)
+        axis.set_xlabel("held-out speed [m/s]")
+        axis.set_title(f"{title} |measured - predicted|", fontsize=9)
+    axes[0].set_ylabel("weave eigenvalue error [1/s]")
+    axes[0].legend(fontsize=7)
+    figure.tight_layout()
+    return figure
+
+
 def report_figures(report: DiagnosisReport) -> dict[str, Figure]:
     """Return every figure of the report by key.
 
-    The keys are eigenvalues, residuals, time and ranking, and where mode shapes were
-    compared, shapes.
+    The keys are eigenvalues, residuals, time and ranking, where mode shapes were compared
+    shapes, and with a held-out gain, gain.
     """
     makers = {"eigenvalues": plot_eigenvalues, "residuals": plot_residuals, "time": plot_time_overlay,
               "ranking": plot_ranking}
     if report.diagnosis.n_shapes:
         makers["shapes"] = plot_mode_shapes
+    if report.gain is not None and report.gain.speeds:
+        makers["gain"] = plot_gain
     return {key: make(report) for key, make in makers.items()}

@@ -25,6 +25,7 @@ never a named cause.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from dataclasses import fields as dataclass_fields
 from pathlib import Path
 
 import numpy as np
@@ -37,7 +38,7 @@ from whipple.measurement.runs import run_from_simulation
 from whipple.model.assembly import linear_model
 from whipple.model.bodies import Body, combine, frame_body
 from whipple.model.linear import LinearModel
-from whipple.model.parameters import Bicycle, Payload, TyreCompliance, load_bicycle
+from whipple.model.parameters import Bicycle, Controller, Extensions, Payload, TyreCompliance, load_bicycle
 from whipple.simulation.scenario import RunScenario
 from whipple.simulation.simulator import simulate_run
 
@@ -48,9 +49,13 @@ CAUSES = ("none", "steer_damping", "steer_inertia", "speed_scale", "payload", "t
 PHYSICAL = ("rack", "basket", "roll_damping")
 #: Families of the controlled bicycle's controller (need the ``causes`` branch's Controller fields).
 CONTROLLER = ("controller_gain", "controller_delay", "controller_lag")
+#: Keys of the ``parameter`` family's wrong parameter (drawn per seed): trail and the inertias
+#: are the parameters most often estimated rather than measured.
+WRONG_PARAMETERS = ("c", "IBxx", "IFyy")
 #: The answer a right diagnosis gives for each family; None: no candidate (none or ambiguous).
 EXPECTED: dict[str, str | None] = {
     **{cause: cause for cause in CAUSES},
+    "parameter": "parameter:<key>",
     "rack": "payload",
     "basket": "front_payload",
     "roll_damping": None,
@@ -86,6 +91,8 @@ class Trial:
     @property
     def expected(self) -> str | None:
         """The cause a right diagnosis names (None: the truth is none of the candidates)."""
+        if self.cause == "parameter":
+            return "parameter:" + next(iter(self.truth))
         return EXPECTED[self.cause]
 
     @property
@@ -198,10 +205,10 @@ def hidden_bicycle(base: Bicycle, cause: str,
         tyres = TyreCompliance(stiffness, 0.57, relaxation)
         return (base.with_extensions(tyre_compliance=tyres),
                 {"cornering_stiffness": stiffness, "relaxation_length": relaxation}, None)
-    if cause.startswith("parameter:"):
+    if cause == "parameter" or cause.startswith("parameter:"):
         # Trail and the inertias are the parameters most often estimated rather than measured
         # (a 25-50% error is plausible); the same rule applies to any other key asked for.
-        key = cause.split(":", 1)[1]
+        key = str(rng.choice(WRONG_PARAMETERS)) if cause == "parameter" else cause.split(":", 1)[1]
         value = p[key] * (1.0 + rng.choice([-1.0, 1.0]) * rng.uniform(0.25, 0.5))
         return base.with_parameters(**{key: value}), {key: value}, None
     if cause == "rack":
@@ -238,7 +245,7 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None) 
     ``load_bicycle`` reads. The controlled bicycle's windows leave out their first 0.3 s (its
     slow castering mode; see docs/diagnosis.md, ``--settle``).
     """
-    families = (*CAUSES, *PHYSICAL, "motor", *CONTROLLER)
+    families = (*CAUSES, *PHYSICAL, "motor", *CONTROLLER, "parameter")
     rng = np.random.default_rng([seed, families.index(cause) if cause in families else 99])
     base = load_bicycle(bicycle_source(base_name))
     controlled = not base.controller.is_empty()
@@ -254,5 +261,21 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None) 
     return Trial(cause, seed, truth, diagnosis, base_name)
 
 
+def families(bicycle: str) -> tuple[str, ...]:
+    """The trial families of a bicycle (a key of BICYCLES, or CONTROLLED) this model supports."""
+    if bicycle == CONTROLLED:
+        return ("none", *CONTROLLER) if _supports(CONTROLLER) else ("none",)
+    extra = ("motor",) if _supports(("motor",)) else ()
+    return ("none", "steer_damping", "steer_inertia", "speed_scale", "payload", "tyre_compliance",
+            "parameter", *PHYSICAL, *extra)
+
+
+def _supports(names: tuple[str, ...]) -> bool:
+    """Whether the model has what the families need (the ``causes`` branch's fields)."""
+    fields = {"motor": (Extensions, "reflected_steer_inertia")}
+    fields.update({name: (Controller, "gain_scale") for name in CONTROLLER})
+    return all(any(f.name == fields[name][1] for f in dataclass_fields(fields[name][0])) for name in names)
+
+
 __all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLER", "EXPECTED", "PHYSICAL", "Trial", "box",
-           "cause_by_name", "hidden_bicycle", "run_trial", "with_body"]
+           "cause_by_name", "families", "hidden_bicycle", "run_trial", "with_body"]

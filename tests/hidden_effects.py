@@ -230,6 +230,24 @@ def hidden_bicycle(base: Bicycle, cause: str,
         gains = np.zeros((2, 4))
         gains[0, 2] = -value
         return base, {"roll_damping": value}, with_feedback(linear_model(base), gains)
+    if cause == "motor":
+        # A geared steer motor: its rotor's inertia J times the gear ratio N squared acts on
+        # the steer equation alone (N^2 J of 0.02-0.3 kg m^2, e.g. N = 10-20, J = 2e-4-8e-4).
+        value = rng.uniform(0.02, 0.3)
+        return (base.with_extensions(reflected_steer_inertia=value),
+                {"reflected_steer_inertia": value}, None)
+    if cause == "controller_gain":
+        # An actuator's torque constant or amplifier gain 15-40% off.
+        value = 1.0 + rng.choice([-1.0, 1.0]) * rng.uniform(0.15, 0.4)
+        return base.with_controller(replace(base.controller, gain_scale=value)), {"gain_scale": value}, None
+    if cause == "controller_delay":
+        # Sensing, computing and communication of a steer-by-wire loop: 30-120 ms.
+        value = rng.uniform(0.03, 0.12)
+        return base.with_controller(replace(base.controller, delay=value)), {"delay": value}, None
+    if cause == "controller_lag":
+        # A first-order actuator of 1.3-5 Hz bandwidth (time constant 30-120 ms).
+        value = rng.uniform(0.03, 0.12)
+        return base.with_controller(replace(base.controller, lag=value)), {"lag": value}, None
     raise ValueError(cause)
 
 

@@ -1,8 +1,9 @@
 """The catalogue of derived models: what ``whipple regenerate`` emits.
 
 - ``whipple``: the benchmark Whipple bicycle in its 24 parameters that enter the linear model.
-- ``whipple_extended``: the same with a payload point mass on the rear frame, extra steer
-  inertia and viscous steer damping, derived by adding those bodies and loads to the system
+- ``whipple_extended``: the same with payload point masses on the rear and on the front frame,
+  extra (rigid) steer inertia, reflected steer inertia of a geared rotor and viscous steer
+  damping, derived by adding those bodies and loads to the system
   (not by editing matrices), so that the extensions pass through the same mechanics.
 - ``tyre``: the extended bicycle with lateral tyre compliance (see ``tyre.py``), whose state
   adds the lateral speed, the yaw rate and the two tyre forces.
@@ -29,7 +30,15 @@ from .symbols import (
 )
 from .tidy import tidy
 from .tyre import derive_tyre_equations
-from .whipple import add_payload, add_steer_damping, add_steer_inertia, build_bicycle
+from .whipple import (
+    BicycleSystem,
+    add_front_payload,
+    add_payload,
+    add_reflected_steer_inertia,
+    add_steer_damping,
+    add_steer_inertia,
+    build_bicycle,
+)
 
 # IByy and IHyy are carried through the dynamics and must drop out (checked below).
 _PITCH_INERTIAS = PITCH_INERTIAS
@@ -111,20 +120,40 @@ def derive_whipple() -> DerivedModel:
                         _BENCHMARK_FORM + "; K0 includes gravity")
 
 
+def _add_extensions(system: BicycleSystem, p: dict[str, sm.Symbol]) -> None:
+    """Every extension that keeps the two degrees of freedom, as bodies and loads."""
+    add_payload(system, p)
+    add_front_payload(system, p)
+    add_steer_inertia(system, p)
+    add_reflected_steer_inertia(system, p)
+    add_steer_damping(system, p["steer_damping"])
+
+
+def _check_reflected_inertia(equations: LinearEquations, p: dict[str, sm.Symbol]) -> None:
+    """The reflected steer inertia must enter M[steer, steer] alone, with coefficient one."""
+    J = p["reflected_steer_inertia"]
+    for name in ("M", "C1", "D", "K0", "K2"):
+        matrix = getattr(equations, name)
+        change = (matrix - matrix.xreplace({J: 0})).applyfunc(sm.simplify)
+        expected = sm.Matrix([[0, 0], [0, J]]) if name == "M" else sm.zeros(2, 2)
+        if change != expected:
+            raise AssertionError(f"the reflected steer inertia changes {name} by {change}")
+
+
 def derive_whipple_extended() -> DerivedModel:
-    """The Whipple bicycle with payload, steer inertia and steer damping."""
+    """The Whipple bicycle with payloads, steer inertias and steer damping."""
     p = parameter_symbols(list(BENCHMARK_PARAMETERS) + list(_PITCH_INERTIAS)
                           + list(EXTENSION_PARAMETERS))
     system = build_bicycle(p)
-    add_payload(system, p)
-    add_steer_inertia(system, p)
-    add_steer_damping(system, p["steer_damping"])
+    _add_extensions(system, p)
     equations = _tidy_equations(linearize(system, p["rR"]), p["lam"])
     names = tuple(BENCHMARK_PARAMETERS) + tuple(EXTENSION_PARAMETERS)
     _check_free_symbols(equations, names, "whipple_extended")
+    _check_reflected_inertia(equations, p)
     return DerivedModel(
         "whipple_extended",
-        "Whipple bicycle with a rear-frame payload point mass, extra steer inertia and steer damping",
+        "Whipple bicycle with rear- and front-frame payload point masses, extra steer inertia, "
+        "reflected steer inertia and steer damping",
         names, {"M": equations.M, "C1": equations.C1, "D": equations.D, "K0": equations.K0, "K2": equations.K2},
         _BENCHMARK_FORM + "; K0 includes gravity")
 
@@ -134,9 +163,7 @@ def derive_tyre() -> DerivedModel:
     p = parameter_symbols(list(BENCHMARK_PARAMETERS) + list(_PITCH_INERTIAS)
                           + list(EXTENSION_PARAMETERS) + list(TYRE_PARAMETERS))
     system = build_bicycle(p, lateral_slip=True)
-    add_payload(system, p)
-    add_steer_inertia(system, p)
-    add_steer_damping(system, p["steer_damping"])
+    _add_extensions(system, p)
     equations = derive_tyre_equations(system, p)
     names = tuple(BENCHMARK_PARAMETERS) + tuple(EXTENSION_PARAMETERS) + tuple(TYRE_PARAMETERS)
     matrices = {"E": equations.E}

@@ -185,6 +185,44 @@ def add_payload(system: BicycleSystem, p: dict[str, sm.Symbol]) -> None:
     system.loads.append(Load(p["payload_mass"] * p["g"] * system.yaw_frame.z, point=payload))
 
 
+def add_front_payload(system: BicycleSystem, p: dict[str, sm.Symbol]) -> None:
+    """A point mass rigidly on the front frame at (front_payload_x, 0, front_payload_z).
+
+    The position is in benchmark axes in the reference configuration (steer angle zero), like
+    the front frame's own mass centre (xH, zH); the mass turns with the front frame.
+    """
+    H = system.front_frame
+    steer_point = system.points["steer_point"]
+    position = (p["front_payload_x"] - p["w"] - p["c"]) * H.x + p["front_payload_z"] * H.z
+    payload = steer_point.locatenew("front_payload", position)
+    payload.v2pt_theory(steer_point, system.inertial, H)
+    system.bodies.append(Body("front_payload", p["front_payload_mass"], payload, H, Dyadic(0)))
+    system.loads.append(Load(p["front_payload_mass"] * p["g"] * system.yaw_frame.z, point=payload))
+
+
+def add_reflected_steer_inertia(system: BicycleSystem, p: dict[str, sm.Symbol]) -> None:
+    """A rotor geared to the steer angle (a steer motor), in the limit of a high gear ratio.
+
+    A rotor of axial inertia J_rotor turning at N times the steer rate relative to its carrier
+    has angular velocity ``omega_carrier + N steer_rate s`` about the steer axis s. Its kinetic
+    energy ``J_rotor (N steer_rate + omega_carrier . s)^2 / 2`` holds the reflected inertia
+    ``N^2 J_rotor`` of the steer equation, a coupling ``N J_rotor`` of the steer rate with the
+    carrier's rotation (roll and yaw rates), and ``J_rotor`` added to the carrier's inertia. The
+    parameter ``reflected_steer_inertia`` is ``N^2 J_rotor``; the two smaller terms are of
+    relative order 1/N and 1/N^2 and are neglected, as are the rotor's transverse inertia and
+    its mass (counted in the frame carrying it). The rotor's gyroscopic torques are products of
+    first-order rates and vanish in the linear model anyway. The rotor is therefore a massless
+    body whose angular velocity is ``steer_rate s`` and whose inertia is
+    ``reflected_steer_inertia s s^T``: it adds exactly ``reflected_steer_inertia`` to M[steer,
+    steer] and nothing else (the derivation checks this).
+    """
+    s = system.steer_axis
+    rotor = ReferenceFrame("rotor")
+    rotor.set_ang_vel(system.inertial, steer.diff() * s)
+    system.bodies.append(Body("steer_rotor", sm.S.Zero, system.points["steer_point"], rotor,
+                              p["reflected_steer_inertia"] * (s | s)))
+
+
 def add_steer_inertia(system: BicycleSystem, p: dict[str, sm.Symbol]) -> None:
     """Extra inertia of the front frame about the steer axis (a motor, a lamp, a bag)."""
     s = system.steer_axis
@@ -200,5 +238,6 @@ def add_steer_damping(system: BicycleSystem, damping: sm.Symbol) -> None:
     system.loads.append(Load(damping * rate * s, frame=system.rear_frame))
 
 
-__all__ = ["BicycleSystem", "Body", "Load", "build_bicycle", "add_payload", "add_steer_inertia",
+__all__ = ["BicycleSystem", "Body", "Load", "build_bicycle", "add_payload", "add_front_payload",
+           "add_reflected_steer_inertia", "add_steer_inertia",
            "add_steer_damping", "dynamicsymbols"]

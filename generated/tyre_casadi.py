@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``tyre``).
 
-Derivation sources sha256: 89cb387b60f1a280ad0a5759cc931682670b1c8feb0fcfe1572b0f91b3219384
+Derivation sources sha256: c5391ec3f5c7dc209c84a2c28cc60479cc0b44af9ee26a9c246c6bc6de821536
 SymPy version: 1.14.0
 
 Equation form: E x' = (A0 + v A1 + ...) x + B f, x = [roll, steer, roll_rate, steer_rate, lateral_speed, yaw_rate, rear_lateral_force, front_lateral_force], f = [roll torque, steer torque].
@@ -38,6 +38,10 @@ Parameters (SI units):
     payload_z: payload position, z down (negative above ground) [m]
     steer_inertia: extra moment of inertia of the front frame about the steer axis [kg m^2]
     steer_damping: viscous damping torque about the steer axis per steer rate [N m s/rad]
+    front_payload_mass: point mass rigidly attached to the front frame [kg]
+    front_payload_x: front payload position, forward of the rear contact (steer angle zero) [m]
+    front_payload_z: front payload position, z down (negative above ground) [m]
+    reflected_steer_inertia: inertia of a rotor geared to the steer angle, reflected to the steer axis (N^2 J_rotor) [kg m^2]
     cornering_stiffness: lateral force per static wheel load per rad of slip angle [1/rad]
     camber_stiffness: lateral force per static wheel load per rad of camber [1/rad]
     relaxation_length: distance rolled for the lateral force to build up [m]
@@ -46,94 +50,114 @@ Parameters (SI units):
 
 import casadi
 
-PARAMETERS = ('w', 'c', 'lam', 'g', 'rR', 'mR', 'IRxx', 'IRyy', 'xB', 'zB', 'mB', 'IBxx', 'IBzz', 'IBxz', 'xH', 'zH', 'mH', 'IHxx', 'IHzz', 'IHxz', 'rF', 'mF', 'IFxx', 'IFyy', 'payload_mass', 'payload_x', 'payload_z', 'steer_inertia', 'steer_damping', 'cornering_stiffness', 'camber_stiffness', 'relaxation_length', 'pneumatic_trail')
+PARAMETERS = ('w', 'c', 'lam', 'g', 'rR', 'mR', 'IRxx', 'IRyy', 'xB', 'zB', 'mB', 'IBxx', 'IBzz', 'IBxz', 'xH', 'zH', 'mH', 'IHxx', 'IHzz', 'IHxz', 'rF', 'mF', 'IFxx', 'IFyy', 'payload_mass', 'payload_x', 'payload_z', 'steer_inertia', 'steer_damping', 'front_payload_mass', 'front_payload_x', 'front_payload_z', 'reflected_steer_inertia', 'cornering_stiffness', 'camber_stiffness', 'relaxation_length', 'pneumatic_trail')
 OUTPUTS = ('E', 'A0', 'A1', 'B')
 
 
 def matrices(p):
     """The matrices as CasADi expressions of the parameter vector p (order PARAMETERS)."""
-    w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, payload_mass, payload_x, payload_z, steer_inertia, steer_damping, cornering_stiffness, camber_stiffness, relaxation_length, pneumatic_trail, = casadi.vertsplit(p)
-    x0 = mF*rF**2
-    x1 = mH*zH**2
-    x2 = mR*rR**2
-    x3 = casadi.sin(lam)
-    x4 = x3**2
-    x5 = steer_inertia*x4
-    x6 = IFxx + IRxx
-    x7 = casadi.cos(lam)
-    x8 = IHxz*x7
-    x9 = steer_inertia*x3
-    x10 = mH*zH
-    x11 = c*x7
-    x12 = w*x7
-    x13 = x0*x3
-    x14 = mF*rF
-    x15 = x11*x14
-    x16 = x10*xH
-    x17 = x16*x7
-    x18 = IFxx*x3 + IHxx*x3 + x1*x3 + x10*x11 + x10*x12 + x13 - x15 - x17 + x8 + x9
-    x19 = mB*zB
-    x20 = payload_mass*payload_z
-    x21 = mF*rF + mR*rR - x10 - x19 - x20
-    x22 = w*x14
-    x23 = IBxz + IHxz - payload_x*x20 - x16 - x19*xB + x22 + x7*x9
-    x24 = c**2
-    x25 = mF*x24
-    x26 = mH*x24
-    x27 = w**2
-    x28 = mH*x27
-    x29 = mH*xH**2
-    x30 = mH*xH
-    x31 = 2*x30
-    x32 = c*x31
-    x33 = w*x31
-    x34 = 2*x3
-    x35 = mH*w
-    x36 = 2*c*x35
-    x37 = 2*x11
-    x38 = x10*x3
-    x39 = IHzz + steer_inertia + x29
-    x40 = mH*x11
-    x41 = x35*x7
-    x42 = mF*rF*x3 - mF*x11 + mH*x7*xH - x38 - x40 - x41
-    x43 = x22*x3
-    x44 = mF*w
-    x45 = x30*x7
-    x46 = c*x45
-    x47 = w*x45
-    x48 = IFxx*x7 + IHxz*x3 + IHzz*x7 + steer_inertia*x7 - x11*x44 - x16*x3 + x29*x7 + x43 - x46 - x47
-    x49 = mB + mF + mH + mR + payload_mass
-    x50 = mB*xB
-    x51 = payload_mass*payload_x
-    x52 = x30 + x44 + x50 + x51
-    x53 = -w*x38 - x11*x35 + x11*x50 + x11*x51 - x28*x7 + x43 + x46 + x47
-    x54 = g/w
-    x55 = camber_stiffness*pneumatic_trail
-    x56 = x55*x7
-    x57 = x54*(x44*x56 + x45*x55 + x50*x56 + x51*x56 + x53)
-    x58 = mB*w - mB*xB - mH*xH + mR*w - payload_mass*payload_x + payload_mass*w + x35
-    x59 = 1/relaxation_length
-    x60 = cornering_stiffness*x59
-    x61 = x52*x60
-    x62 = x54*x61
-    x63 = 1/rF
-    x64 = IFyy*x63*x7
-    x65 = IFyy*rR + IRyy*rF
-    x66 = x63/rR
-    x67 = IFyy*x3
-    x68 = x54*x59
-    x69 = camber_stiffness*x68
-    x70 = -x59
-    x71 = camber_stiffness*x3
-    x72 = cornering_stiffness*x7
-    E = casadi.blockcat([[1, 0, 0, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0, 0, 0], [0, 0, IBxx + IHxx + mB*zB**2 + payload_mass*payload_z**2 + x0 + x1 + x2 + x5 + x6, x18, x21, x23, 0, 0], [0, 0, x18, IFxx + IHxx*x4 - IHzz*x4 + x0*x4 + x1*x4 + 2*x12*x38 - x14*x3*x37 - x17*x34 - x25*x4 + x25 - x26*x4 + x26 - x28*x4 + x28 - x29*x4 + x32*x4 - x32 + x33*x4 - x33 + x34*x8 - x36*x4 + x36 + x37*x38 + x39, x42, x48, 0, 0], [0, 0, x21, x42, x49, x52, 0, 0], [0, 0, x23, x48, x52, IBzz + mB*xB**2 + mF*x27 + payload_mass*payload_x**2 + x39 - x5 + x6, 0, 0], [0, 0, 0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 0, 0, 1]])
-    A0 = casadi.blockcat([[0, 0, 1, 0, 0, 0, 0, 0], [0, 0, 0, 1, 0, 0, 0, 0], [g*x21, x53*x54, 0, 0, 0, 0, 0, 0], [x57, x3*x57, 0, -steer_damping, 0, 0, 0, -x7*(c + pneumatic_trail)], [0, 0, 0, 0, 0, 0, 1, 1], [g*x49*x55, x3*x52*x54*x55, 0, 0, 0, 0, -pneumatic_trail, -pneumatic_trail + w], [0, 0, 0, 0, -x54*x58*x60, 0, 0, 0], [0, 0, 0, x11*x62, -x62, -g*x61, 0, 0]])
-    A1 = casadi.blockcat([[0, 0, 0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 0, 0, 0], [0, 0, 0, -x64, 0, x66*(mB*rF*rR*zB + mH*rF*rR*zH + payload_mass*payload_z*rF*rR - rF*x2 - rR*x0 - x65), 0, 0], [0, 0, x64, 0, 0, x63*(rF*x38 + rF*x40 + rF*x41 - rF*x45 - x13 + x15 - x67), 0, 0], [0, 0, 0, 0, 0, -x49, 0, 0], [0, 0, x65*x66, x63*x67, 0, -x52, 0, 0], [x58*x69, 0, 0, 0, 0, 0, x70, 0], [x52*x69, x68*(cornering_stiffness*x45 + x30*x71 + x44*x71 + x44*x72 + x50*x71 + x50*x72 + x51*x71 + x51*x72), 0, 0, 0, 0, 0, x70]])
+    w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, payload_mass, payload_x, payload_z, steer_inertia, steer_damping, front_payload_mass, front_payload_x, front_payload_z, reflected_steer_inertia, cornering_stiffness, camber_stiffness, relaxation_length, pneumatic_trail, = casadi.vertsplit(p)
+    x0 = front_payload_mass*front_payload_z**2
+    x1 = mF*rF**2
+    x2 = mH*zH**2
+    x3 = mR*rR**2
+    x4 = casadi.sin(lam)
+    x5 = x4**2
+    x6 = steer_inertia*x5
+    x7 = IFxx + IRxx
+    x8 = casadi.cos(lam)
+    x9 = IHxz*x8
+    x10 = steer_inertia*x4
+    x11 = front_payload_mass*front_payload_z
+    x12 = c*x8
+    x13 = mH*zH
+    x14 = w*x8
+    x15 = x1*x4
+    x16 = mF*rF
+    x17 = x12*x16
+    x18 = front_payload_x*x11
+    x19 = x18*x8
+    x20 = x13*xH
+    x21 = x20*x8
+    x22 = IFxx*x4 + IHxx*x4 + x0*x4 + x10 + x11*x12 + x11*x14 + x12*x13 + x13*x14 + x15 - x17 - x19 + x2*x4 - x21 + x9
+    x23 = mB*zB
+    x24 = payload_mass*payload_z
+    x25 = mF*rF + mR*rR - x11 - x13 - x23 - x24
+    x26 = w*x16
+    x27 = IBxz + IHxz - payload_x*x24 + x10*x8 - x18 - x20 - x23*xB + x26
+    x28 = c**2
+    x29 = front_payload_mass*x28
+    x30 = w**2
+    x31 = front_payload_mass*x30
+    x32 = mF*x28
+    x33 = mH*x28
+    x34 = mH*x30
+    x35 = front_payload_mass*front_payload_x**2
+    x36 = mH*xH**2
+    x37 = front_payload_mass*front_payload_x
+    x38 = 2*c
+    x39 = x37*x38
+    x40 = mH*xH
+    x41 = x38*x40
+    x42 = 2*w
+    x43 = x37*x42
+    x44 = x40*x42
+    x45 = 2*x4
+    x46 = front_payload_mass*w
+    x47 = x38*x46
+    x48 = mH*w
+    x49 = x38*x48
+    x50 = 2*x12
+    x51 = x11*x4
+    x52 = x13*x4
+    x53 = 2*x14
+    x54 = IHzz + steer_inertia + x35 + x36
+    x55 = front_payload_mass*x12
+    x56 = mH*x12
+    x57 = x46*x8
+    x58 = x48*x8
+    x59 = front_payload_mass*front_payload_x*x8 + mF*rF*x4 - mF*x12 + mH*x8*xH - x51 - x52 - x55 - x56 - x57 - x58
+    x60 = x26*x4
+    x61 = x37*x8
+    x62 = c*x61
+    x63 = mF*w
+    x64 = x40*x8
+    x65 = c*x64
+    x66 = w*x61
+    x67 = w*x64
+    x68 = IFxx*x8 + IHxz*x4 + IHzz*x8 + steer_inertia*x8 - x12*x63 - x18*x4 - x20*x4 + x35*x8 + x36*x8 + x60 - x62 - x65 - x66 - x67
+    x69 = front_payload_mass + mB + mF + mH + mR + payload_mass
+    x70 = mB*xB
+    x71 = payload_mass*payload_x
+    x72 = x37 + x40 + x63 + x70 + x71
+    x73 = -w*x51 - w*x52 - x12*x46 - x12*x48 + x12*x70 + x12*x71 - x31*x8 - x34*x8 + x60 + x62 + x65 + x66 + x67
+    x74 = g/w
+    x75 = camber_stiffness*pneumatic_trail
+    x76 = x75*x8
+    x77 = x74*(x61*x75 + x63*x76 + x64*x75 + x70*x76 + x71*x76 + x73)
+    x78 = -front_payload_mass*front_payload_x + mB*w - mB*xB - mH*xH + mR*w - payload_mass*payload_x + payload_mass*w + x46 + x48
+    x79 = 1/relaxation_length
+    x80 = cornering_stiffness*x79
+    x81 = x72*x80
+    x82 = x74*x81
+    x83 = 1/rF
+    x84 = IFyy*x8*x83
+    x85 = IFyy*rR + IRyy*rF
+    x86 = x83/rR
+    x87 = IFyy*x4
+    x88 = x74*x79
+    x89 = camber_stiffness*x88
+    x90 = -x79
+    x91 = camber_stiffness*x4
+    x92 = cornering_stiffness*x8
+    E = casadi.blockcat([[1, 0, 0, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0, 0, 0], [0, 0, IBxx + IHxx + mB*zB**2 + payload_mass*payload_z**2 + x0 + x1 + x2 + x3 + x6 + x7, x22, x25, x27, 0, 0], [0, 0, x22, IFxx + IHxx*x5 - IHzz*x5 + reflected_steer_inertia + x0*x5 + x1*x5 - x16*x4*x50 - x19*x45 + x2*x5 - x21*x45 - x29*x5 + x29 - x31*x5 + x31 - x32*x5 + x32 - x33*x5 + x33 - x34*x5 + x34 - x35*x5 - x36*x5 + x39*x5 - x39 + x41*x5 - x41 + x43*x5 - x43 + x44*x5 - x44 + x45*x9 - x47*x5 + x47 - x49*x5 + x49 + x50*x51 + x50*x52 + x51*x53 + x52*x53 + x54, x59, x68, 0, 0], [0, 0, x25, x59, x69, x72, 0, 0], [0, 0, x27, x68, x72, IBzz + mB*xB**2 + mF*x30 + payload_mass*payload_x**2 + x54 - x6 + x7, 0, 0], [0, 0, 0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 0, 0, 1]])
+    A0 = casadi.blockcat([[0, 0, 1, 0, 0, 0, 0, 0], [0, 0, 0, 1, 0, 0, 0, 0], [g*x25, x73*x74, 0, 0, 0, 0, 0, 0], [x77, x4*x77, 0, -steer_damping, 0, 0, 0, -x8*(c + pneumatic_trail)], [0, 0, 0, 0, 0, 0, 1, 1], [g*x69*x75, x4*x72*x74*x75, 0, 0, 0, 0, -pneumatic_trail, -pneumatic_trail + w], [0, 0, 0, 0, -x74*x78*x80, 0, 0, 0], [0, 0, 0, x12*x82, -x82, -g*x81, 0, 0]])
+    A1 = casadi.blockcat([[0, 0, 0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 0, 0, 0], [0, 0, 0, -x84, 0, x86*(front_payload_mass*front_payload_z*rF*rR + mB*rF*rR*zB + mH*rF*rR*zH + payload_mass*payload_z*rF*rR - rF*x3 - rR*x1 - x85), 0, 0], [0, 0, x84, 0, 0, x83*(rF*x51 + rF*x52 + rF*x55 + rF*x56 + rF*x57 + rF*x58 - rF*x61 - rF*x64 - x15 + x17 - x87), 0, 0], [0, 0, 0, 0, 0, -x69, 0, 0], [0, 0, x85*x86, x83*x87, 0, -x72, 0, 0], [x78*x89, 0, 0, 0, 0, 0, x90, 0], [x72*x89, x88*(cornering_stiffness*x61 + cornering_stiffness*x64 + x37*x91 + x40*x91 + x63*x91 + x63*x92 + x70*x91 + x70*x92 + x71*x91 + x71*x92), 0, 0, 0, 0, 0, x90]])
     B = casadi.blockcat([[0, 0], [0, 0], [1, 0], [0, 1], [0, 0], [0, 0], [0, 0], [0, 0]])
     return E, A0, A1, B
 
 
 def function(symbol_type=casadi.SX):
-    """casadi.Function p -> (E, A0, A1, B), p of length 33."""
-    p = symbol_type.sym('p', 33)
+    """casadi.Function p -> (E, A0, A1, B), p of length 37."""
+    p = symbol_type.sym('p', 37)
     return casadi.Function('tyre', [p], list(matrices(p)), ['p'], list(OUTPUTS))

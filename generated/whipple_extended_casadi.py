@@ -1,9 +1,9 @@
-"""Whipple bicycle with a rear-frame payload point mass, extra steer inertia and steer damping: linearized equation matrices (CasADi).
+"""Whipple bicycle with rear- and front-frame payload point masses, extra steer inertia, reflected steer inertia and steer damping: linearized equation matrices (CasADi).
 
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple_extended``).
 
-Derivation sources sha256: 89cb387b60f1a280ad0a5759cc931682670b1c8feb0fcfe1572b0f91b3219384
+Derivation sources sha256: c5391ec3f5c7dc209c84a2c28cc60479cc0b44af9ee26a9c246c6bc6de821536
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]; K0 includes gravity.
@@ -38,130 +38,156 @@ Parameters (SI units):
     payload_z: payload position, z down (negative above ground) [m]
     steer_inertia: extra moment of inertia of the front frame about the steer axis [kg m^2]
     steer_damping: viscous damping torque about the steer axis per steer rate [N m s/rad]
+    front_payload_mass: point mass rigidly attached to the front frame [kg]
+    front_payload_x: front payload position, forward of the rear contact (steer angle zero) [m]
+    front_payload_z: front payload position, z down (negative above ground) [m]
+    reflected_steer_inertia: inertia of a rotor geared to the steer angle, reflected to the steer axis (N^2 J_rotor) [kg m^2]
 """
 
 import casadi
 
-PARAMETERS = ('w', 'c', 'lam', 'g', 'rR', 'mR', 'IRxx', 'IRyy', 'xB', 'zB', 'mB', 'IBxx', 'IBzz', 'IBxz', 'xH', 'zH', 'mH', 'IHxx', 'IHzz', 'IHxz', 'rF', 'mF', 'IFxx', 'IFyy', 'payload_mass', 'payload_x', 'payload_z', 'steer_inertia', 'steer_damping')
+PARAMETERS = ('w', 'c', 'lam', 'g', 'rR', 'mR', 'IRxx', 'IRyy', 'xB', 'zB', 'mB', 'IBxx', 'IBzz', 'IBxz', 'xH', 'zH', 'mH', 'IHxx', 'IHzz', 'IHxz', 'rF', 'mF', 'IFxx', 'IFyy', 'payload_mass', 'payload_x', 'payload_z', 'steer_inertia', 'steer_damping', 'front_payload_mass', 'front_payload_x', 'front_payload_z', 'reflected_steer_inertia')
 OUTPUTS = ('M', 'C1', 'D', 'K0', 'K2')
 
 
 def matrices(p):
     """The matrices as CasADi expressions of the parameter vector p (order PARAMETERS)."""
-    w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, payload_mass, payload_x, payload_z, steer_inertia, steer_damping, = casadi.vertsplit(p)
-    x0 = mF*rF**2
-    x1 = mH*zH**2
-    x2 = mR*rR**2
-    x3 = casadi.sin(lam)
-    x4 = x3**2
-    x5 = steer_inertia*x4
-    x6 = 1/w
-    x7 = casadi.cos(lam)
-    x8 = c*x7
-    x9 = IFxx*w
-    x10 = w*x3
-    x11 = IHxz*x8
-    x12 = w*x7
-    x13 = c*steer_inertia
-    x14 = steer_inertia*w
-    x15 = mH*zH
-    x16 = x3**3
-    x17 = x0*x10
-    x18 = w**2
-    x19 = x18*x7
-    x20 = x15*x19
-    x21 = mB*zB
-    x22 = x21*xB
-    x23 = x15*xH
-    x24 = payload_mass*payload_z
-    x25 = payload_x*x24
-    x26 = x6*(IBxz*x8 + IHxx*x10 + IHxz*x12 + w*x15*x8 + x1*x10 + x11 - x12*x23 - x13*x16 + x13*x3 + x14*x3 + x17 + x20 - x22*x8 - x23*x8 - x25*x8 + x3*x9)
-    x27 = 1/x18
-    x28 = c**2
-    x29 = IBzz*x28
-    x30 = IFxx*x28
-    x31 = IHzz*x28
-    x32 = IHzz*x18
-    x33 = IRxx*x28
-    x34 = steer_inertia*x28
-    x35 = mH*w**4
-    x36 = IFxx*c
-    x37 = 2*w
-    x38 = IHzz*c
-    x39 = 2*w**3
-    x40 = c*mH
-    x41 = x39*x40
-    x42 = mH*xH
-    x43 = x39*x42
-    x44 = mB*xB**2
-    x45 = x28*x44
-    x46 = mH*x28
-    x47 = xH**2
-    x48 = x46*x47
-    x49 = payload_mass*payload_x**2
-    x50 = x28*x49
-    x51 = mH*x47
-    x52 = c*x51
-    x53 = mH*x18
-    x54 = c*x53
-    x55 = x46*xH
-    x56 = x18*x4
-    x57 = x3**4
-    x58 = x36*x4
-    x59 = x38*x4
-    x60 = w*x5
-    x61 = 2*x5
-    x62 = x19*x3
-    x63 = x15*x3
-    x64 = x10*x15*x8
-    x65 = 2*xH
-    x66 = x4*x52
-    x67 = x42*x56
-    x68 = x4*x55
-    x69 = rF*rR
-    x70 = x69*x7
-    x71 = IFyy*rR
-    x72 = IRyy*rF
-    x73 = steer_inertia*x69
-    x74 = rR*x0
-    x75 = rF*x2
-    x76 = x21*x69
-    x77 = x15*x69
-    x78 = x24*x69
-    x79 = 1/rF
-    x80 = x6*x79/rR
-    x81 = x7*x80
-    x82 = IBzz*c
-    x83 = IHzz*w
-    x84 = IRxx*c
-    x85 = c*x44
-    x86 = c*x49
-    x87 = mB*xB
-    x88 = x28*x87
-    x89 = payload_mass*payload_x
-    x90 = x28*x89
-    x91 = w*x51
-    x92 = w*x46
-    x93 = x10*x7
-    x94 = mF*rF
-    x95 = x10*x94
-    x96 = g*x6*(c*mH*w*x7 + mH*w*x3*zH + mH*x18*x7 - x12*x42 - x42*x8 - x8*x87 - x8*x89 - x95)
-    x97 = c*rF
-    x98 = x87*x97
-    x99 = x42*x97
-    x100 = x89*x97
-    x101 = rF*w
-    x102 = x101*x42
-    x103 = x101*x40
-    M = casadi.blockcat([[IBxx + IFxx + IHxx + IRxx + mB*zB**2 + payload_mass*payload_z**2 + x0 + x1 + x2 + x5, x26], [x26, x27*(IFxx*x18 + IHxx*x56 + 2*IHxz*x62 - 2*c*x60 + 4*c*x67 + steer_inertia*x18 + x0*x56 + x1*x56 + 2*x10*x11 + x13*x37 + x18*x46 + x18*x51 + 2*x18*x63*x8 - x20*x3*x65 - x28*x61 - x29*x4 + x29 - x30*x4 + x30 - x31*x4 + x31 - x32*x4 + x32 - x33*x4 + x33 + x34*x57 + x34 - x35*x4 + x35 + x36*x37 + x37*x38 + x37*x52 - x37*x55 - x37*x58 - x37*x59 - x37*x66 + x37*x68 + x39*x63*x7 - x4*x41 + x4*x43 - x4*x45 - x4*x48 - x4*x50 + x41 - x43 + x45 - x46*x56 + x48 + x50 - x51*x56 - 4*x54*xH - x64*x65)]])
-    C1 = casadi.blockcat([[0, x80*(IBxz*x70 + IHxz*x70 + x12*x71 + x12*x74 - x16*x73 - x22*x70 - x23*x70 - x25*x70 + x3*x73 + x71*x8 + x72*x8 + x74*x8 + x75*x8 - x76*x8 - x77*x8 - x78*x8)], [-x81*(c*x71 + c*x72 + w*x71), x27*(IHxz*x93 - c*x61 + x13*x57 + x13 + x14 - x23*x93 + x36 + x38 - x4*x82 - x4*x83 - x4*x84 - x4*x85 - x4*x86 - x4*x88 - x4*x9 - x4*x90 - x4*x91 + x4*x92 + x40*x56 + x52 - x53*xH - x54 + x55 - x58 - x59 - x60 + x62*x94 - x64 - x66 + x67 - x68 + x8*x95 + x82 + x83 + x84 + x85 + x86 + x88 + x9 + x90 + x91 - x92)]])
+    w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, payload_mass, payload_x, payload_z, steer_inertia, steer_damping, front_payload_mass, front_payload_x, front_payload_z, reflected_steer_inertia, = casadi.vertsplit(p)
+    x0 = front_payload_mass*front_payload_z**2
+    x1 = mF*rF**2
+    x2 = mH*zH**2
+    x3 = mR*rR**2
+    x4 = casadi.sin(lam)
+    x5 = x4**2
+    x6 = steer_inertia*x5
+    x7 = 1/w
+    x8 = casadi.cos(lam)
+    x9 = c*x8
+    x10 = IFxx*w
+    x11 = w*x4
+    x12 = IHxz*x9
+    x13 = w*x8
+    x14 = c*steer_inertia
+    x15 = front_payload_mass*front_payload_z
+    x16 = w*x9
+    x17 = mH*zH
+    x18 = x4**3
+    x19 = w**2
+    x20 = x19*x8
+    x21 = x15*x20
+    x22 = x1*x11
+    x23 = x17*x20
+    x24 = front_payload_x*x15
+    x25 = mB*zB
+    x26 = x25*xB
+    x27 = x17*xH
+    x28 = payload_mass*payload_z
+    x29 = payload_x*x28
+    x30 = x7*(IBxz*x9 + IHxx*x11 + IHxz*x13 + steer_inertia*w*x4 + x0*x11 + x10*x4 + x11*x2 + x12 - x13*x24 - x13*x27 - x14*x18 + x14*x4 + x15*x16 + x16*x17 + x21 + x22 + x23 - x24*x9 - x26*x9 - x27*x9 - x29*x9)
+    x31 = 1/x19
+    x32 = c**2
+    x33 = IBzz*x32
+    x34 = IFxx*x32
+    x35 = IHzz*x32
+    x36 = IHzz*x19
+    x37 = IRxx*x32
+    x38 = steer_inertia*x32
+    x39 = w**4
+    x40 = front_payload_mass*x39
+    x41 = mH*x39
+    x42 = IFxx*c
+    x43 = 2*w
+    x44 = IHzz*c
+    x45 = 2*w**3
+    x46 = c*front_payload_mass
+    x47 = x45*x46
+    x48 = mH*x45
+    x49 = c*x48
+    x50 = front_payload_mass*front_payload_x
+    x51 = x45*x50
+    x52 = x48*xH
+    x53 = front_payload_x**2
+    x54 = front_payload_mass*x32
+    x55 = x53*x54
+    x56 = xB**2
+    x57 = mB*x56
+    x58 = x32*x57
+    x59 = mH*x32
+    x60 = xH**2
+    x61 = x59*x60
+    x62 = payload_x**2
+    x63 = payload_mass*x62
+    x64 = x32*x63
+    x65 = front_payload_mass*x53
+    x66 = mH*x60
+    x67 = c*x19
+    x68 = front_payload_mass*x67
+    x69 = c*x65
+    x70 = c*x66
+    x71 = mH*x67
+    x72 = 4*xH
+    x73 = front_payload_x*x54
+    x74 = x59*xH
+    x75 = x19*x5
+    x76 = x4**4
+    x77 = x42*x5
+    x78 = x44*x5
+    x79 = w*x6
+    x80 = 2*x6
+    x81 = x15*x4
+    x82 = x45*x8
+    x83 = x17*x4
+    x84 = x11*x15*x9
+    x85 = x11*x17*x9
+    x86 = x5*x69
+    x87 = x5*x70
+    x88 = mH*x75
+    x89 = x5*x73
+    x90 = x5*x74
+    x91 = 2*x19*x9
+    x92 = 2*x4
+    x93 = rF*rR
+    x94 = x8*x93
+    x95 = IFyy*rR
+    x96 = IRyy*rF
+    x97 = steer_inertia*x93
+    x98 = rR*x1
+    x99 = rF*x3
+    x100 = x15*x93
+    x101 = x25*x93
+    x102 = x17*x93
+    x103 = x28*x93
+    x104 = 1/rF
+    x105 = x104*x7/rR
+    x106 = x105*x8
+    x107 = front_payload_mass*x19
+    x108 = mH*x19
+    x109 = x11*x8
+    x110 = mB*xB
+    x111 = payload_mass*payload_x
+    x112 = mF*rF
+    x113 = mH*xH
+    x114 = g*x7*(c*front_payload_mass*w*x8 + c*mH*w*x8 + front_payload_mass*front_payload_z*w*x4 + front_payload_mass*x19*x8 + mH*w*x4*zH + mH*x19*x8 - x11*x112 - x110*x9 - x111*x9 - x113*x13 - x113*x9 - x13*x50 - x50*x9)
+    x115 = c*rF
+    x116 = x115*x50
+    x117 = x110*x115
+    x118 = x113*x115
+    x119 = x111*x115
+    x120 = rF*w
+    x121 = x120*x50
+    x122 = x113*x120
+    x123 = x120*x46
+    x124 = mH*w*x115
+    x125 = rF*x109
+    M = casadi.blockcat([[IBxx + IFxx + IHxx + IRxx + mB*zB**2 + payload_mass*payload_z**2 + x0 + x1 + x2 + x3 + x6, x30], [x30, x31*(IFxx*x19 + IHxx*x75 + 2*IHxz*x20*x4 + 4*c*x50*x75 + c*x72*x88 - 2*c*x79 - front_payload_x*x21*x92 - 4*front_payload_x*x68 - 2*front_payload_x*x84 + reflected_steer_inertia*x19 + steer_inertia*x19 + x0*x75 + x1*x75 + 2*x11*x12 + x14*x43 + x19*x54 + x19*x59 + x19*x65 + x19*x66 + x2*x75 - x23*x92*xH - x32*x80 - x33*x5 + x33 - x34*x5 + x34 - x35*x5 + x35 - x36*x5 + x36 - x37*x5 + x37 + x38*x76 + x38 - x40*x5 + x40 - x41*x5 + x41 + x42*x43 + x43*x44 + x43*x69 + x43*x70 - x43*x73 - x43*x74 - x43*x77 - x43*x78 - x43*x86 - x43*x87 + x43*x89 + x43*x90 - x47*x5 + x47 - x49*x5 + x49 + x5*x51 + x5*x52 - x5*x55 - x5*x58 - x5*x61 - x5*x64 - x51 - x52 - x54*x75 + x55 + x58 - x59*x75 + x61 + x64 - x65*x75 - x66*x75 - x71*x72 + x81*x82 + x81*x91 + x82*x83 + x83*x91 - 2*x85*xH)]])
+    C1 = casadi.blockcat([[0, x105*(IBxz*x94 + IHxz*x94 - x100*x9 - x101*x9 - x102*x9 - x103*x9 + x13*x95 + x13*x98 - x18*x97 - x24*x94 - x26*x94 - x27*x94 - x29*x94 + x4*x97 + x9*x95 + x9*x96 + x9*x98 + x9*x99)], [-x106*(c*x95 + c*x96 + w*x95), x31*(-IBzz*c*x5 + IBzz*c + IFxx*c + IFxx*w + IHxz*w*x4*x8 + IHzz*c - IHzz*w*x5 + IHzz*w - IRxx*c*x5 + IRxx*c + c*front_payload_mass*x19*x5 + c*front_payload_mass*x53 + c*mB*x56 + c*mF*rF*w*x4*x8 + c*mH*x19*x5 + c*mH*x60 + c*payload_mass*x62 + c*steer_inertia*x76 + c*steer_inertia - c*x5*x57 - c*x5*x63 - c*x80 + front_payload_mass*front_payload_x*x19*x5 + front_payload_mass*front_payload_x*x32 + front_payload_mass*w*x32*x5 + front_payload_mass*w*x53 - front_payload_x*x107 + mB*x32*xB + mF*rF*x19*x4*x8 + mH*w*x32*x5 + mH*w*x60 + mH*x19*x5*xH + mH*x32*xH + payload_mass*payload_x*x32 + steer_inertia*w - w*x5*x65 - w*x5*x66 - w*x54 - w*x59 - x10*x5 - x108*xH - x109*x24 - x109*x27 - x110*x32*x5 - x111*x32*x5 - x68 - x71 - x77 - x78 - x79 - x84 - x85 - x86 - x87 - x89 - x90)]])
     D = casadi.blockcat([[0, 0], [0, steer_damping]])
-    K0 = casadi.blockcat([[g*(-mR*rR + x15 + x21 + x24 - x94), x96], [x96, x3*x96]])
-    K2 = casadi.blockcat([[0, x81*(x71 + x72 + x74 + x75 - x76 - x77 - x78)], [0, x27*x79*(IFyy*x93 + mH*rF*x56 - rF*x15*x93 - rF*x53 - x100*x4 + x100 - x102*x4 + x102 + x103*x4 - x103 + x17*x7 - x4*x98 - x4*x99 + x98 + x99)]])
+    K0 = casadi.blockcat([[g*(-mR*rR - x112 + x15 + x17 + x25 + x28), x114], [x114, x114*x4]])
+    K2 = casadi.blockcat([[0, x106*(-x100 - x101 - x102 - x103 + x95 + x96 + x98 + x99)], [0, x104*x31*(IFyy*x109 + front_payload_mass*rF*x75 - rF*x107 - rF*x108 + rF*x88 - x116*x5 + x116 - x117*x5 + x117 - x118*x5 + x118 - x119*x5 + x119 - x121*x5 + x121 - x122*x5 + x122 + x123*x5 - x123 + x124*x5 - x124 - x125*x15 - x125*x17 + x22*x8)]])
     return M, C1, D, K0, K2
 
 
 def function(symbol_type=casadi.SX):
-    """casadi.Function p -> (M, C1, D, K0, K2), p of length 29."""
-    p = symbol_type.sym('p', 29)
+    """casadi.Function p -> (M, C1, D, K0, K2), p of length 33."""
+    p = symbol_type.sym('p', 33)
     return casadi.Function('whipple_extended', [p], list(matrices(p)), ['p'], list(OUTPUTS))

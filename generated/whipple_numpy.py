@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple``).
 
-Derivation sources sha256: 89cb387b60f1a280ad0a5759cc931682670b1c8feb0fcfe1572b0f91b3219384
+Derivation sources sha256: c5391ec3f5c7dc209c84a2c28cc60479cc0b44af9ee26a9c246c6bc6de821536
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]; K0 includes gravity.

@@ -138,6 +138,24 @@ CASES: dict[str, Builder] = {
     "check yeadon file": lambda d, t, r: _check(
         {"CFG.txt": (DATA / "riders" / "JasonBrowserYeadonCFG.txt").read_text()},
         ["check", "{d}/CFG.txt"], "CFG.txt", "a Yeadon configuration file"),
+    "check front payload mass": lambda d, t, r: _check(
+        {"b.toml": t + "\n[extensions.front_payload]\nmass = -2.0\nx = 1.0\nz = -0.8\n"},
+        ["check", "{d}/b.toml"], "b.toml", "extension front_payload mass = -2 must be finite and > 0"),
+    "check front payload missing z": lambda d, t, r: _check(
+        {"b.toml": t + "\n[extensions.front_payload]\nmass = 2.0\nx = 1.0\n"},
+        ["check", "{d}/b.toml"], "b.toml", "missing key in [extensions.front_payload]: z"),
+    "check reflected inertia": lambda d, t, r: _check(
+        {"b.toml": t + "\n[extensions]\nreflected_steer_inertia = -0.1\n"},
+        ["check", "{d}/b.toml"], "b.toml", "extension reflected_steer_inertia = -0.1 must be finite and >= 0"),
+    "check controller delay": lambda d, t, r: _check(
+        {"b.toml": t + "\n[controller]\ndelay = -0.05\n[controller.steer]\nroll_rate = [13.0, -2.0]\n"},
+        ["check", "{d}/b.toml"], "b.toml", "controller delay = -0.05 must be finite and >= 0"),
+    "check controller lag text": lambda d, t, r: _check(
+        {"b.toml": t + "\n[controller]\nlag = \"fast\"\n[controller.steer]\nroll_rate = 13.0\n"},
+        ["check", "{d}/b.toml"], "b.toml", "'lag' in [controller] must be a number"),
+    "check controller gain without gains": lambda d, t, r: _check(
+        {"b.toml": t + "\n[controller]\ngain_scale = 2.0\n"},
+        ["check", "{d}/b.toml"], "b.toml", "gain_scale in [controller] act on the controller's torque"),
     "check speeds too high": lambda d, t, r: _check({"b.toml": t}, ["check", "{d}/b.toml", "--speeds", "0:1e9"],
                                                     "b.toml", "speeds beyond 1e+06 m/s are not analysed"),
     # --- stability: outputs -------------------------------------------------------------------

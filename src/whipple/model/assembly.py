@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import ParameterError
 from whipple.generated import whipple_extended_numpy, whipple_numpy
+from whipple.model.actuator import with_actuator
 from whipple.model.bodies import fold_point_wheels
 from whipple.model.linear import LinearModel, second_order_model
 from whipple.model.parameters import Bicycle, Controller, Extensions
@@ -26,7 +27,7 @@ _NO_EXTENSIONS = Extensions()
 
 #: Parameters of the base model, in the order of the generated code.
 MODEL_PARAMETERS: tuple[str, ...] = tuple(whipple_numpy.PARAMETERS)
-#: Parameters of the extended model: the base ones plus payload, steer inertia and damping.
+#: Parameters of the extended model: the base ones plus payloads, steer inertias and damping.
 EXTENDED_PARAMETERS: tuple[str, ...] = tuple(whipple_extended_numpy.PARAMETERS)
 
 
@@ -103,11 +104,13 @@ def extension_values(extensions: Extensions | None) -> dict[str, float]:
 def extended_matrices(
     parameters: Mapping[str, ArrayLike], extensions: Extensions | None = None
 ) -> Matrices:
-    """Matrices including the payload, steer inertia and steer damping extensions.
+    """Matrices including the payloads, steer inertias and steer damping extensions.
 
     Extension values may also be given (as arrays) in ``parameters`` under the names of
-    ``EXTENDED_PARAMETERS`` (``payload_mass`` [kg], ``payload_x`` [m], ``payload_z`` [m],
-    ``steer_inertia`` [kg m^2], ``steer_damping`` [N m s/rad]); those override ``extensions``.
+    ``EXTENDED_PARAMETERS`` (``payload_mass`` [kg], ``payload_x`` [m], ``payload_z`` [m], the
+    same prefixed ``front_`` for the front payload, ``steer_inertia`` and
+    ``reflected_steer_inertia`` [kg m^2], ``steer_damping`` [N m s/rad]); those override
+    ``extensions``.
     """
     merged: dict[str, ArrayLike] = dict(extension_values(extensions))
     merged.update(parameters)
@@ -132,8 +135,11 @@ def build_linear_model(
         Effects beyond the Whipple model; ``speed_scale`` does not enter the model (it relates
         measured to true speed). Tyre compliance is handled by ``whipple.model.tyre``.
     controller : Controller, optional
-        State feedback whose gains are polynomials in the speed.
+        State feedback whose gains are polynomials in the speed; with a delay or lag the
+        model gains actuator states (:mod:`whipple.model.actuator`).
     """
+    if controller is not None and controller.has_dynamics():
+        return with_actuator(build_linear_model(parameters, extensions, None, description), controller)
     tyres = extensions is not None and extensions.tyre_compliance is not None
     if tyres or "cornering_stiffness" in parameters:
         return tyre_linear_model(parameters, extensions, controller, description)

@@ -170,7 +170,9 @@ def _write_toml(document: Mapping[str, Any], path: str | os.PathLike[str], heade
 
 _REQUIRED = tuple(name for name in PARAMETER_NAMES if name not in OPTIONAL_PARAMETERS)
 _TOP_LEVEL = ("name", "description", "parameters", "uncertainty", "extensions", "controller")
-_EXTENSION_SCALARS = ("steer_damping", "steer_inertia", "speed_scale")
+_EXTENSION_SCALARS = ("steer_damping", "steer_inertia", "speed_scale", "reflected_steer_inertia")
+_PAYLOADS = ("payload", "front_payload")
+_CONTROLLER_SCALARS = ("gain_scale", "delay", "lag")
 
 
 def read_bicycle_toml(path: str | os.PathLike[str]) -> Bicycle:
@@ -214,29 +216,38 @@ def _numbers(
 def _read_extensions(table: StrictTable | None) -> Extensions:
     if table is None:
         return Extensions()
-    table.check_keys((*_EXTENSION_SCALARS, "payload", "tyre_compliance"))
+    table.check_keys((*_EXTENSION_SCALARS, *_PAYLOADS, "tyre_compliance"))
     scalars = {key: table.number(key) for key in _EXTENSION_SCALARS if key in table.values}
-    payload_table, tyre_table = table.table("payload"), table.table("tyre_compliance")
-    payload = tyre = None
-    if payload_table is not None:
-        payload = Payload(**_numbers(payload_table, ("mass", "x", "z"), ("mass", "x", "z")))
+    payloads = {}
+    for key in _PAYLOADS:
+        payload_table = table.table(key)
+        if payload_table is not None:
+            payloads[key] = Payload(**_numbers(payload_table, ("mass", "x", "z"), ("mass", "x", "z")))
+    tyre_table = table.table("tyre_compliance")
+    tyre = None
     if tyre_table is not None:
         names = tuple(f.name for f in dataclasses.fields(TyreCompliance))
         tyre = TyreCompliance(**_numbers(tyre_table, names, names[:3]))
-    return Extensions(**scalars, payload=payload, tyre_compliance=tyre)
+    return Extensions(**scalars, payload=payloads.get("payload"), front_payload=payloads.get("front_payload"),
+                      tyre_compliance=tyre)
 
 
 def _read_controller(table: StrictTable | None) -> Controller:
     if table is None:
         return Controller()
-    table.check_keys(("steer", "roll"))
-    gains = {}
+    table.check_keys(("steer", "roll", *_CONTROLLER_SCALARS))
+    gains: dict[str, Any] = {}
     for row in ("steer", "roll"):
         sub = table.table(row)
         if sub is not None:
             sub.check_keys(CONTROLLER_STATES)
             gains[row] = {s: sub.numbers(s) for s in CONTROLLER_STATES if s in sub.values}
-    return Controller(**gains)
+    scalars = {key: table.number(key) for key in _CONTROLLER_SCALARS if key in table.values}
+    if scalars and not gains:
+        raise table.error(f"{', '.join(scalars)} in {table.where} act on the controller's torque: "
+                          "give its gains in [controller.steer] or [controller.roll]")
+    return Controller(**gains, gain_scale=scalars.get("gain_scale", 1.0), delay=scalars.get("delay", 0.0),
+                      lag=scalars.get("lag", 0.0))
 
 
 def _state_order(state: str) -> tuple[int, str]:
@@ -272,13 +283,17 @@ def write_bicycle_toml(bicycle: Bicycle, path: str | os.PathLike[str]) -> None:
             elif value != f.default and value is not None:
                 extensions[f.name] = value
         document["extensions"] = extensions
-    if not bicycle.controller.is_empty():
-        rows = (("steer", bicycle.controller.steer), ("roll", bicycle.controller.roll))
+    controller = bicycle.controller
+    if not controller.is_empty():
+        rows = (("steer", controller.steer), ("roll", controller.roll))
         document["controller"] = {
             row: {s: list(gains[s]) for s in sorted(gains, key=_state_order)}
             for row, gains in rows
             if gains
         }
+        for f in dataclasses.fields(Controller):
+            if f.name in _CONTROLLER_SCALARS and getattr(controller, f.name) != f.default:
+                document["controller"][f.name] = getattr(controller, f.name)
     header = (
         f"Bicycle parameter file written by whipple {__version__}.\n"
         "Parameters in the benchmark form of Meijaard et al. (2007), SI units."

@@ -17,9 +17,15 @@ from numpy.typing import NDArray
 
 from whipple.errors import ParameterError
 from whipple.generated import tyre_casadi, whipple_casadi, whipple_extended_casadi
+from whipple.model.actuator import actuator_realisation, used_rows
 from whipple.model.assembly import EXTENDED_PARAMETERS, extension_values
 from whipple.model.bodies import fold_point_wheels, folded_parameters
-from whipple.model.first_order import ArrayOps, descriptor_coefficients, second_order_coefficients
+from whipple.model.first_order import (
+    ArrayOps,
+    actuator_coefficients,
+    descriptor_coefficients,
+    second_order_coefficients,
+)
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.model.tyre import TYRE_PARAMETERS, tyre_values
@@ -104,14 +110,17 @@ def casadi_state_function(bicycle: Bicycle, keys: Sequence[str] = ()
     p0 : ndarray
         The bicycle's values of ``keys``.
     """
-    gains = [casadi.DM(gain) for gain in bicycle.controller.feedback_coefficients()]
+    controller = bicycle.controller
+    dynamic = controller.has_dynamics()
+    # With actuator dynamics the loop is closed afterwards, through the actuator's states.
+    gains = [] if dynamic else [casadi.DM(gain) for gain in controller.feedback_coefficients()]
     if bicycle.extensions.tyre_compliance is not None:
         values = tyre_values({k: x for k, x in bicycle.parameters.items() if k in TYRE_PARAMETERS},
                              bicycle.extensions)
         vector, p, p0 = _symbolic(values, TYRE_PARAMETERS, keys)
         outputs = dict(zip(tyre_casadi.OUTPUTS, tyre_casadi.matrices(vector), strict=True))
         powers = [outputs[name] for name in tyre_casadi.OUTPUTS if name.startswith("A")]
-        coefficients, _ = descriptor_coefficients(outputs["E"], powers, outputs["B"], gains, CASADI_OPS)
+        coefficients, inputs = descriptor_coefficients(outputs["E"], powers, outputs["B"], gains, CASADI_OPS)
     else:
         values = dict(extension_values(bicycle.extensions))
         values.update({k: x for k, x in bicycle.parameters.items() if k in EXTENDED_PARAMETERS})
@@ -123,6 +132,11 @@ def casadi_state_function(bicycle: Bicycle, keys: Sequence[str] = ()
         values = {key: float(value) for key, value in fold_point_wheels(values).items()}
         vector, p, p0 = _symbolic(values, EXTENDED_PARAMETERS, keys)
         M, C1, D, K0, K2 = whipple_extended_casadi.matrices(vector)
-        coefficients, _ = second_order_coefficients(M, C1, D, K0, K2, gains, CASADI_OPS)
+        coefficients, inputs = second_order_coefficients(M, C1, D, K0, K2, gains, CASADI_OPS)
+    if dynamic:
+        actuator = actuator_realisation(controller.delay, controller.lag)
+        coefficients, _ = actuator_coefficients(coefficients, inputs, controller.feedback_coefficients(),
+                                                used_rows(controller),
+                                                (actuator.a, actuator.b, actuator.c, actuator.d), CASADI_OPS)
     v = casadi.SX.sym("v")
     return casadi.Function("A", [v, p], [polynomial(coefficients, v)], ["v", "p"], ["A"]), p0

@@ -152,3 +152,70 @@ def descriptor_coefficients(E: Any, A: Sequence[Any], B: Any, gains: Sequence[An
     """
     rows = _with_feedback(list(A), gains, B, A[0].shape[-1], ops)
     return [ops.solve(E, row) for row in rows], ops.solve(E, B)
+
+
+def actuator_coefficients(coefficients: Sequence[Any], input_matrix: Any, gains: Sequence[Any],
+                          rows: Sequence[int], actuator: tuple[Any, Any, Any, float],
+                          ops: ArrayOps = NUMPY_OPS) -> tuple[list[Any], Any]:
+    """Close a feedback loop through an actuator around ``x' = (sum_k v^k P_k) x + Bp f``.
+
+    Each torque row r in `rows` gets its own copy of the single-input actuator
+    ``z' = a z + b u``, ``T = c z + d u`` driven by the commanded torque
+    ``u = sum_k v^k F_k[r] x`` (on the first four states); the plant receives ``f + T``. The
+    actuator's matrices are constant, so ``A(v)`` stays a polynomial in v of the same degree.
+
+    Parameters
+    ----------
+    coefficients : sequence of array, each (..., n, n)
+        ``P_k`` of the plant without feedback.
+    input_matrix : array (..., n, 2)
+        ``Bp``, the roll and steer torques' input matrix.
+    gains : sequence of ndarray, each (2, 4)
+        Feedback coefficients ``F_k`` [N m per state unit].
+    rows : sequence of int
+        Torque rows (0 roll, 1 steer) that pass through an actuator; the others get no torque.
+    actuator : tuple
+        ``(a, b, c, d)``: NumPy arrays (m, m) [1/s], (m, 1) [1/s], (1, m) and a float.
+    ops : ArrayOps
+        The array operations (NumPy by default).
+
+    Returns
+    -------
+    coefficients : list of array, each (..., n + m len(rows), n + m len(rows))
+        The loop's ``A_k``: the plant's states first, then each row's actuator states.
+    input_matrix : array (..., n + m len(rows), 2)
+        ``[Bp; 0]``: external torques act on the plant directly.
+    """
+    a, b, c, d = actuator
+    like = coefficients[0]
+    n, m = like.shape[-1], a.shape[0]
+    extra = m * len(rows)
+    columns = ops.split_columns(input_matrix, 1)
+
+    def constant(array: Any) -> Any:
+        array = np.asarray(array, dtype=float)
+        return ops.zeros(like, *array.shape) + array
+
+    def padded(gain: Any, row: int) -> Any:
+        line = np.zeros((1, n))
+        line[0, :4] = np.asarray(gain, dtype=float)[row]
+        return line
+
+    actuator_block = np.kron(np.eye(len(rows)), a)
+    result = []
+    for k in range(max(len(coefficients), len(gains))):
+        top = coefficients[k] if k < len(coefficients) else ops.zeros(like, n, n)
+        lower = []
+        for row in rows:
+            line = padded(gains[k], row) if k < len(gains) else np.zeros((1, n))
+            if d != 0.0 and np.any(line):
+                top = top + columns[row] @ constant(d * line)
+            lower.append(constant(b @ line))
+        if k == 0:
+            right = ops.join_columns([columns[row] @ constant(c) for row in rows])
+            corner = constant(actuator_block)
+        else:
+            right, corner = ops.zeros(like, n, extra), ops.zeros(like, extra, extra)
+        result.append(ops.join_rows([ops.join_columns([top, right]),
+                                     ops.join_columns([ops.join_rows(lower), corner])]))
+    return result, ops.join_rows([input_matrix, ops.zeros(like, extra, input_matrix.shape[-1])])

@@ -62,14 +62,15 @@ def _as_float(value: Any) -> Any:
 
 @dataclass(frozen=True)
 class Payload:
-    """A point mass rigidly attached to the rear frame.
+    """A point mass rigidly attached to a frame (the rear frame, or the front frame).
 
     Attributes
     ----------
     mass : float
         Mass [kg].
     x, z : float
-        Position in the benchmark frame [m]: forward of the rear contact, and down.
+        Position in the benchmark frame [m]: forward of the rear contact, and down (negative
+        above the ground); on the front frame, at steer angle zero.
     """
 
     mass: float
@@ -108,13 +109,19 @@ class Extensions:
     steer_damping : float
         Viscous damping about the steer axis [N m s/rad].
     steer_inertia : float
-        Extra moment of inertia about the steer axis [kg m^2].
+        Extra moment of inertia of the front frame about the steer axis [kg m^2] (a rigid
+        body turning with the front frame).
     speed_scale : float
         Measured speed / true speed [-].
     payload : Payload or None
         A point mass on the rear frame.
     tyre_compliance : TyreCompliance or None
         Tyre slip instead of knife-edge wheels.
+    front_payload : Payload or None
+        A point mass on the front frame (a basket, a lamp), turning with it.
+    reflected_steer_inertia : float
+        Inertia of a rotor geared to the steer angle, reflected to the steer axis,
+        ``N^2 J_rotor`` [kg m^2] (a steer motor); it enters the steer equation alone.
     """
 
     steer_damping: float = 0.0
@@ -122,6 +129,8 @@ class Extensions:
     speed_scale: float = 1.0
     payload: Payload | None = None
     tyre_compliance: TyreCompliance | None = None
+    front_payload: Payload | None = None
+    reflected_steer_inertia: float = 0.0
 
     def is_base(self) -> bool:
         """Return True when the extensions change nothing in the Whipple model."""
@@ -130,16 +139,20 @@ class Extensions:
     def model_values(self) -> dict[str, float]:
         """Values of the derived models' extension parameters (zero when absent).
 
-        Keys: ``payload_mass`` [kg], ``payload_x``, ``payload_z`` [m], ``steer_inertia``
+        Keys: ``payload_mass`` [kg], ``payload_x``, ``payload_z`` [m], the same with prefix
+        ``front_`` for the front payload, ``steer_inertia`` and ``reflected_steer_inertia``
         [kg m^2], ``steer_damping`` [N m s/rad], ``pneumatic_trail`` [m], and with tyre
         compliance ``cornering_stiffness``, ``camber_stiffness`` [1/rad],
         ``relaxation_length`` [m].
         """
         values = {"payload_mass": 0.0, "payload_x": 0.0, "payload_z": 0.0,
-                  "steer_inertia": self.steer_inertia, "steer_damping": self.steer_damping,
-                  "pneumatic_trail": 0.0}
-        if self.payload is not None:
-            values.update(payload_mass=self.payload.mass, payload_x=self.payload.x, payload_z=self.payload.z)
+                  "front_payload_mass": 0.0, "front_payload_x": 0.0, "front_payload_z": 0.0,
+                  "steer_inertia": self.steer_inertia, "reflected_steer_inertia": self.reflected_steer_inertia,
+                  "steer_damping": self.steer_damping, "pneumatic_trail": 0.0}
+        for prefix, payload in (("", self.payload), ("front_", self.front_payload)):
+            if payload is not None:
+                values.update({f"{prefix}payload_mass": payload.mass, f"{prefix}payload_x": payload.x,
+                               f"{prefix}payload_z": payload.z})
         tyre = self.tyre_compliance
         if tyre is not None:
             values.update(cornering_stiffness=tyre.cornering_stiffness, camber_stiffness=tyre.camber_stiffness,
@@ -158,10 +171,22 @@ class Controller:
         ``roll_rate`` [rad/s], ``steer_rate`` [rad/s]) to the gain's polynomial coefficients
         in v [m/s], constant first; e.g. ``{"roll_rate": (13.0, -2.0)}`` is
         ``T_steer = (13 - 2 v) * roll_rate`` [N m].
+    gain_scale : float
+        Factor on every torque the controller commands [-] (an actuator's gain error; 1: none).
+    delay : float
+        Pure time delay between the measured state and the torque [s] (0: none).
+    lag : float
+        Time constant of a first-order actuator lag [s], ``T' = (T_cmd - T) / lag`` (0: none).
+
+    The linear model realises the delay by a Pade approximant and the lag by one state per
+    torque row in use (:mod:`whipple.model.actuator`).
     """
 
     steer: dict[str, tuple[float, ...]] = field(default_factory=dict)
     roll: dict[str, tuple[float, ...]] = field(default_factory=dict)
+    gain_scale: float = 1.0
+    delay: float = 0.0
+    lag: float = 0.0
 
     def __post_init__(self) -> None:
         for row in ("steer", "roll"):
@@ -175,11 +200,16 @@ class Controller:
         """Return True when there is no feedback term at all."""
         return not self.steer and not self.roll
 
+    def has_dynamics(self) -> bool:
+        """Return True when the torque lags or is delayed (the model needs actuator states)."""
+        return not self.is_empty() and (self.delay != 0.0 or self.lag != 0.0)
+
     def feedback_coefficients(self) -> list[NDArray[np.float64]]:
-        """Gain matrices F_k, shape (2, 4), with ``f = sum_k v^k F_k x``.
+        """Gain matrices F_k, shape (2, 4), with ``f = sum_k v^k F_k x``, ``gain_scale`` included.
 
         ``x = [roll, steer, roll_rate, steer_rate]`` and the rows of f are the roll torque and
-        the steer torque [N m]. An empty controller gives ``[]``.
+        the steer torque [N m]: the commanded torque, before any delay or lag. An empty
+        controller gives ``[]``.
         """
         rows = ((0, self.roll), (1, self.steer))
         order = max((len(c) for _, gains in rows for c in gains.values()), default=0)
@@ -189,7 +219,7 @@ class Controller:
                 if state not in CONTROLLER_STATES:
                     raise ParameterError(f"controller: unknown state {state!r}")
                 for k, value in enumerate(coefficients):
-                    matrices[k][row, CONTROLLER_STATES.index(state)] = value
+                    matrices[k][row, CONTROLLER_STATES.index(state)] = value * self.gain_scale
         return matrices
 
 
@@ -441,14 +471,16 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
     checks = [
         ("steer_damping", ext.steer_damping, -math.inf, False),
         ("steer_inertia", ext.steer_inertia, 0.0, True),
+        ("reflected_steer_inertia", ext.reflected_steer_inertia, 0.0, True),
         ("speed_scale", ext.speed_scale, 0.0, False),
     ]
-    if ext.payload is not None:
-        checks += [
-            ("payload mass", ext.payload.mass, 0.0, False),
-            ("payload x", ext.payload.x, -math.inf, False),
-            ("payload z", ext.payload.z, -math.inf, False),
-        ]
+    for label, payload in (("payload", ext.payload), ("front_payload", ext.front_payload)):
+        if payload is not None:
+            checks += [
+                (f"{label} mass", payload.mass, 0.0, False),
+                (f"{label} x", payload.x, -math.inf, False),
+                (f"{label} z", payload.z, -math.inf, False),
+            ]
     if ext.tyre_compliance is not None:
         tyre = ext.tyre_compliance
         checks += [
@@ -471,6 +503,10 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
                 not all(map(math.isfinite, coefficients)),
                 f"controller.{row}.{state} has a coefficient that is not finite",
             )
+    controller = bicycle.controller
+    for name, value in (("gain_scale", controller.gain_scale), ("delay", controller.delay), ("lag", controller.lag)):
+        found.flag(not (math.isfinite(value) and value >= 0),
+                   f"controller {name} = {value:.6g} must be finite and >= 0")
 
 
 def check_physical(

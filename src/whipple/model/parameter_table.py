@@ -26,8 +26,8 @@ class ParameterInfo:
     description : str
         What it is, without the unit.
     group : str
-        ``benchmark`` (Meijaard et al. 2007, Table 1), ``extension`` (payload, steer inertia and
-        damping) or ``tyre`` (tyre compliance).
+        ``benchmark`` (Meijaard et al. 2007, Table 1), ``extension`` (payloads, steer inertia,
+        reflected steer inertia and damping) or ``tyre`` (tyre compliance).
     """
 
     name: str
@@ -80,6 +80,11 @@ PARAMETERS: tuple[ParameterInfo, ...] = (
         ("payload_z", "m", "payload position, z down (negative above ground)"),
         ("steer_inertia", "kg m^2", "extra moment of inertia of the front frame about the steer axis"),
         ("steer_damping", "N m s/rad", "viscous damping torque about the steer axis per steer rate"),
+        ("front_payload_mass", "kg", "point mass rigidly attached to the front frame"),
+        ("front_payload_x", "m", "front payload position, forward of the rear contact (steer angle zero)"),
+        ("front_payload_z", "m", "front payload position, z down (negative above ground)"),
+        ("reflected_steer_inertia", "kg m^2",
+         "inertia of a rotor geared to the steer angle, reflected to the steer axis (N^2 J_rotor)"),
     )),
     *_group("tyre", (
         ("cornering_stiffness", "1/rad", "lateral force per static wheel load per rad of slip angle"),

@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike
 
 from whipple.errors import ParameterError
 from whipple.generated import tyre_numpy
+from whipple.model.actuator import with_actuator
 from whipple.model.first_order import descriptor_coefficients
 from whipple.model.linear import WHIPPLE_INPUT_UNITS, WHIPPLE_INPUTS, LinearModel
 from whipple.model.parameters import Controller, Extensions
@@ -63,8 +64,11 @@ def tyre_linear_model(
     extensions : Extensions, optional
         Must carry ``tyre_compliance`` unless the tyre values are in ``parameters``.
     controller : Controller, optional
-        State feedback on roll, steer and their rates, gains polynomial in the speed.
+        State feedback on roll, steer and their rates, gains polynomial in the speed (with
+        actuator states for a delay or lag, :mod:`whipple.model.actuator`).
     """
+    if controller is not None and controller.has_dynamics():
+        return with_actuator(tyre_linear_model(parameters, extensions, None, description), controller)
     values = tyre_values(parameters, extensions)
     arrays = np.broadcast_arrays(*(np.asarray(values[name], dtype=float) for name in TYRE_PARAMETERS))
     outputs = dict(zip(tyre_numpy.OUTPUTS, tyre_numpy.matrices(*arrays), strict=True))

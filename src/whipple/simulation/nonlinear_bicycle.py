@@ -19,9 +19,10 @@ The linear model's speed is the rear wheel's rolling speed; in the nonlinear mod
 contact's speed also contains the pitch rate, ``-rR (rear_wheel_rate + pitch_rate)``, which
 differs from it at second order in the lateral motion.
 
-The nonlinear model has no payload, extra steer inertia or tyre compliance: bicycles with
-these extensions are refused. Where a bicycle file lacks IByy or IHyy (which the linear model
-does not need), they are estimated as for a body lying in its plane of symmetry,
+The nonlinear model has no payloads, extra or reflected steer inertia or tyre compliance, and
+its controller acts without delay or lag (its gain scale is applied): bicycles with these
+extensions, or a delayed or lagging controller, are refused. Where a bicycle file lacks IByy
+or IHyy (which the linear model does not need), they are estimated as for a body lying in its plane of symmetry,
 ``Iyy = Ixx + Izz`` (perpendicular-axis theorem; the benchmark's frames: 11 against 12 and 0.06
 against 0.066 kg m^2). They enter only through the pitch motion, which is of second order in
 the lateral motion; the estimate is reported wherever it is used.
@@ -54,17 +55,25 @@ def nonlinear_parameters(bicycle: Bicycle) -> tuple[dict[str, float], tuple[str,
     Raises
     ------
     InputError
-        If the bicycle has an extension the nonlinear model does not hold (payload, extra
-        steer inertia, tyre compliance); one line naming the bicycle's file.
+        If the bicycle has an extension the nonlinear model does not hold (payloads, extra or
+        reflected steer inertia, tyre compliance) or a controller with a delay or lag; one line
+        naming the bicycle's file.
     """
-    extensions = bicycle.extensions
+    extensions, controller = bicycle.extensions, bicycle.controller
     missing = [name for name, present in (("payload", extensions.payload is not None),
+                                          ("front_payload", extensions.front_payload is not None),
                                           ("steer_inertia", extensions.steer_inertia != 0.0),
+                                          ("reflected_steer_inertia", extensions.reflected_steer_inertia != 0.0),
                                           ("tyre_compliance", extensions.tyre_compliance is not None))
                if present]
+    source = bicycle.source or bicycle.name or None
     if missing:
         raise InputError(f"the nonlinear model has no {', '.join(missing)} extension: simulate this bicycle with "
-                         "the linear model", bicycle.source or bicycle.name or None)
+                         "the linear model", source)
+    if controller.has_dynamics():
+        raise InputError("the nonlinear model's controller acts without delay or lag (controller delay "
+                         f"{controller.delay:g} s, lag {controller.lag:g} s): simulate this bicycle with the "
+                         "linear model", source)
     parameters = dict(bicycle.parameters)
     estimated = []
     for name, (xx, zz) in _PLANAR_ESTIMATES.items():

@@ -7,7 +7,8 @@ realistic size and position, diagnose them blind, and count the outcomes:
 
 - right: the verdict ``named`` with the expected cause (no effect: ``none``; a truth outside
   every candidate: ``none`` or ``ambiguous``);
-- ambiguous (truth): an ``ambiguous`` verdict whose family holds the expected cause;
+- ambiguous (truth): an ``ambiguous`` verdict whose family holds the expected cause (a named
+  pair of causes holding it is listed with the other verdicts, neither right nor wrong);
 - said none: the verdict ``none`` where an effect was hidden;
 - wrong confident: the verdict ``named`` with another cause;
 - warned: of the wrong confident, how many carry the dispersion caveat (s^2 > 2);
@@ -63,7 +64,7 @@ def _row(label: str, rows: list, width: int = 28) -> str:
     # above their stated uncertainties (dispersion above 2).
     warned = sum(r[5] == "wrong" and r[7] > 2.0 for r in rows)
     return (f"{label:<{width}}{n:>6}{right / n:>7.0%}{count['ambiguous_truth'] / n:>8.0%}{none / n:>7.0%}"
-            f"{count['wrong'] / n:>8.0%}{warned:>6}{covered / n:>9.0%}  {shown}")
+            f"{count['wrong'] / n:>7.0%}{warned:>7}{covered / n:>9.0%}  {shown}")
 
 
 def main() -> None:
@@ -80,8 +81,8 @@ def main() -> None:
         results = list(pool.map(_trial, jobs, chunksize=2))
     elapsed = time.perf_counter() - started
     print(f"{len(jobs)} trials in {elapsed:.0f} s ({args.workers} workers)")
-    header = (f"{'bicycle / family':<28}{'seeds':>6}{'right':>7}{'amb(T)':>8}{'none':>7}{'wrong':>8}"
-              f"{'warned':>6}{'covered':>9}  other verdicts")
+    header = (f"{'bicycle / family':<28}{'seeds':>6}{'right':>7}{'amb(T)':>8}{'none':>7}{'wrong':>7}"
+              f"{'warned':>7}{'covered':>9}  other verdicts")
     print(header)
     cases = list(dict.fromkeys((r[0], r[1]) for r in results))
     for bicycle, family in cases:

@@ -106,10 +106,14 @@ class Trial:
 
     @property
     def contenders(self) -> tuple[str, ...]:
-        """Causes an ``ambiguous`` verdict leaves open: its family, or those within the margin."""
-        family = getattr(self.diagnosis, "family", None)
-        if family:
-            return tuple(family)
+        """Causes an ``ambiguous`` verdict leaves open: the leader and its rivals.
+
+        Where the diagnosis names no rivals (before ambiguity by families), the causes within
+        the evidence margin of the best.
+        """
+        rivals = getattr(self.diagnosis, "rivals", None)
+        if rivals is not None:
+            return (self.diagnosis.cause, *rivals)
         fits = self.diagnosis.fits
         if not fits:
             return ()
@@ -117,12 +121,14 @@ class Trial:
 
     @property
     def outcome(self) -> str:
-        """``right``, ``ambiguous_truth``, ``ambiguous``, ``none`` or ``wrong`` (named, wrong cause).
+        """``right``, ``ambiguous_truth``, ``pair_truth``, ``ambiguous``, ``none`` or ``wrong``.
 
         ``right`` is the verdict ``named`` with the expected cause; with no effect it is
         ``none``; for a truth outside the candidates it is ``none`` or ``ambiguous`` (a named
         cause is then ``wrong``). ``ambiguous_truth``: an ambiguous verdict whose family holds
-        the expected cause (not wrong, but not right).
+        the expected cause (not wrong, but not right). ``pair_truth``: a named pair of causes
+        (``"A + B"``) of which one is the expected cause. ``wrong``: named, and not the
+        expected cause (nor a pair holding it): a wrong confident name.
         """
         verdict, cause, expected = self.diagnosis.verdict, self.diagnosis.cause, self.expected
         if expected is None:
@@ -130,7 +136,9 @@ class Trial:
         if expected == "none":
             return {"none": "right", "named": "wrong"}.get(verdict, "ambiguous")
         if verdict == "named":
-            return "right" if cause == expected else "wrong"
+            if cause == expected:
+                return "right"
+            return "pair_truth" if expected in cause.split(" + ") else "wrong"
         if verdict == "ambiguous":
             return "ambiguous_truth" if expected in self.contenders else "ambiguous"
         return "none"

@@ -29,6 +29,7 @@ from whipple.model.parameters import (
     Controller,
     Extensions,
     Payload,
+    TyreCompliance,
     load_bicycle,
     read_bicycle_toml,
     write_bicycle_toml,
@@ -220,3 +221,26 @@ def test_bicycle_file_round_trip_of_the_new_keys(tmp_path):
     # Defaults are not written.
     write_bicycle_toml(bicycle, tmp_path / "plain.toml")
     assert "delay" not in (tmp_path / "plain.toml").read_text()
+
+
+def test_zero_gain_scale_leaves_the_bicycle_uncontrolled():
+    bicycle = load_bicycle("sbw2024")
+    off = bicycle.with_controller(dataclasses.replace(bicycle.controller, gain_scale=0.0, delay=0.05, lag=0.01))
+    plant = build_linear_model(bicycle.parameters, bicycle.extensions, None)
+    model = linear_model(off)
+    np.testing.assert_array_equal(model.state_matrix(3.0), plant.state_matrix(3.0))
+    function, p0 = casadi_state_function(off)
+    np.testing.assert_allclose(np.array(function(3.0, p0)), plant.state_matrix(3.0), rtol=1e-14, atol=1e-12)
+
+
+def test_tyre_model_takes_the_actuator_states_too():
+    bicycle = load_bicycle("sbw2024").with_extensions(tyre_compliance=TyreCompliance(12.0, 0.57, 0.15))
+    bicycle = bicycle.with_controller(dataclasses.replace(bicycle.controller, delay=0.03, lag=0.01))
+    model = linear_model(bicycle)
+    assert model.state_names[4:8] == ("lateral_speed", "yaw_rate", "rear_lateral_force", "front_lateral_force")
+    assert model.state_names[8:] == tuple(f"steer_torque_delay{k}" for k in (1, 2, 3)) + ("steer_torque_lag",)
+    function, p0 = casadi_state_function(bicycle)
+    for speed in (1.0, 3.0, 6.0):
+        expected = model.state_matrix(speed)
+        np.testing.assert_allclose(np.array(function(speed, p0)), expected, rtol=1e-12,
+                                   atol=1e-12 * np.abs(expected).max())

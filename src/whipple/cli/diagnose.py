@@ -1,7 +1,8 @@
 """Diagnose what the model gets wrong on measured runs, name the cause, extend, measure the gain.
 
 Every free-coasting window of the runs is fitted; each candidate cause (steer damping, steer
-inertia, speed scale, payload, tyre compliance, a wrong parameter) is fitted to all windows
+inertia rigid or reflected, speed scale, rear or front payload, tyre compliance, the
+controller's gain, delay or lag, a wrong parameter) is fitted to all windows
 jointly and compared by its evidence; the chosen cause's extended model is tested on held-out
 speeds. The bicycle file carries the controller, if any.
 """

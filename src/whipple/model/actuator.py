@@ -144,12 +144,15 @@ def with_actuator(plant: LinearModel, controller: Controller, order: int = PADE_
     Returns
     -------
     LinearModel
-        The plant's states, then the actuator states of each torque row in use (N m), named
+        The plant's states, then the actuator states of each torque row in use (N m; the plant
+        itself when no gain is nonzero), named
         e.g. ``steer_torque_delay1``, ``steer_torque_lag``; the same inputs (external torques
         act directly, not through the actuator).
     """
     actuator = actuator_realisation(controller.delay, controller.lag, order)
     rows = used_rows(controller)
+    if not rows:  # every gain zero (e.g. gain_scale 0): no torque to delay
+        return plant
     gains = controller.feedback_coefficients()
     plant_coefficients = [plant.A[..., k, :, :] for k in range(plant.A.shape[-3])]
     coefficients, inputs = actuator_coefficients(plant_coefficients, plant.B[..., 0, :, :], gains, rows,

@@ -133,7 +133,7 @@ def casadi_state_function(bicycle: Bicycle, keys: Sequence[str] = ()
         vector, p, p0 = _symbolic(values, EXTENDED_PARAMETERS, keys)
         M, C1, D, K0, K2 = whipple_extended_casadi.matrices(vector)
         coefficients, inputs = second_order_coefficients(M, C1, D, K0, K2, gains, CASADI_OPS)
-    if dynamic:
+    if dynamic and used_rows(controller):
         actuator = actuator_realisation(controller.delay, controller.lag)
         coefficients, _ = actuator_coefficients(coefficients, inputs, controller.feedback_coefficients(),
                                                 used_rows(controller),

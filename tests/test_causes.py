@@ -1,0 +1,125 @@
+"""Candidate causes: the new physical and controller causes, their forms, nulls and round trips."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from whipple.diagnosis.causes import candidate_causes, cause_by_name, payload_bounds, payload_form, with_cause
+from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.observations import observations
+from whipple.measurement.experiment import measure_run
+from whipple.measurement.runs import run_from_simulation
+from whipple.model.assembly import extended_matrices, linear_model, whipple_matrices
+from whipple.model.bodies import Body, combine, frame_body
+from whipple.model.parameters import Payload, load_bicycle, read_bicycle_toml, validate, write_bicycle_toml
+from whipple.simulation.scenario import RunScenario
+from whipple.simulation.simulator import simulate_run
+
+NEW = ("reflected_steer_inertia", "front_payload", "controller_gain", "controller_delay", "controller_lag")
+CONTROLLER = ("controller_gain", "controller_delay", "controller_lag")
+
+
+def test_controller_causes_only_for_controlled_bicycles():
+    plain = {cause.name for cause in candidate_causes(load_bicycle("benchmark"))}
+    controlled = {cause.name for cause in candidate_causes(load_bicycle("sbw2024"))}
+    assert not plain & set(CONTROLLER)
+    assert set(CONTROLLER) <= controlled
+    assert {"reflected_steer_inertia", "front_payload", "payload", "steer_inertia"} <= plain & controlled
+
+
+@pytest.mark.parametrize("name", ["payload", "front_payload"])
+def test_payload_forms_share_one_prior_and_estimate_with_the_full_position(name):
+    bicycle = load_bicycle("benchmark")
+    forms = [cause for cause in candidate_causes(bicycle) if cause.name == name]
+    evidence = [cause for cause in forms if cause.for_evidence]
+    assert sum(cause.prior for cause in evidence) == pytest.approx(1.0)
+    assert [len(cause.parameters) for cause in evidence] == [1, 2]
+    (estimate,) = [cause for cause in forms if not cause.for_evidence]
+    assert estimate.parameters == (f"{name}_mass", f"{name}_x", f"{name}_z")
+    bounds = payload_bounds(bicycle, name)
+    assert estimate.bounds == (bounds["mass"], bounds["x"], bounds["z"])
+    for low, high in estimate.bounds:
+        assert low < high
+    # Every start lies within the bounds.
+    for cause in forms:
+        assert all(low <= start <= high for start, (low, high) in zip(cause.start, cause.bounds, strict=True))
+
+
+def test_front_payload_mass_form_sits_at_the_front_mass_centre():
+    bicycle = load_bicycle("benchmark")
+    cause = cause_by_name(bicycle, "front_payload")
+    assert cause.parameters == ("front_payload_mass",)
+    changed = with_cause(bicycle, cause, [5.0])
+    p = bicycle.parameters
+    assert changed.extensions.front_payload == Payload(5.0, p["xH"], p["zH"])
+    # A point mass at the frame's mass centre is a heavier front frame, nothing else.
+    heavier = combine(frame_body(p, "H"), Body(5.0, p["xH"], p["zH"], 0.0, 0.0, 0.0, 0.0))
+    assert heavier.xx == pytest.approx(p["IHxx"]) and heavier.x == pytest.approx(p["xH"])
+    expected = whipple_matrices({**p, "mH": p["mH"] + 5.0})
+    for a, b in zip(extended_matrices(p, changed.extensions)[:4], expected[:4], strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-12)
+
+
+@pytest.mark.parametrize("bicycle_name", ["benchmark", "sbw2024"])
+def test_every_cause_null_changes_nothing_and_values_round_trip(bicycle_name, tmp_path):
+    bicycle = load_bicycle(bicycle_name)
+    base = linear_model(bicycle)
+    for cause in candidate_causes(bicycle, include_parameters=False):
+        if cause.null is not None:
+            null = linear_model(cause.apply(bicycle, cause.null))
+            assert np.array_equal(null.A, base.A) and null.state_names == base.state_names, cause.name
+        # A value inside the bounds, away from the null: a valid bicycle that a file carries exactly.
+        values = [low + 0.3 * (high - low) for low, high in cause.bounds]
+        changed = with_cause(bicycle, cause, values)
+        assert validate(changed).ok, (cause.name, validate(changed).problems)
+        if cause.name == "speed_scale":  # changes the speed the model sees, not the model
+            assert changed.model_speed(4.0) != 4.0
+        else:
+            assert not np.array_equal(linear_model(changed).state_matrix(4.0)[:4, :4], base.state_matrix(4.0))
+        path = tmp_path / f"{cause.name}_{len(cause.parameters)}.toml"
+        write_bicycle_toml(dataclasses.replace(changed, source=""), path)
+        assert read_bicycle_toml(path) == changed, cause.name
+
+
+def test_controller_causes_compose_with_the_bicycles_controller():
+    bicycle = load_bicycle("sbw2024")
+    start = bicycle.with_controller(dataclasses.replace(bicycle.controller, gain_scale=2.0, delay=0.01, lag=0.02))
+    assert cause_by_name(start, "controller_gain").apply(start, [1.5]).controller.gain_scale == 3.0
+    assert cause_by_name(start, "controller_delay").apply(start, [0.05]).controller.delay == pytest.approx(0.06)
+    assert cause_by_name(start, "controller_lag").apply(start, [0.05]).controller.lag == pytest.approx(0.07)
+    assert cause_by_name(start, "reflected_steer_inertia").apply(start, [0.2]).extensions.reflected_steer_inertia \
+        == 0.2
+
+
+def test_simulated_runs_with_a_hidden_controller_delay_are_diagnosed():
+    """Smoke test: the whole chain runs; how often the delay is named is measured elsewhere."""
+    base = load_bicycle("sbw2024")
+    truth = base.with_controller(dataclasses.replace(base.controller, delay=0.02))
+    rng = np.random.default_rng(5)
+    measurements = []
+    for k, speed in enumerate((3.5, 4.5, 5.5)):
+        scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)), n_pushes=3, sample_rate=100)
+        measurements += measure_run(run_from_simulation(simulate_run(truth, scenario, name=f"run{k}")),
+                                    baseline="auto")
+    assert len(measurements) >= 6
+    diagnosis = diagnose_observations(base, observations(measurements))
+    assert diagnosis.verdict in ("named", "ambiguous", "none")
+    assert {fit.cause for fit in diagnosis.fits} >= set(CONTROLLER) | {"front_payload", "reflected_steer_inertia"}
+    delay = next(fit for fit in diagnosis.fits if fit.cause == "controller_delay")
+    assert np.isfinite(delay.evidence) and 0.0 <= delay.values[0] <= 0.3
+
+
+def test_payload_form_at_any_position():
+    bicycle = load_bicycle("benchmark")
+    p = bicycle.parameters
+    for name, letter in (("payload", "B"), ("front_payload", "H")):
+        fore_aft = payload_form(bicycle, name, "mx")
+        assert fore_aft.parameters == (f"{name}_mass", f"{name}_x") and fore_aft.start == (0.0, p[f"x{letter}"])
+        assert getattr(fore_aft.apply(bicycle, [4.0, 0.2]).extensions, name) == Payload(4.0, 0.2, p[f"z{letter}"])
+        full = payload_form(bicycle, name, "mxz")
+        assert getattr(full.apply(bicycle, [4.0, 0.2, -1.0]).extensions, name) == Payload(4.0, 0.2, -1.0)
+    with pytest.raises(ValueError):
+        payload_form(bicycle, "payload", "xz")

@@ -34,15 +34,20 @@ def _observations(true_bicycle, rng):
             for v, lam in zip(SPEEDS, truth, strict=True)]
 
 
-@pytest.mark.parametrize("cause, values", [
-    ("steer_damping", [0.5]), ("steer_inertia", [0.04]), ("speed_scale", [1.07]),
-    ("tyre_compliance", [12.0, 0.15]),
+# From weave eigenvalues alone (no mode shapes), an extra steer inertia and a larger front-wheel
+# diametral inertia IFxx predict the observations within their noise (separation 0.16): the
+# diagnosis must say so (ambiguous, naming the steer-axis inertia family), not name one.
+@pytest.mark.parametrize("cause, values, verdict", [
+    ("steer_damping", [0.5], "named"), ("steer_inertia", [0.04], "ambiguous"), ("speed_scale", [1.07], "named"),
+    ("tyre_compliance", [12.0, 0.15], "named"),
 ])
-def test_synthetic_eigenvalues_name_the_hidden_cause(cause, values):
+def test_synthetic_eigenvalues_name_the_hidden_cause(cause, values, verdict):
     bicycle = load_bicycle("benchmark")
     truth = with_cause(bicycle, cause_by_name(bicycle, cause), values)
     diagnosis = diagnose_observations(bicycle, _observations(truth, np.random.default_rng(3)))
-    assert diagnosis.verdict == "named" and diagnosis.cause == cause
+    assert diagnosis.verdict == verdict and diagnosis.cause == cause
+    if verdict == "ambiguous":
+        assert diagnosis.family.startswith("extra inertia of the front assembly about the steer axis")
     best = diagnosis.best
     for value, estimate, std in zip(values, best.values, best.std, strict=True):
         assert abs(estimate - value) < 4 * std  # loose here; calibration is measured in benchmarks

@@ -19,7 +19,7 @@ from whipple.atomic import write_text_atomic
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
-from whipple.diagnosis.report import assemble, report_json
+from whipple.diagnosis.report import assemble, gain_sentences, report_json
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import FitOptions, measure_run
@@ -73,6 +73,10 @@ def run(args: argparse.Namespace) -> int:
     print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs)")
     print(f"what the model gets wrong: {report.residual_summary[0]}")
     print(f"verdict: {diagnosis.verdict}" + (f" ({diagnosis.cause})" if diagnosis.verdict != "none" else ""))
+    if diagnosis.family:
+        print(f"  the data support: {diagnosis.family}")
+    for reason in diagnosis.reasons:
+        print(f"  why not a confident name: {reason}")
     for name, estimate in data["estimate"].items():
         print(f"  {name} = {estimate['value']:.6g} +/- {estimate['std']:.3g} {estimate['unit']}")
     print("ranking: " + ", ".join(f"{cause} {evidence:.1f}" for cause, evidence in diagnosis.ranking()[:5]))
@@ -82,7 +86,12 @@ def run(args: argparse.Namespace) -> int:
         print(f"linearity: {report.amplitude.summary()}")
     if report.gain is not None:
         g = report.gain
-        print(f"held-out eigenvalue error [1/s]: base {g.base:.3f}, extended {g.extended:.3f} ({g.folds} folds)")
+        for speed in g.speeds:
+            print(f"held out {speed.speed:.2f} m/s ({speed.windows} windows, {speed.cause} chosen without it): "
+                  f"eigenvalue error RMS {speed.base_rms:.2f} -> {speed.extended_rms:.2f} 1/s "
+                  f"(cut {100 * speed.cut:+.0f}%), median {speed.base_median:.2f} -> {speed.extended_median:.2f}")
+        for sentence in gain_sentences(g):
+            print(f"held-out gain: {sentence}")
         if g.time_base is not None:
             print(f"held-out time-domain error (relative rms): base {g.time_base:.3f}, extended {g.time_extended:.3f}")
     if args.json is not None:

@@ -20,6 +20,7 @@ that are too small inflate every chi-square alike). ``none`` has evidence 0. The
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
@@ -28,6 +29,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from whipple.diagnosis.causes import Cause, candidate_causes
+from whipple.diagnosis.families import combined_cause, components, describe_family
 from whipple.diagnosis.observations import (
     Observation,
     compared_shapes,
@@ -43,6 +45,22 @@ MARGIN = 2.0  # evidence by which the best must beat the runner-up: ~7:1
 #: (soft L1 loss): a few windows at very unstable speeds are fitted far worse than their stated
 #: uncertainty (the seed paper reports the same spread below 3 m/s) and must not decide alone.
 ROBUST_SCALE = 3.0
+#: A runner-up within this much evidence whose predictions are within SEPARATION of the best's
+#: makes the verdict ambiguous (a prior or a fitted value more is then all that ranks them).
+CLOSE_EVIDENCE = 5.0
+#: Half the summed squared whitened difference of two fits' predictions below which the data
+#: could not single out one of them even if it were true (odds below e^2, about 7:1).
+SEPARATION = 2.0
+#: Reduced chi-square of the best single cause above which pairs are tried (the report's
+#: dispersion caveat starts at the same value).
+COMBINE_DISPERSION = 2.0
+#: Reduced chi-square of the best model (eigenvalues or mode shapes) above which the verdict
+#: is never a confident name: the leading cause is then the least bad guess.
+HIGH_DISPERSION = 3.0
+#: How many leading single causes are tried in pairs (3 pairs).
+PAIR_CANDIDATES = 3
+#: How many more pairs, the best by a linearised screen of all pairs, are tried.
+PAIR_SCREENED = 3
 
 
 def robust_chi2(residuals: NDArray[np.float64]) -> float:
@@ -64,11 +82,39 @@ class CauseFit:
     evidence: float = 0.0
     predicted: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, complex), repr=False)
     block_chi2: tuple[float, ...] = (0.0, 0.0)
+    #: Whitened residuals, each kind divided by its dispersion: the difference of two fits'
+    #: residuals is the difference of their predictions in units of the observations' noise.
+    residuals: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), repr=False)
 
 
 @dataclass(frozen=True)
 class Diagnosis:
-    """Verdict, ranking and fits of every cause."""
+    """Verdict, ranking and fits of every cause.
+
+    Attributes
+    ----------
+    verdict : str
+        ``named``, ``ambiguous`` or ``none``.
+    cause : str
+        The leading cause (``"A + B"`` for a combination), ``none`` for the verdict none.
+    best : CauseFit or None
+        Its fit (values from its estimate form, std including the jackknife).
+    scale, shape_scale : float
+        Dispersion (reduced chi2 >= 1) of the best model's eigenvalue and mode-shape residuals.
+    chosen : Cause or None
+        The form of the leading cause whose values ``best`` holds (to extend the model).
+    rivals : tuple of str
+        The causes the data cannot tell from the leading one (verdict ambiguous).
+    family : str
+        What the leading cause and its rivals have in common, in physical words, with their
+        names (:func:`whipple.diagnosis.families.describe_family`); empty unless ambiguous.
+    reasons : tuple of str
+        Why the verdict is ambiguous (close evidence, predictions alike, high dispersion).
+    combinations : tuple of str
+        The pairs of causes fitted jointly (only when no single cause explained the data).
+    single_scales : tuple of float
+        Dispersions of the best single cause (before any combination).
+    """
 
     verdict: str
     cause: str
@@ -79,6 +125,12 @@ class Diagnosis:
     observations: tuple[Observation, ...]
     shape_scale: float = 1.0
     n_shapes: int = 0
+    chosen: Cause | None = None
+    rivals: tuple[str, ...] = ()
+    family: str = ""
+    reasons: tuple[str, ...] = ()
+    combinations: tuple[str, ...] = ()
+    single_scales: tuple[float, float] = (1.0, 1.0)
 
     def ranking(self) -> list[tuple[str, float]]:
         """Causes by decreasing evidence, with ``none`` at 0."""
@@ -172,8 +224,12 @@ def _residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening:
 
 
 def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
-              whitening: _Whitening | None = None) -> CauseFit:
-    """Fit one cause's values to all observations by robust weighted least squares."""
+              whitening: _Whitening | None = None,
+              starts: Sequence[Sequence[float]] | None = None) -> CauseFit:
+    """Fit one cause's values to all observations by robust weighted least squares.
+
+    ``starts``: starting values to try instead of the default few spread over the bounds.
+    """
     whitening = _whitening(observations, bicycle) if whitening is None else whitening
     lower = np.array([b[0] for b in cause.bounds])
     upper = np.array([b[1] for b in cause.bounds])
@@ -183,13 +239,15 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
         return _residuals(cause.apply(bicycle, x * scale), observations, whitening)[0]
 
     # A few deterministic starts spread over the bounds guard against local minima.
-    starts = [np.array(cause.start)] + [np.clip(np.array(cause.start) + (upper - lower) * f, lower, upper)
-                                        for f in (0.02, 0.1)]
+    tries = [np.array(cause.start)] + [np.clip(np.array(cause.start) + (upper - lower) * f, lower, upper)
+                                       for f in (0.02, 0.1)]
     if len(cause.parameters) > 1:
-        starts += [lower + (upper - lower) * np.resize(np.array(f), len(lower))
-                   for f in ((0.02, 0.1, 0.5), (0.1, 0.3, 0.4), (0.4, 0.05, 0.6))]
+        tries += [lower + (upper - lower) * np.resize(np.array(f), len(lower))
+                  for f in ((0.02, 0.1, 0.5), (0.1, 0.3, 0.4), (0.4, 0.05, 0.6))]
+    if starts is not None:
+        tries = [np.array(start, dtype=float) for start in starts]
     best = None
-    for start in starts:
+    for start in tries:
         x0 = np.clip(start, lower, upper) / scale
         try:
             result = least_squares(residual, x0, bounds=(lower / scale, upper / scale), x_scale="jac",
@@ -209,7 +267,8 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
         std = np.full(len(values), np.inf)
     final, predicted, block_chi2 = _residuals(cause.apply(bicycle, values), observations, whitening)
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
-                    tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2)
+                    tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2,
+                    residuals=final)
 
 
 def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[float, float]:
@@ -232,8 +291,18 @@ def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[flo
 
 def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                           causes: Sequence[Cause] | None = None,
-                          named_threshold: float = NAMED_THRESHOLD, margin: float = MARGIN) -> Diagnosis:
-    """Fit every cause to the observations and decide which, if any, explains them."""
+                          named_threshold: float = NAMED_THRESHOLD, margin: float = MARGIN,
+                          estimate_spread: bool = True, quick: bool = False) -> Diagnosis:
+    """Fit every cause to the observations and decide which, if any, explains them.
+
+    When the best single cause leaves a dispersion above ``COMBINE_DISPERSION``, pairs of the
+    leading causes are fitted jointly as well (:func:`whipple.diagnosis.families.combined_cause`).
+    ``estimate_spread``: also compute the jackknife spread of the leading cause's values
+    (skipped by the held-out gain, which uses only the values). ``quick``: start each fit from
+    the cause's no-effect values and a step of 5% of its bounds away, and the refit at the
+    dispersion from the first fit's values (several times faster; used by the held-out gain's
+    folds).
+    """
     observations = tuple(observations)
     if len(observations) < 2:
         raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
@@ -242,18 +311,29 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     causes = [cause for cause in causes if cause.for_evidence]
     whitening = _whitening(observations, bicycle)
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
-    base, fits = _fit_all(bicycle, causes, observations, whitening)
-    scales = _dispersions([base, *fits], counts)
+    n = sum(counts)
+    base, fits = _fit_all(bicycle, causes, observations, whitening,
+                          [_quick_starts(cause) for cause in causes] if quick else None)
+    scales = single_scales = _dispersions([base, *fits], counts)
+    pairs: list[Cause] = []
+    if max(scales) > COMBINE_DISPERSION:
+        # No single cause explains the data: try the leading few in pairs, each pair started
+        # from its members' fitted values.
+        started = _leading_pairs(causes, _scored(causes, base, fits, n))
+        started += _screened_pairs(bicycle, causes, observations, whitening, {pair.name for pair, _ in started})
+        pairs = [pair for pair, _ in started]
+        pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start, list(pair.start)])
+                     for pair, start in started]
+        causes, fits = causes + pairs, fits + pair_fits
+        scales = _dispersions([base, *fits], counts)
     if scales != (1.0, 1.0):
         # Refit with each kind of residual at its own dispersion (weights the fits, too).
         whitening = replace(whitening, scales=scales)
-        base, fits = _fit_all(bicycle, causes, observations, whitening)
-    n = sum(counts)
-    scored = []
-    for cause, fit in zip(causes, fits, strict=True):
-        evidence = (base.chi2 - fit.chi2) / 2.0 - 0.5 * len(fit.parameters) * np.log(n) + np.log(cause.prior)
-        scored.append(replace(fit, evidence=float(evidence)))
-    scored = _merge_forms(scored)
+        single = len(causes) - len(pairs)
+        again = [[fit.values] if quick or n_cause >= single else None for n_cause, fit in enumerate(fits)]
+        base, fits = _fit_all(bicycle, causes, observations, whitening, again)
+    scored = _merge_forms(_scored(causes, base, fits, n))
+    chosen = None
     if scored:
         # The leading cause's values, from its estimate-only form where it has one, with an
         # uncertainty that also covers errors shared by the windows of one speed.
@@ -261,26 +341,150 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         if not leading:
             leading = [c for c in causes if c.name == scored[0].cause
                        and len(c.parameters) == len(scored[0].parameters)]
-        cause = leading[0]
-        fit = fit_cause(bicycle, cause, observations, whitening) if not cause.for_evidence else scored[0]
-        spread = np.maximum(np.array(fit.std), jackknife_std(bicycle, cause, observations, fit.values, scales))
-        scored[0] = replace(fit, std=tuple(float(s) for s in spread), evidence=scored[0].evidence)
+        chosen = leading[0]
+        fit = fit_cause(bicycle, chosen, observations, whitening) if not chosen.for_evidence else scored[0]
+        spread = np.array(fit.std)
+        if estimate_spread:
+            spread = np.maximum(spread, jackknife_std(bicycle, chosen, observations, fit.values, scales))
+        scored[0] = replace(fit, std=tuple(float(s) for s in spread), evidence=scored[0].evidence,
+                            residuals=scored[0].residuals)
     best = scored[0] if scored else None
-    if best is None or best.evidence < named_threshold:
-        verdict, name = "none", "none"
-    elif len(scored) > 1 and scored[1].evidence > best.evidence - margin:
-        verdict, name = "ambiguous", best.cause
-    else:
-        verdict, name = "named", best.cause
+    verdict, name, rivals, reasons = _verdict(scored, scales, named_threshold, margin)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
-                     observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index))
+                     observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index),
+                     chosen=chosen if verdict != "none" else None, rivals=rivals,
+                     family=describe_family([name, *rivals]) if verdict == "ambiguous" else "",
+                     reasons=reasons, combinations=tuple(pair.name for pair in pairs),
+                     single_scales=single_scales)
+
+
+def _quick_starts(cause: Cause) -> list[list[float]]:
+    """Return two starts: the no-effect values, and 5% of the bounds away (a fit started on a bound can stall)."""
+    start = np.array(cause.start, dtype=float)
+    lower, upper = (np.array([b[k] for b in cause.bounds]) for k in (0, 1))
+    return [list(start), [float(v) for v in np.clip(start + 0.05 * (upper - lower), lower, upper)]]
+
+
+def separation(first: CauseFit, second: CauseFit) -> float:
+    """How far apart two fits' predictions are, in units of the observations' noise.
+
+    Half the sum of squared whitened differences (each kind of residual at its dispersion):
+    the log-likelihood ratio by which the observations would favour the one if the other were
+    true. Below ``SEPARATION`` no data of this kind and amount could single out one of them.
+    """
+    if first.residuals.shape != second.residuals.shape:
+        return float("inf")
+    return float(0.5 * np.sum((first.residuals - second.residuals) ** 2))
+
+
+def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_threshold: float, margin: float
+             ) -> tuple[str, str, tuple[str, ...], tuple[str, ...]]:
+    """Return the verdict, the leading cause, the causes it cannot be told from, and why.
+
+    ``ambiguous`` when a runner-up is within ``margin`` of the best; when one within
+    ``CLOSE_EVIDENCE`` predicts the observations within ``SEPARATION`` of the best (the data
+    could not tell them apart whichever were true: a different prior or one more fitted value
+    is then all that ranks them); or when even the best model leaves a dispersion above
+    ``HIGH_DISPERSION`` (no candidate explains the data: its name would be a guess).
+    """
+    if not scored or scored[0].evidence < named_threshold:
+        return "none", "none", (), ()
+    best = scored[0]
+    reasons = []
+    close = [fit.cause for fit in scored[1:] if fit.evidence > best.evidence - margin]
+    if close:
+        reasons.append(f"{', '.join(close)} within {margin:g} of the best evidence")
+    # A combination holding the best single cause is a more general form of it: that the
+    # general form predicts alike says the second cause is not needed, not that it competes.
+    alike = [fit.cause for fit in scored[1:] if fit.cause not in close
+             and fit.evidence > best.evidence - CLOSE_EVIDENCE and best.cause not in components(fit.cause)
+             and separation(best, fit) < SEPARATION]
+    if alike:
+        reasons.append(f"{', '.join(alike)} predict(s) the observations within the noise of {best.cause}")
+    if max(scales) > HIGH_DISPERSION:
+        reasons.append(f"even the best model leaves a reduced chi2 of {scales[0]:.1f} (eigenvalues) and "
+                       f"{scales[1]:.1f} (mode shapes): no candidate explains the data within its uncertainty")
+    if reasons:
+        return "ambiguous", best.cause, tuple(close + alike), tuple(reasons)
+    return "named", best.cause, (), ()
+
+
+def _scored(causes: Sequence[Cause], base: CauseFit, fits: Sequence[CauseFit], n: int) -> list[CauseFit]:
+    """Each fit with its evidence against the base model (see the module docstring)."""
+    scored = []
+    for cause, fit in zip(causes, fits, strict=True):
+        evidence = (base.chi2 - fit.chi2) / 2.0 - 0.5 * len(fit.parameters) * np.log(n) + np.log(cause.prior)
+        scored.append(replace(fit, evidence=float(evidence)))
+    return scored
+
+
+def _leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[tuple[Cause, list[float]]]:
+    """Pairs of the ``PAIR_CANDIDATES`` leading causes (each in its best-supported form).
+
+    Each with its starting values: its members' fitted values.
+    """
+    order = sorted(range(len(causes)), key=lambda i: -scored[i].evidence)
+    leading: list[int] = []
+    for i in order:
+        if causes[i].name not in {causes[j].name for j in leading} and scored[i].evidence > 0.0:
+            leading.append(i)
+    return [(combined_cause(causes[i], causes[j]), [*scored[i].values, *scored[j].values])
+            for i, j in itertools.combinations(leading[:PAIR_CANDIDATES], 2)]
+
+
+def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
+                    whitening: _Whitening, tried: set[str]) -> list[tuple[Cause, list[float]]]:
+    """Return the ``PAIR_SCREENED`` pairs of all causes that best explain the base model's residuals.
+
+    Linearised at the base model: each cause's residual derivative by a finite step of 5% of its
+    bounds, and for every pair the least-squares step of both together. Two effects together
+    often lead to a single wrong cause that mimics both (in a simulated trial, steer damping
+    with a 40% larger rear-frame roll inertia made a front-wheel mass the best single cause,
+    the roll inertia only 14th), so the leading singles alone miss the true pair; the
+    linearised screen ranked it first. Each pair starts from its linearised values (within
+    bounds); pairs already in ``tried`` are skipped.
+    """
+    residual = _residuals(bicycle, observations, whitening)[0]
+    columns = []
+    for cause in causes:
+        origin = np.array(cause.start, dtype=float)
+        steps = []
+        for i, (low, high) in enumerate(cause.bounds):
+            x = origin.copy()
+            step = 0.05 * (high - low)
+            x[i] = origin[i] + step if origin[i] + step <= high else origin[i] - step
+            changed = _residuals(cause.apply(bicycle, [float(v) for v in x]), observations, whitening)[0]
+            steps.append((changed - residual) / (x[i] - origin[i]))
+        columns.append(np.column_stack(steps))
+    ranked = []
+    for i, j in itertools.combinations(range(len(causes)), 2):
+        if causes[i].name == causes[j].name:
+            continue
+        jacobian = np.hstack([columns[i], columns[j]])
+        step = np.linalg.lstsq(jacobian, -residual, rcond=None)[0]
+        pair = combined_cause(causes[i], causes[j])
+        linear = np.clip(np.array(pair.start) + step, [b[0] for b in pair.bounds], [b[1] for b in pair.bounds])
+        ranked.append((float(np.sum((residual + jacobian @ step) ** 2)), pair, [float(v) for v in linear]))
+    ranked.sort(key=lambda entry: entry[0])
+    chosen: list[tuple[Cause, list[float]]] = []
+    for _, pair, start in ranked:
+        if len(chosen) == PAIR_SCREENED:
+            break
+        if pair.name not in tried:
+            chosen.append((pair, start))
+            tried = tried | {pair.name}
+    return chosen
 
 
 def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
-             whitening: _Whitening) -> tuple[CauseFit, list[CauseFit]]:
+             whitening: _Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None
+             ) -> tuple[CauseFit, list[CauseFit]]:
     residual, predicted, block_chi2 = _residuals(bicycle, observations, whitening)
-    base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted, block_chi2=block_chi2)
-    return base, [fit_cause(bicycle, cause, observations, whitening) for cause in causes]
+    base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted, block_chi2=block_chi2,
+                    residuals=residual)
+    starts = [None] * len(causes) if starts is None else starts
+    return base, [fit_cause(bicycle, cause, observations, whitening, start)
+                  for cause, start in zip(causes, starts, strict=True)]
 
 
 def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
@@ -297,8 +501,10 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
             continue
         general = max(forms, key=lambda other: len(other.parameters))
         evidence = max(other.evidence for other in forms)
+        supported = max(forms, key=lambda other: other.evidence)
         merged[fit.cause] = CauseFit(general.cause, general.parameters, general.units, general.values,
-                                     general.std, general.chi2, evidence, general.predicted)
+                                     general.std, general.chi2, evidence, general.predicted,
+                                     residuals=supported.residuals)
     return sorted(merged.values(), key=lambda fit: -fit.evidence)
 
 

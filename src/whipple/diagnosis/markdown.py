@@ -7,7 +7,7 @@ beside it.
 from __future__ import annotations
 
 from whipple.diagnosis.amplitude import amplitude_markdown
-from whipple.diagnosis.report import EVIDENCE_DEFINITION, DiagnosisReport, report_json
+from whipple.diagnosis.report import EVIDENCE_DEFINITION, DiagnosisReport, gain_sentences, report_json
 from whipple.stability.critical import CriticalSpeeds
 
 
@@ -34,11 +34,17 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
                   "whose eigenvalue a weave of the base model matches:", "", f"![mode shapes]({figures['shapes']})", ""]
     lines += ["Time domain: each window explained by the model's weave eigenvalue (amplitude, phase and "
               "baseline fitted):", "", f"![time domain]({figures['time']})", "", "## 2. The cause", ""]
-    verdict = {"named": f"The cause is **{diagnosis.cause}**: it clearly beats the base model and the runner-up.",
-               "ambiguous": f"**Ambiguous**: {diagnosis.cause} explains the data best, but the runner-up about "
-                            "as well; the evidence does not single out one cause.",
+    verdict = {"named": f"The cause is **{diagnosis.cause}**: it clearly beats the base model and the runner-up, "
+                        "and its predictions are distinguishable from theirs.",
+               "ambiguous": f"**Ambiguous**: what the data support is **{diagnosis.family}**; {diagnosis.cause} "
+                            "fits best, but the evidence does not single it out:",
                "none": "**None**: no cause explains the data clearly better than the base model."}[diagnosis.verdict]
     lines += [verdict, ""]
+    lines += [f"- {reason}." for reason in diagnosis.reasons]
+    if diagnosis.combinations:
+        lines += [f"- No single cause explained the data (reduced chi2 {diagnosis.single_scales[0]:.1f} for "
+                  f"eigenvalues, {diagnosis.single_scales[1]:.1f} for mode shapes): pairs were fitted jointly, "
+                  f"charged for their extra values: {', '.join(diagnosis.combinations)}."]
     lines += [f"- Caveat: {note}." for note in data["caveats"]]
     lines += ["", "| cause | evidence |", "|---|---|"]
     lines += [f"| {cause} | {evidence:.1f} |" for cause, evidence in diagnosis.ranking()[:12]]
@@ -66,12 +72,20 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     lines += ["", "## 4. The gain", ""]
     if report.gain is not None:
         g = report.gain
-        lines += [f"Leave-one-speed-out ({g.folds} folds): the cause is refitted without each speed and "
-                  "predicts it.", "", "| metric | base | extended |", "|---|---|---|",
-                  f"| {g.metric} | {g.base:.3f} | {g.extended:.3f} |"]
+        how = ("the cause is chosen again among all candidates and fitted on the other speeds only"
+               if g.reselected else "the cause is refitted on the other speeds only")
+        lines += [f"Each speed is left out in turn ({g.folds} folds): {how}, and the model so extended predicts "
+                  "the left-out speed. Error |measured - predicted| weave eigenvalue [1/s]:", "",
+                  "| held-out speed [m/s] | windows | cause chosen without it | base RMS | extended RMS | "
+                  "RMS cut | base median | extended median |", "|---|---|---|---|---|---|---|---|"]
+        lines += [f"| {s.speed:.2f} | {s.windows} | {s.cause} | {s.base_rms:.2f} | {s.extended_rms:.2f} | "
+                  f"{100 * s.cut:+.0f}% | {s.base_median:.2f} | {s.extended_median:.2f} |" for s in g.speeds]
+        lines += [f"| all | {sum(s.windows for s in g.speeds)} | | {g.base_rms:.2f} | {g.extended_rms:.2f} | "
+                  f"{100 * g.cut:+.0f}% | {g.base:.2f} | {g.extended:.2f} |", ""]
+        lines += [f"- {sentence[0].upper() + sentence[1:]}." for sentence in gain_sentences(g)]
         if g.time_base is not None and g.time_extended is not None:
-            lines.append("| median rms roll-rate residual / window rms (held out) | "
-                         f"{g.time_base:.3f} | {g.time_extended:.3f} |")
+            lines.append(f"- Time domain (median rms roll-rate residual / window rms, held out): base "
+                         f"{g.time_base:.3f}, extended {g.time_extended:.3f}.")
     else:
         lines.append(report.gain_note or "No gain computed.")
     if report.amplitude is not None:

@@ -24,7 +24,7 @@ from whipple.diagnosis.evidence import (
     Diagnosis,
     diagnose_observations,
 )
-from whipple.diagnosis.gain import Gain, held_out_gain
+from whipple.diagnosis.gain import HELPS, Gain, held_out_gain
 from whipple.diagnosis.observations import (
     Observation,
     Prediction,
@@ -220,16 +220,13 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     observations = [observation(m) for m in used]
     causes = candidate_causes(bicycle, include_parameters)
     diagnosis = diagnose_observations(bicycle, observations, causes)
-    chosen = None
-    if diagnosis.best is not None:
-        forms = [c for c in causes if c.name == diagnosis.best.cause]
-        chosen = max(forms, key=lambda c: len(c.parameters))
+    chosen = diagnosis.chosen
     extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle
     gain, note = None, ""
     if chosen is not None:
         series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
         try:
-            gain = held_out_gain(bicycle, chosen, observations, series)
+            gain = held_out_gain(bicycle, observations, causes, series)
         except AnalysisError as error:
             note = str(error)
     else:
@@ -291,6 +288,39 @@ def _pair(value: complex) -> list[float]:
     return [float(value.real), float(value.imag)]
 
 
+def gain_json(gain: Gain) -> dict[str, Any]:
+    """Return the held-out gain as JSON: overall and per held-out speed."""
+    return {
+        "metric": "median " + gain.metric, "base": gain.base, "extended": gain.extended,
+        "rms": {"metric": "rms " + gain.metric, "base": gain.base_rms, "extended": gain.extended_rms,
+                "cut": gain.cut},
+        "held_out": gain.held_out, "folds": gain.folds, "cause_chosen_per_fold": gain.reselected,
+        "per_speed": [{"speed": s.speed, "windows": s.windows, "cause": s.cause, "verdict": s.verdict,
+                       "values": list(s.values), "base_rms": s.base_rms, "extended_rms": s.extended_rms,
+                       "base_median": s.base_median, "extended_median": s.extended_median, "rms_cut": s.cut,
+                       "helps": s.helps} for s in gain.speeds],
+        "not_helped": [s.speed for s in gain.not_helped()],
+        "time_domain": {"metric": "median over held-out windows of rms roll-rate residual / window rms",
+                        "base": gain.time_base, "extended": gain.time_extended}}
+
+
+def gain_sentences(gain: Gain) -> list[str]:
+    """Say per held-out speed whether the extended model helps, and overall, in plain words."""
+    lines = [f"overall on {gain.folds} held-out speeds: RMS {gain.base_rms:.2f} -> {gain.extended_rms:.2f} 1/s "
+             f"({100 * gain.cut:+.0f}% cut), median {gain.base:.2f} -> {gain.extended:.2f} 1/s"]
+    worse = [s for s in gain.speeds if s.cut < 0]
+    flat = [s for s in gain.not_helped() if s.cut >= 0]
+    if worse:
+        lines.append("the extended model is worse than the base model at " + ", ".join(
+            f"{s.speed:.2f} m/s (RMS {s.base_rms:.2f} -> {s.extended_rms:.2f} 1/s)" for s in worse))
+    if flat:
+        lines.append(f"it does not help (RMS cut below {100 * HELPS:.0f}%) at " + ", ".join(
+            f"{s.speed:.2f} m/s ({100 * s.cut:.0f}%)" for s in flat))
+    if not worse and not flat:
+        lines.append(f"it cuts the RMS error by at least {100 * HELPS:.0f}% at every held-out speed")
+    return lines
+
+
 def report_json(report: DiagnosisReport) -> dict[str, Any]:
     """Return the JSON object of the shared spec diagnosis-report.md (and more)."""
     diagnosis = report.diagnosis
@@ -321,16 +351,14 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         windows.append(window)
     skipped = [{"run": m.run.name, "start": m.window.start, "stop": m.window.stop, "reason": m.skipped}
                for m in report.measurements if not m.usable]
-    gain: dict[str, Any] | None = None
-    if report.gain is not None:
-        g = report.gain
-        gain = {"metric": g.metric, "base": g.base, "extended": g.extended, "held_out": g.held_out,
-                "folds": g.folds,
-                "time_domain": {"metric": "median over held-out windows of rms roll-rate residual / window rms",
-                                "base": g.time_base, "extended": g.time_extended}}
+    gain = gain_json(report.gain) if report.gain is not None else None
     result: dict[str, Any] = {
         "cause": diagnosis.cause,
         "verdict": diagnosis.verdict,
+        "family": diagnosis.family,
+        "rivals": list(diagnosis.rivals),
+        "verdict_reasons": list(diagnosis.reasons),
+        "combinations_tried": list(diagnosis.combinations),
         "estimate": estimate,
         "ranking": [{"cause": cause, "evidence": evidence} for cause, evidence in diagnosis.ranking()],
         "gain": gain,
@@ -342,6 +370,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "evidence_definition": EVIDENCE_DEFINITION,
         "dispersion": diagnosis.scale,
         "dispersion_mode_shape": diagnosis.shape_scale,
+        "dispersion_best_single_cause": list(diagnosis.single_scales),
         "mode_shape_windows": diagnosis.n_shapes,
         "bicycle": report.bicycle.name,
         "base_model": report.base_critical.to_dict(),

@@ -16,12 +16,14 @@ realistic size and position, diagnose them blind, and count the outcomes:
   the true values.
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2] [--bicycles ...]
-[--families ...]``. ``--seeds`` is per bicycle and family.
+[--families ...] [--log FILE]``; ``--seeds`` is per bicycle and family. ``--from-log FILE``
+tabulates a log (e.g. of a run cut short: trials run seed by seed across every case).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -67,24 +69,43 @@ def _row(label: str, rows: list, width: int = 28) -> str:
             f"{count['wrong'] / n:>7.0%}{warned:>7}{covered / n:>9.0%}  {shown}")
 
 
+def _order(results: list, case: tuple[str, str]) -> int:
+    """Cases in the order they first ran (bicycle by bicycle as given, then family)."""
+    bicycles = list(dict.fromkeys(r[0] for r in results))
+    families_seen = list(dict.fromkeys(r[1] for r in results))
+    return bicycles.index(case[0]) * 100 + families_seen.index(case[1])
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=17, help="seeds per bicycle and family")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--bicycles", nargs="*", default=[*BICYCLES, CONTROLLED])
     parser.add_argument("--families", nargs="*", default=None, help="default: all a bicycle supports")
+    parser.add_argument("--log", type=Path, help="append each trial's result to this JSON-lines file as it ends")
+    parser.add_argument("--from-log", type=Path, help="tabulate the trials of a log instead of running any")
     args = parser.parse_args()
-    jobs = [(bicycle, family, seed) for bicycle in args.bicycles for family in families(bicycle)
-            if args.families is None or family in args.families for seed in range(args.seeds)]
-    started = time.perf_counter()
-    with ProcessPoolExecutor(args.workers) as pool:
-        results = list(pool.map(_trial, jobs, chunksize=2))
-    elapsed = time.perf_counter() - started
-    print(f"{len(jobs)} trials in {elapsed:.0f} s ({args.workers} workers)")
+    if args.from_log is not None:
+        results = [tuple(json.loads(line)) for line in args.from_log.read_text().splitlines() if line.strip()]
+        print(f"{len(results)} trials from {args.from_log}")
+    else:
+        # Seed by seed across every case, so that a run cut short still covers every case.
+        jobs = [(bicycle, family, seed) for seed in range(args.seeds) for bicycle in args.bicycles
+                for family in families(bicycle) if args.families is None or family in args.families]
+        started = time.perf_counter()
+        results = []
+        with ProcessPoolExecutor(args.workers) as pool:
+            for result in pool.map(_trial, jobs, chunksize=1):
+                results.append(result)
+                if args.log is not None:
+                    with args.log.open("a") as log:
+                        log.write(json.dumps(result) + "\n")
+        elapsed = time.perf_counter() - started
+        print(f"{len(jobs)} trials in {elapsed:.0f} s ({args.workers} workers)")
     header = (f"{'bicycle / family':<28}{'seeds':>6}{'right':>7}{'amb(T)':>8}{'none':>7}{'wrong':>7}"
               f"{'warned':>7}{'covered':>9}  other verdicts")
     print(header)
-    cases = list(dict.fromkeys((r[0], r[1]) for r in results))
+    cases = sorted(dict.fromkeys((r[0], r[1]) for r in results), key=lambda case: _order(results, case))
     for bicycle, family in cases:
         print(_row(f"{bicycle} / {family}", [r for r in results if (r[0], r[1]) == (bicycle, family)]))
     print("\nAcross bicycles")

@@ -106,18 +106,19 @@ class Trial:
 
     @property
     def contenders(self) -> tuple[str, ...]:
-        """Causes an ``ambiguous`` verdict leaves open: the leader and its rivals.
+        """Causes an ``ambiguous`` verdict leaves open: the leader and its rivals (pairs split).
 
         Where the diagnosis names no rivals (before ambiguity by families), the causes within
         the evidence margin of the best.
         """
         rivals = getattr(self.diagnosis, "rivals", None)
         if rivals is not None:
-            return (self.diagnosis.cause, *rivals)
-        fits = self.diagnosis.fits
-        if not fits:
-            return ()
-        return tuple(fit.cause for fit in fits if fit.evidence > fits[0].evidence - MARGIN)
+            names = (self.diagnosis.cause, *rivals)
+        else:
+            fits = self.diagnosis.fits
+            names = tuple(fit.cause for fit in fits if fit.evidence > fits[0].evidence - MARGIN) if fits else ()
+        # A pair "A + B" among them leaves each of its causes open.
+        return tuple(dict.fromkeys(part for name in names for part in name.split(" + ")))
 
     @property
     def outcome(self) -> str:

@@ -34,12 +34,13 @@ def _observations(true_bicycle, rng):
             for v, lam in zip(SPEEDS, truth, strict=True)]
 
 
-# From weave eigenvalues alone (no mode shapes), an extra steer inertia and a larger front-wheel
-# diametral inertia IFxx predict the observations within their noise (separation 0.16): the
-# diagnosis must say so (ambiguous, naming the steer-axis inertia family), not name one.
+# From weave eigenvalues alone (no mode shapes, 12 windows), an extra steer inertia and a larger
+# front-wheel diametral inertia IFxx (or a front payload) predict the observations within their
+# noise (separation 0.16), and so do tyre compliance and a front payload (separation 1.7): the
+# diagnosis must say so (ambiguous, naming both), not name one.
 @pytest.mark.parametrize("cause, values, verdict", [
     ("steer_damping", [0.5], "named"), ("steer_inertia", [0.04], "ambiguous"), ("speed_scale", [1.07], "named"),
-    ("tyre_compliance", [12.0, 0.15], "named"),
+    ("tyre_compliance", [12.0, 0.15], "ambiguous"),
 ])
 def test_synthetic_eigenvalues_name_the_hidden_cause(cause, values, verdict):
     bicycle = load_bicycle("benchmark")
@@ -47,7 +48,7 @@ def test_synthetic_eigenvalues_name_the_hidden_cause(cause, values, verdict):
     diagnosis = diagnose_observations(bicycle, _observations(truth, np.random.default_rng(3)))
     assert diagnosis.verdict == verdict and diagnosis.cause == cause
     if verdict == "ambiguous":
-        assert diagnosis.family.startswith("extra inertia of the front assembly about the steer axis")
+        assert cause in diagnosis.family and "front_payload" in diagnosis.family
     best = diagnosis.best
     for value, estimate, std in zip(values, best.values, best.std, strict=True):
         assert abs(estimate - value) < 4 * std  # loose here; calibration is measured in benchmarks

@@ -42,8 +42,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     lines += [verdict, ""]
     lines += [f"- {reason}." for reason in diagnosis.reasons]
     if diagnosis.combinations:
-        lines += [f"- No single cause explained the data (reduced chi2 {diagnosis.single_scales[0]:.1f} for "
-                  f"eigenvalues, {diagnosis.single_scales[1]:.1f} for mode shapes): pairs were fitted jointly, "
+        lines += [f"- No single cause explained the typical window (median dispersion {diagnosis.single_scales[0]:.1f} "
+                  f"for eigenvalues, {diagnosis.single_scales[1]:.1f} for mode shapes): pairs were fitted jointly, "
                   f"charged for their extra values: {', '.join(diagnosis.combinations)}."]
     lines += [f"- Caveat: {note}." for note in data["caveats"]]
     lines += ["", "| cause | evidence |", "|---|---|"]

@@ -17,10 +17,13 @@ from numpy.typing import NDArray
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
 from whipple.diagnosis.evidence import (
+    CLOSE_EVIDENCE,
     EIGENVALUE_FLOOR,
+    HIGH_DISPERSION,
     MARGIN,
     NAMED_THRESHOLD,
     ROBUST_SCALE,
+    SEPARATION,
     Diagnosis,
     diagnose_observations,
 )
@@ -46,8 +49,10 @@ EVIDENCE_DEFINITION = (
     "measured, of the weave mode shape (steer per roll rate), each kind divided by its own s^2 >= 1, "
     "the best model's reduced chi2 on that kind; n residuals, k fitted values, "
     "prior 1 per named cause (shared by its forms) and "
-    f"1/(number of parameters) per parameter:<key>; 'named' needs evidence >= {NAMED_THRESHOLD} "
-    f"and a lead of {MARGIN} over the runner-up")
+    f"1/(number of parameters) per parameter:<key>, the product of both for a pair of causes; 'named' needs "
+    f"evidence >= {NAMED_THRESHOLD}, a lead of {MARGIN} over the runner-up, predictions separated by at least "
+    f"{SEPARATION} (half the summed squared whitened difference) from every cause within {CLOSE_EVIDENCE} of it, "
+    f"and a median dispersion of the typical window of at most {HIGH_DISPERSION}; otherwise 'ambiguous'")
 
 
 @dataclass(frozen=True)
@@ -248,8 +253,6 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
 #: Reduced chi-square of the best model above which the report warns that no candidate
 #: explains the data within the stated uncertainty.
 DISPERSION_WARNING = 2.0
-#: Causes within this much evidence of the named one are listed as close alternatives.
-CLOSE_EVIDENCE = 5.0
 
 
 #: Median phase difference between measured and model mode shapes beyond which the report
@@ -370,7 +373,8 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "evidence_definition": EVIDENCE_DEFINITION,
         "dispersion": diagnosis.scale,
         "dispersion_mode_shape": diagnosis.shape_scale,
-        "dispersion_best_single_cause": list(diagnosis.single_scales),
+        "median_dispersion": list(diagnosis.typical_scales),
+        "median_dispersion_best_single_cause": list(diagnosis.single_scales),
         "mode_shape_windows": diagnosis.n_shapes,
         "bicycle": report.bicycle.name,
         "base_model": report.base_critical.to_dict(),

@@ -31,17 +31,18 @@ def test_controller_causes_only_for_controlled_bicycles():
 
 
 @pytest.mark.parametrize("name", ["payload", "front_payload"])
-def test_payload_forms_share_one_prior_and_estimate_with_the_full_position(name):
+def test_payload_forms_share_one_prior_up_to_the_full_position(name):
     bicycle = load_bicycle("benchmark")
     forms = [cause for cause in candidate_causes(bicycle) if cause.name == name]
-    evidence = [cause for cause in forms if cause.for_evidence]
-    assert sum(cause.prior for cause in evidence) == pytest.approx(1.0)
-    assert [len(cause.parameters) for cause in evidence] == [1, 2]
-    (estimate,) = [cause for cause in forms if not cause.for_evidence]
-    assert estimate.parameters == (f"{name}_mass", f"{name}_x", f"{name}_z")
+    assert all(cause.for_evidence for cause in forms)
+    # Three forms, one hypothesis: their priors add up to the one unit of a named cause.
+    assert sum(cause.prior for cause in forms) == pytest.approx(1.0)
+    assert [len(cause.parameters) for cause in forms] == [1, 2, 3]
+    full = forms[-1]
+    assert full.parameters == (f"{name}_mass", f"{name}_x", f"{name}_z")
     bounds = payload_bounds(bicycle, name)
-    assert estimate.bounds == (bounds["mass"], bounds["x"], bounds["z"])
-    for low, high in estimate.bounds:
+    assert full.bounds == (bounds["mass"], bounds["x"], bounds["z"])
+    for low, high in full.bounds:
         assert low < high
     # Every start lies within the bounds.
     for cause in forms:

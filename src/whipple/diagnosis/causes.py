@@ -147,17 +147,20 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0, for
 def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:
     """Return the forms of a payload cause: ``payload`` (rear frame) or ``front_payload``.
 
-    Two forms for the evidence, sharing the cause's one unit of prior weight (so that taking
-    the better of them is not a free second chance): the mass alone at the frame's mass centre,
-    and mass and height at the mass centre's fore-aft position (height changes the roll inertia,
-    which a mass alone cannot mimic). A third form, mass and full position, only estimates a
-    named payload (``for_evidence=False``), so that its interval carries what the simpler forms
-    hold fixed: in hidden-effect tests a free fore-aft position made the rear payload mimic
-    other causes (steer inertia, trail), the weave eigenvalues not identifying three values well
-    enough to decide between causes. Other forms: :func:`payload_form`.
+    Three forms for the evidence, sharing the cause's one unit of prior weight (so that taking
+    the best of them is not a free second or third chance): the mass alone at the frame's mass
+    centre; mass and height at the mass centre's fore-aft position (height changes the roll
+    inertia, which a mass alone cannot mimic); and mass and full position, for a load on a rack
+    behind the saddle or in a basket ahead of the steer axis. The full-position form was once
+    kept out of the evidence because it mimicked steer inertia and trail; with the ambiguity
+    rules (:mod:`whipple.diagnosis.families`) such mimicry is reported as ``ambiguous`` instead,
+    and without the form a real rack or basket load (a rigid body away from the mass centre)
+    was named right in 0% and 6% of hidden-effect trials; with it, in most (docs/diagnosis.md).
+    Other forms: :func:`payload_form`.
     """
-    return [payload_form(bicycle, name, "m", prior=0.5), payload_form(bicycle, name, "mz", prior=0.5),
-            payload_form(bicycle, name, "mxz", for_evidence=False)]
+    third = 1.0 / 3.0
+    return [payload_form(bicycle, name, "m", prior=third), payload_form(bicycle, name, "mz", prior=third),
+            payload_form(bicycle, name, "mxz", prior=third)]
 
 
 def controller_causes(bicycle: Bicycle) -> list[Cause]:

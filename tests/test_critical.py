@@ -14,6 +14,7 @@ from __future__ import annotations
 import casadi
 import numpy as np
 import pytest
+from grid_critical import dense_check
 
 from whipple.errors import AnalysisError, InputError
 from whipple.model.linear import LinearModel, second_order_model
@@ -175,78 +176,16 @@ def random_models(rng: np.random.Generator, count: int, flip: float) -> LinearMo
     return second_order_model(mass, *matrices)
 
 
-def unstable_count(coefficients: np.ndarray, speed: np.ndarray) -> np.ndarray:
-    """Number of eigenvalues with positive real part, per model (N, T, n, n) and speed (N,)."""
-    A = np.zeros(coefficients.shape[:1] + coefficients.shape[2:])
-    for power in range(coefficients.shape[1] - 1, -1, -1):
-        A = A * speed[:, None, None] + coefficients[:, power]
-    return np.sum(np.linalg.eigvals(A).real > 0, axis=-1)
-
-
 def check_against_sweep(model: LinearModel, step: float, points: int) -> dict[str, float]:
     """Compare critical_speeds_batch with a dense eigenvalue sweep on [0, 10] m/s.
 
-    The sweep counts unstable eigenvalues on `points` speeds and bisects every change of the
-    count to 1e-15 m/s; it uses nothing from whipple but the model's matrices.
+    The sweep (``grid_critical.dense_check``) counts unstable eigenvalues on `points` speeds and
+    bisects every change of the count; it uses nothing from whipple but the model's matrices.
     """
     results = critical_speeds_batch(model, 0.0, 10.0, step=step)
-    coefficients = model.A.reshape((-1,) + model.A.shape[-3:])
-    count = coefficients.shape[0]
-    speeds = np.linspace(0.0, 10.0, points)
-    counts = unstable_count(np.repeat(coefficients, points, axis=0),
-                            np.tile(speeds, count)).reshape(count, points)
-    crossing_model = np.array([i for i, r in enumerate(results) for _ in r.crossings], dtype=int)
-    crossing = [c for r in results for c in r.crossings]
-    crossing_speed = np.array([c.speed for c in crossing])
-    # Ends of the range (e.g. a pure imaginary pair exactly at v = 0) are not compared: the
-    # count there is not defined.
-    interior = (crossing_speed > 1e-6) & (crossing_speed < 10.0 - 1e-6)
-
-    # 1. Every crossing found changes the count as its kind and direction say.
-    jump = np.array([{"destabilising": 1, "stabilising": -1, "touch": 0}[c.direction]
-                     * (2 if c.kind == "hopf" else 1) for c in crossing], dtype=int)
-    delta = 1e-7
-    change = (unstable_count(coefficients[crossing_model], crossing_speed + delta)
-              - unstable_count(coefficients[crossing_model], crossing_speed - delta))
-    unsound = int(np.sum((change != jump) & interior))
-
-    # 2. Net change of the count in every sweep cell equals that of the crossings found in it.
-    net = np.zeros_like(counts)
-    cell = np.clip(np.searchsorted(speeds, crossing_speed), 1, points - 1)
-    np.add.at(net, (crossing_model[interior], cell[interior]), jump[interior])
-    unexplained = int(np.sum(np.any(net[:, 2:] != np.diff(counts, axis=1)[:, 1:], axis=1)))
-
-    # 3. Each change located by bisection of the count is one of the crossings found.
-    model_index, index = np.nonzero(counts[:, 1:] != counts[:, :-1])
-    low, high = speeds[index], speeds[index + 1]
-    below = counts[model_index, index]
-    for _ in range(55):
-        middle = 0.5 * (low + high)
-        same = unstable_count(coefficients[model_index], middle) == below
-        low, high = np.where(same, middle, low), np.where(same, high, middle)
-    located = 0.5 * (low + high)
-    keep = located > 1e-6
-    worst, missed = 0.0, 0
-    for model_id, speed in zip(model_index[keep], located[keep], strict=True):
-        mine = crossing_speed[crossing_model == model_id]
-        distance = np.min(np.abs(mine - speed), initial=np.inf)
-        worst = max(worst, distance)
-        missed += int(distance > 1e-9)
-
-    # 4. Stable ranges are exactly where no eigenvalue is unstable (away from crossings).
-    inside = np.zeros_like(counts, dtype=bool)
-    near = np.zeros_like(inside)
-    for i, result in enumerate(results):
-        for a, b in result.stable_speed_ranges:
-            inside[i] |= (speeds > a) & (speeds < b) | ((speeds == b) & (b == 10.0))
-        for c in result.crossings:
-            near[i] |= np.abs(speeds - c.speed) < 1e-9
-    wrong_range = int(np.sum(((inside != (counts == 0)) & ~near)[:, 1:]))
-    net_used = sum(c.method == "eigenvalue-bisection" for c in crossing)
-    return {"models": count, "crossings": len(crossing), "unsound": unsound,
-            "unexplained": unexplained, "missed": missed, "wrong_range": wrong_range,
-            "safety_net": net_used, "worst_difference": worst,
-            "several_ranges": sum(len(r.stable_speed_ranges) > 1 for r in results)}
+    report = dense_check(results, model.A.reshape((-1,) + model.A.shape[-3:]), 0.0, 10.0, points)
+    report["safety_net"] = sum(c.method == "eigenvalue-bisection" for r in results for c in r.crossings)
+    return report
 
 
 def assert_agrees(report: dict[str, float]) -> None:

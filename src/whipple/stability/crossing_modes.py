@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.stability import modes
+from whipple.stability.polynomial import state_matrices_at
 
 #: Speeds on the path along which a real crossing eigenvalue is followed.
 PATH_POINTS = 24
@@ -51,7 +52,7 @@ def _joins_weave(coefficients: NDArray[np.float64], speed: NDArray[np.float64],
     top = np.maximum(3.0 * np.abs(speed), np.abs(speed) + 10.0) * np.where(speed < 0, -1.0, 1.0)
     fractions = np.linspace(0.0, 1.0, PATH_POINTS + 1)[1:] ** 2
     path = speed[:, None] + (top - speed)[:, None] * fractions
-    A = _state_matrices(coefficients, np.repeat(rows, fractions.size), path.ravel())
+    A = state_matrices_at(coefficients, np.repeat(rows, fractions.size), path.ravel())
     walk = np.concatenate([eigenvalues[:, None],
                            np.linalg.eigvals(A).reshape(count, fractions.size, n)], axis=1)
     real = _is_real(walk)
@@ -70,14 +71,6 @@ def _joins_weave(coefficients: NDArray[np.float64], speed: NDArray[np.float64],
     other_rank = np.where(merged[:, 0] == own, merged[:, 1], merged[:, 0])
     partner = np.argmax(rank == other_rank[:, None], axis=-1)
     return joins, partner
-
-
-def _state_matrices(coefficients: NDArray[np.float64], model: NDArray[np.intp],
-                    speed: NDArray[np.float64]) -> NDArray[np.float64]:
-    total = np.zeros((speed.size,) + coefficients.shape[2:])
-    for power in range(coefficients.shape[1] - 1, -1, -1):
-        total = total * speed[:, None, None] + coefficients[model, power]
-    return total
 
 
 def crossing_modes(kind: str, coefficients: NDArray[np.float64], model: NDArray[np.intp],

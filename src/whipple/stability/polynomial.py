@@ -274,3 +274,24 @@ def hurwitz_stable(a: NDArray[np.float64]) -> NDArray[np.bool_]:
     for order in range(2, n + 1):
         stable &= np.linalg.det(matrix[:, :order, :order]) > 0
     return stable
+
+
+def state_matrices_at(coefficients: NDArray[np.float64], model: NDArray[np.intp],
+                      speed: NDArray[np.float64]) -> NDArray[np.float64]:
+    """State matrices ``A(v) = sum_k v^k A_k`` [1/s] of models ``model`` at speeds ``speed`` [m/s].
+
+    Parameters
+    ----------
+    coefficients : ndarray, shape (N, T, n, n)
+        ``A_k`` of N models.
+    model, speed : ndarray, shape (P,)
+        Which model, at which speed, for each of P points.
+
+    Returns
+    -------
+    ndarray, shape (P, n, n)
+    """
+    total = np.zeros((speed.size,) + coefficients.shape[2:])
+    for power in range(coefficients.shape[1] - 1, -1, -1):
+        total = total * speed[:, None, None] + coefficients[model, power]
+    return total

@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from whipple.stability import modes
 from whipple.stability.crossing_modes import crossing_modes
-from whipple.stability.polynomial import characteristic_at, is_second_order
+from whipple.stability.polynomial import characteristic_at, is_second_order, state_matrices_at
 
 #: Largest |real part| [1/s, relative to 1 + |lambda|] of an eigenvalue accepted as touching
 #: the imaginary axis at a tangential root.
@@ -48,19 +48,11 @@ SIDE_STEP = 1e-6
 CLEAR_SLOPE = 1e-8
 
 
-def _state_matrices(coefficients: NDArray[np.float64], model: NDArray[np.intp],
-                    speed: NDArray[np.float64]) -> NDArray[np.float64]:
-    total = np.zeros((speed.size,) + coefficients.shape[2:])
-    for power in range(coefficients.shape[1] - 1, -1, -1):
-        total = total * speed[:, None, None] + coefficients[model, power]
-    return total
-
-
 def _eigenvalues_at(coefficients: NDArray[np.float64], model: NDArray[np.intp],
                     speed: NDArray[np.float64]) -> NDArray[np.complex128]:
     if speed.size == 0:
         return np.zeros((0, coefficients.shape[-1]), dtype=complex)
-    return np.asarray(np.linalg.eigvals(_state_matrices(coefficients, model, speed)),
+    return np.asarray(np.linalg.eigvals(state_matrices_at(coefficients, model, speed)),
                       dtype=complex)
 
 
@@ -116,7 +108,7 @@ def _refine(kind: str, model: NDArray[np.intp], speed: NDArray[np.float64],
 def _null_shares(coefficients: NDArray[np.float64], speed: NDArray[np.float64],
                  eigenvalues: NDArray[np.complex128]) -> NDArray[np.float64]:
     """``|roll| / (|roll| + |steer|)`` of each eigenvector of a second-order model at its root."""
-    A = _state_matrices(coefficients, np.arange(speed.size), speed)
+    A = state_matrices_at(coefficients, np.arange(speed.size), speed)
     K, C = -A[:, None, 2:, :2], -A[:, None, 2:, 2:]
     s = eigenvalues[:, :, None, None]
     B = s * s * np.eye(2) + s * C + K
@@ -195,7 +187,7 @@ def _by_eig(kind: str, coefficients: NDArray[np.float64], speed: NDArray[np.floa
     if speed.size == 0:
         return (np.zeros((0, n), dtype=complex), np.zeros((0, n)), np.zeros(0, dtype=np.intp),
                 np.zeros(0, dtype=bool))
-    lam, vectors = np.linalg.eig(_state_matrices(coefficients, np.arange(speed.size), speed))
+    lam, vectors = np.linalg.eig(state_matrices_at(coefficients, np.arange(speed.size), speed))
     lam, vectors = np.asarray(lam, dtype=complex), np.asarray(vectors, dtype=complex)
     amplitude = np.abs(vectors[:, :2, :])
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -280,7 +272,7 @@ def verify_roots(kind: str, coefficients: NDArray[np.float64], model: NDArray[np
 def characteristic_at_roots(coefficients: NDArray[np.float64], model: NDArray[np.intp],
                             speed: NDArray[np.float64]) -> NDArray[np.float64]:
     """``[1, a_1 .. a_4]`` of second-order models at their roots, from ``det(s^2 I + s C + K)``."""
-    A = _state_matrices(coefficients, model, speed)
+    A = state_matrices_at(coefficients, model, speed)
     K, C = -A[:, 2:, :2], -A[:, 2:, 2:]
 
     def det(X: NDArray[np.float64]) -> NDArray[np.float64]:

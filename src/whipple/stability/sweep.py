@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from whipple.errors import InputError
 from whipple.model.assembly import build_linear_model
+from whipple.model.linear import LinearModel
 from whipple.model.parameters import PARAMETER_NAMES, Bicycle, validate_rows
 from whipple.stability.critical import CriticalSpeeds, critical_speed_table, critical_speeds_batch
 
@@ -219,12 +220,23 @@ class SweepTask:
     speed_range: tuple[float, float]
 
 
-def _parameter_columns(chunk: TableChunk, base: Bicycle) -> dict[str, NDArray[np.float64]]:
-    """Every parameter of every row: the chunk's columns, the base's values for the others."""
+def _valid_sets(chunk: TableChunk, base: Bicycle
+                ) -> tuple[tuple[str, ...], list[int], LinearModel | None]:
+    """Validate every row of a chunk; return the problems, the valid rows and their models.
+
+    Absent columns take the base's values; the base's extensions and controller apply to
+    every row. The model is None when no row is valid.
+    """
     count = chunk.values.shape[0]
     parameters = {name: np.full(count, value) for name, value in base.parameters.items()}
     parameters.update({name: chunk.values[:, c] for c, name in enumerate(chunk.names)})
-    return parameters
+    problems = validate_rows(parameters)
+    rows = [row for row, problem in enumerate(problems) if not problem]
+    if not rows:
+        return problems, rows, None
+    model = build_linear_model({name: values[rows] for name, values in parameters.items()},
+                               base.extensions, base.controller)
+    return problems, rows, model
 
 
 def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, float],
@@ -243,13 +255,9 @@ def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, flo
     progress : callable, optional
         Passed on to :func:`~whipple.stability.critical.critical_speeds_batch`.
     """
-    parameters = _parameter_columns(chunk, base)
-    problems = validate_rows(parameters)
+    problems, rows, model = _valid_sets(chunk, base)
     critical: list[CriticalSpeeds | None] = [None] * len(problems)
-    rows = [row for row, problem in enumerate(problems) if not problem]
-    if rows:
-        model = build_linear_model({name: values[rows] for name, values in parameters.items()},
-                                   base.extensions, base.controller)
+    if model is not None:
         for row, result in zip(rows, critical_speeds_batch(model, *speed_range, progress=progress),
                                strict=True):
             critical[row] = result
@@ -276,15 +284,11 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     come from :func:`~whipple.stability.critical.critical_speed_table` (the same solver as
     :func:`analyse_sets`, without a result object per row).
     """
-    parameters = _parameter_columns(task.chunk, task.base)
-    problems = validate_rows(parameters)
-    valid = [row for row, problem in enumerate(problems) if not problem]
+    problems, valid, model = _valid_sets(task.chunk, task.base)
     weave: list[float] = []
     capsize: list[float] = []
     ranges: list[str] = [""] * len(valid)
-    if valid:
-        model = build_linear_model({name: values[valid] for name, values in parameters.items()},
-                                   task.base.extensions, task.base.controller)
+    if model is not None:
         table = critical_speed_table(model, *task.speed_range)
         weave, capsize = table.weave_speed.tolist(), table.capsize_speed.tolist()
         for index, low, high in zip(table.range_model.tolist(), table.range_low.tolist(),

@@ -24,8 +24,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -34,6 +32,7 @@ HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE), str(HERE.parent / "tests")]
 
 from bare_solve import bare_critical_roots  # noqa: E402
+from bench_stability import C1, CAPSIZE, K0, K2, WEAVE, M, best_time  # noqa: E402
 from grid_critical import grid_brentq_speeds, grid_critical_speeds  # noqa: E402
 
 from whipple.model.linear import second_order_model  # noqa: E402
@@ -42,24 +41,6 @@ from whipple.stability.critical import (  # noqa: E402
     critical_speeds,
     critical_speeds_batch,
 )
-
-G = 9.81
-M = np.array([[80.81722, 2.31941332208709], [2.31941332208709, 0.29784188199686]])
-C1 = np.array([[0.0, 33.86641391492494], [-0.85035641456978, 1.68540397397560]])
-K0 = np.array([[-80.95, -2.59951685249872], [-2.59951685249872, -0.80329488458618]]) * G
-K2 = np.array([[0.0, 76.59734589573222], [0.0, 2.65431523794604]])
-#: Table 2(a) of Meijaard et al. (2007) [m/s].
-WEAVE, CAPSIZE = 4.29238253634111, 6.02426201538837
-
-
-def best_time(function: Callable[[], object], repeats: int = 5) -> float:
-    """Shortest wall time [s] of `repeats` calls."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def realistic(count: int, seed: int = 1) -> list[np.ndarray]:

@@ -205,13 +205,18 @@ def _numpy_function(function: DerivedFunction, parameters: tuple[str, ...], prin
     return lines
 
 
+def _functions_preamble(model: DerivedFunctions, backend: str, module: str, source_hash: str) -> list[str]:
+    """Header, import and the PARAMETERS, VARIABLES and OUTPUTS tables of a functions module."""
+    return [_functions_header(model, backend, source_hash), f"import {module}", "",
+            f"PARAMETERS = {model.parameters!r}",
+            "VARIABLES = {" + ", ".join(f"{f.name!r}: {f.variables!r}" for f in model.functions) + "}",
+            "OUTPUTS = {" + ", ".join(f"{f.name!r}: {tuple(f.outputs)!r}" for f in model.functions) + "}"]
+
+
 def emit_numpy_functions(model: DerivedFunctions, source_hash: str) -> str:
     """Module text with one broadcasting NumPy function per entry of ``model.functions``."""
     printer = _NumPyPrinter()
-    lines = [_functions_header(model, "NumPy", source_hash), "import numpy", "",
-             f"PARAMETERS = {model.parameters!r}",
-             "VARIABLES = {" + ", ".join(f"{f.name!r}: {f.variables!r}" for f in model.functions) + "}",
-             "OUTPUTS = {" + ", ".join(f"{f.name!r}: {tuple(f.outputs)!r}" for f in model.functions) + "}"]
+    lines = _functions_preamble(model, "NumPy", "numpy", source_hash)
     for function in model.functions:
         lines += ["", "", *_numpy_function(function, model.parameters, printer)]
     return "\n".join(lines) + "\n"
@@ -254,10 +259,7 @@ def _casadi_function(function: DerivedFunction, parameters: tuple[str, ...], pri
 def emit_casadi_functions(model: DerivedFunctions, source_hash: str) -> str:
     """Module text with one CasADi function per entry of ``model.functions``, and ``function(name)``."""
     printer = _CasadiPrinter()
-    lines = [_functions_header(model, "CasADi", source_hash), "import casadi", "",
-             f"PARAMETERS = {model.parameters!r}",
-             "VARIABLES = {" + ", ".join(f"{f.name!r}: {f.variables!r}" for f in model.functions) + "}",
-             "OUTPUTS = {" + ", ".join(f"{f.name!r}: {tuple(f.outputs)!r}" for f in model.functions) + "}"]
+    lines = _functions_preamble(model, "CasADi", "casadi", source_hash)
     for function in model.functions:
         lines += ["", "", *_casadi_function(function, model.parameters, printer)]
     lines += ["", "",

@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple_extended``).
 
-Derivation sources sha256: c5391ec3f5c7dc209c84a2c28cc60479cc0b44af9ee26a9c246c6bc6de821536
+Derivation sources sha256: f88300bddf8ec7208a0e4f332729d3ebdf9a74afb88d83c35ca35764eece87c6
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]; K0 includes gravity.

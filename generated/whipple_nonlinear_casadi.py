@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple_nonlinear``).
 
-Derivation sources sha256: c5391ec3f5c7dc209c84a2c28cc60479cc0b44af9ee26a9c246c6bc6de821536
+Derivation sources sha256: f88300bddf8ec7208a0e4f332729d3ebdf9a74afb88d83c35ca35764eece87c6
 SymPy version: 1.14.0
 
 Equation form: M u' = F + C^T f, C u' = b (the front contact's velocity C u vanishes; f is the contact force on the front wheel, yaw-frame components [N]), u = [yaw_rate, roll_rate, pitch_rate, steer_rate, rear_wheel_rate, front_wheel_rate]; the pitch solves h(roll, pitch, steer) = 0; the rear contact moves at (x', y') = rear_contact_velocity.

@@ -43,9 +43,6 @@ class Cause:
     null : tuple of float or None
         Values at which the cause changes nothing (None for tyre compliance, which never
         reduces exactly to knife edges).
-    for_evidence : bool
-        False for a form fitted only to estimate the cause's values once it is named (see
-        ``payload``), not to decide between causes.
     """
 
     name: str
@@ -56,7 +53,6 @@ class Cause:
     apply: Callable[[Bicycle, Sequence[float]], Bicycle]
     prior: float = 1.0
     null: tuple[float, ...] | None = None
-    for_evidence: bool = True
 
 
 def _steer_damping(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
@@ -111,7 +107,7 @@ def payload_bounds(bicycle: Bicycle, name: str) -> dict[str, tuple[float, float]
     return {"mass": (0.0, max(3.0 * p["mH"], 20.0)), "x": (min(p["xB"], p["xH"]), p["w"] + 0.5), "z": height}
 
 
-def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0, for_evidence: bool = True) -> Cause:
+def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> Cause:
     """Return one form of a payload cause, its fixed coordinates at the frame's mass centre.
 
     Parameters
@@ -123,7 +119,7 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0, for
     free : {"m", "mx", "mz", "mxz"}
         The fitted values: always the mass [kg], and x and/or z [m]; a coordinate not fitted is
         the frame's mass centre's (xB, zB or xH, zH).
-    prior, for_evidence : float, bool
+    prior : float
         As in :class:`Cause`.
     """
     letter = PAYLOAD_FRAMES[name]
@@ -141,7 +137,7 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0, for
     return Cause(name, tuple(f"{name}_{axis}" for axis in axes), tuple("kg" if a == "mass" else "m" for a in axes),
                  tuple(0.0 if axis == "mass" else centre[axis] for axis in axes),
                  tuple(bounds[axis] for axis in axes), apply, prior=prior,
-                 null=(0.0,) if free == "m" else None, for_evidence=for_evidence)
+                 null=(0.0,) if free == "m" else None)
 
 
 def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:

@@ -322,8 +322,6 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     if len(observations) < 2:
         raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
     causes = list(candidate_causes(bicycle)) if causes is None else list(causes)
-    estimators = [cause for cause in causes if not cause.for_evidence]
-    causes = [cause for cause in causes if cause.for_evidence]
     whitening = _whitening(observations, bicycle)
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
     n = sum(counts)
@@ -356,19 +354,14 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     scored = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n)), margin)
     chosen = None
     if scored:
-        # The leading cause's values, from its estimate-only form where it has one, with an
-        # uncertainty that also covers errors shared by the windows of one speed.
-        leading = [c for c in estimators if c.name == scored[0].cause]
-        if not leading:
-            leading = [c for c in causes if c.name == scored[0].cause
-                       and len(c.parameters) == len(scored[0].parameters)]
-        chosen = leading[0]
-        fit = fit_cause(bicycle, chosen, observations, whitening) if not chosen.for_evidence else scored[0]
+        # The leading cause's values, with an uncertainty that also covers errors shared by the
+        # windows of one speed.
+        fit = scored[0]
+        chosen = next(c for c in causes if c.name == fit.cause and len(c.parameters) == len(fit.parameters))
         spread = np.array(fit.std)
         if estimate_spread:
             spread = np.maximum(spread, jackknife_std(bicycle, chosen, observations, fit.values, scales))
-        scored[0] = replace(fit, std=tuple(float(s) for s in spread), evidence=scored[0].evidence,
-                            residuals=scored[0].residuals)
+        scored[0] = replace(fit, std=tuple(float(s) for s in spread))
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], counts, whitening.scales)
     verdict, name, rivals, reasons = _verdict(scored, typical, named_threshold, margin)

@@ -93,6 +93,8 @@ def _order(results: list, case: tuple[str, str]) -> int:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=17, help="seeds per bicycle and family")
+    parser.add_argument("--first-seed", type=int, default=0,
+                        help="run seeds first..first+seeds-1 (to extend a log: --log appends)")
     cluster = parser.add_mutually_exclusive_group()
     cluster.add_argument("--workers", type=int, default=2, help="local Dask worker processes")
     cluster.add_argument("--scheduler", help="address of an existing Dask scheduler")
@@ -107,7 +109,8 @@ def main() -> None:
         print(f"{len(results)} trials from {args.from_log}")
     else:
         # Seed by seed across every case, so that a run cut short still covers every case.
-        jobs = [(bicycle, family, seed) for seed in range(args.seeds) for bicycle in args.bicycles
+        jobs = [(bicycle, family, seed) for seed in range(args.first_seed, args.first_seed + args.seeds)
+                for bicycle in args.bicycles
                 for family in families(bicycle) if args.families is None or family in args.families]
         started = time.perf_counter()
         results = []

@@ -285,15 +285,19 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     :func:`analyse_sets`, without a result object per row).
     """
     problems, valid, model = _valid_sets(task.chunk, task.base)
-    weave: list[float] = []
-    capsize: list[float] = []
+    weave_cells: list[str] = []
+    capsize_cells: list[str] = []
     ranges: list[str] = [""] * len(valid)
     if model is not None:
         table = critical_speed_table(model, *task.speed_range)
         weave, capsize = table.weave_speed.tolist(), table.capsize_speed.tolist()
+        weave_cells, capsize_cells = list(map(_speed_cell, weave)), list(map(_speed_cell, capsize))
         for index, low, high in zip(table.range_model.tolist(), table.range_low.tolist(),
                                     table.range_high.tolist(), strict=True):
-            pair = f"{low!r}:{high!r}"
+            # Most stable ranges run from the weave to the capsize speed: reuse their text
+            # (formatting the floats is most of the cost of writing a row).
+            pair = (f"{weave_cells[index] if low == weave[index] else repr(low)}:"
+                    f"{capsize_cells[index] if high == capsize[index] else repr(high)}")
             ranges[index] = f"{ranges[index]};{pair}" if ranges[index] else pair
     rows = task.chunk.lines
     if rows is None:
@@ -305,7 +309,7 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
         if problem:
             append(f"{inputs},,,,{_quoted(problem)}\n")
             continue
-        append(f"{inputs},{_speed_cell(weave[position])},{_speed_cell(capsize[position])},{ranges[position]},\n")
+        append(f"{inputs},{weave_cells[position]},{capsize_cells[position]},{ranges[position]},\n")
         position += 1
     return ChunkResult("".join(lines), len(lines), len(rows) - len(valid))
 

@@ -142,6 +142,18 @@ def main() -> None:
                 for f in dict.fromkeys(r[1] for r in named)) if named else (float("nan"), "-")
     print(f"\nmust show: each named cause right >= 90%: lowest {worst[0]:.0%} ({worst[1]}); "
           f"wrong confident <= 5%: {wrong} of {len(results)} ({wrong / len(results):.1%}, all families)")
+    outside = [r for r in results if r[1] != "none" and EXPECTED[r[1]] is None]
+    inside = [r for r in results if r not in outside]
+    wrong_inside = sum(r[5] == "wrong" for r in inside)
+    print(f"wrong confident where the truth is a candidate (or no effect): {wrong_inside} of {len(inside)} "
+          f"({wrong_inside / max(len(inside), 1):.1%}); where it is none of them: "
+          f"{wrong - wrong_inside} of {len(outside)}")
+    # Named right, or left open with the truth among the contenders (what the data can tell).
+    open_or_right = min((sum(r[5] in ("right", "ambiguous_truth") for r in named if r[1] == f)
+                         / max(sum(r[1] == f for r in named), 1), f)
+                        for f in dict.fromkeys(r[1] for r in named)) if named else (float("nan"), "-")
+    print(f"named right or ambiguous with the truth among the contenders: lowest {open_or_right[0]:.0%} "
+          f"({open_or_right[1]})")
 
 
 if __name__ == "__main__":

@@ -54,12 +54,21 @@ def _trial(arguments: tuple[str, str, int]) -> tuple[str, str, int, str, str, st
 
 
 def _reclassified(r: tuple) -> tuple:
-    """A result whose ambiguous verdict is led by a pair holding the expected cause: ambiguous (truth).
+    """A logged result under the current verdict rules (logs of earlier code).
 
-    (Logs written before pairs were split in ``Trial.contenders``; their rivals are not logged.)
+    * A verdict ``named`` for a pair of causes ("A + B"): ``ambiguous`` since a leading pair is
+      never named outright (the rule changes nothing else, so the rest of the trial stands; the
+      outcome is right for a truth outside the candidates, ambiguous (truth) if the pair holds
+      the expected cause, otherwise ambiguous: the rivals are not logged).
+    * An ambiguous verdict led by a pair holding the expected cause: ambiguous (truth) (logs
+      written before pairs were split in ``Trial.contenders``).
     """
     expected = EXPECTED.get(r[1])
-    if r[5] == "ambiguous" and r[3] == "ambiguous" and expected in r[4].split(" + "):
+    parts = r[4].split(" + ")
+    if r[3] == "named" and len(parts) == 2:
+        outcome = "right" if expected is None else "ambiguous_truth" if expected in parts else "ambiguous"
+        return (r[0], r[1], r[2], "ambiguous", r[4], outcome, *r[6:])
+    if r[5] == "ambiguous" and r[3] == "ambiguous" and expected in parts:
         return (*r[:5], "ambiguous_truth", *r[6:])
     return r
 

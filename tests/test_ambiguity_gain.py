@@ -79,12 +79,14 @@ def test_two_hidden_effects_are_found_as_a_pair():
     # Steer damping with a 35% larger rear-frame roll inertia: the best single cause leaves a
     # reduced chi-square above 2 (eigenvalues or mode shapes), so pairs are tried; the pair,
     # fitted jointly and charged for its extra value, explains the data to the noise and
-    # recovers both values.
+    # recovers both values. It leads, but is not named outright: one effect outside the
+    # candidates could fit two causes' freedom as well (docs/diagnosis.md, the rates).
     bicycle = load_bicycle("benchmark")
     truth = bicycle.with_extensions(steer_damping=0.5).with_parameters(IBxx=1.35 * bicycle.parameters["IBxx"])
     diagnosis = diagnose_observations(bicycle, _observations(truth, 0))
     assert max(diagnosis.single_scales) > 2.0 and diagnosis.combinations
-    assert diagnosis.verdict == "named" and diagnosis.cause == "steer_damping + parameter:IBxx"
+    assert diagnosis.verdict == "ambiguous" and diagnosis.cause == "steer_damping + parameter:IBxx"
+    assert any("two causes together" in reason for reason in diagnosis.reasons)
     assert diagnosis.scale < 1.5
     for value, true, std in zip(diagnosis.best.values, (0.5, truth.parameters["IBxx"]), diagnosis.best.std,
                                 strict=True):

@@ -19,7 +19,8 @@ that are too small inflate every chi-square alike). ``none`` has evidence 0. The
 within ``SEPARATION`` of the best (:func:`separation`), or when even the best model leaves the
 typical window far off (:func:`typical_dispersion` above ``HIGH_DISPERSION``); otherwise
 ``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
-(:mod:`whipple.diagnosis.families`) and kept only when they beat every single cause by ``margin``.
+(:mod:`whipple.diagnosis.families`) and kept only when they beat every single cause by
+``margin``; a leading pair is reported, never named outright.
 """
 
 from __future__ import annotations
@@ -441,8 +442,11 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     ``ambiguous`` when a runner-up is within ``margin`` of the best; when one within
     ``CLOSE_EVIDENCE`` predicts the observations within ``SEPARATION`` of the best (the data
     could not tell them apart whichever were true: a different prior or one more fitted value
-    is then all that ranks them); or when even the best model leaves a dispersion above
-    ``HIGH_DISPERSION`` (no candidate explains the data: its name would be a guess).
+    is then all that ranks them); when the best is a pair of causes (no single candidate
+    explained the data, and one effect outside the candidates fits two causes' freedom as
+    well as two effects do: in the hidden-effect trials most named pairs stood in for one);
+    or when even the best model leaves a dispersion above ``HIGH_DISPERSION`` (no candidate
+    explains the data: its name would be a guess).
     """
     if not scored or scored[0].evidence < named_threshold:
         return "none", "none", (), ()
@@ -457,6 +461,9 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
              and separation(best, fit) < SEPARATION]
     if alike:
         reasons.append(f"{', '.join(alike)} predict(s) the observations within the noise of {best.cause}")
+    if COMBINATION in best.cause:
+        reasons.append(f"the best explanation is two causes together ({best.cause}); a single effect outside the "
+                       "candidates that acts like them would fit as well")
     if max(scales) > HIGH_DISPERSION:
         reasons.append(f"even the best model leaves the typical window {np.sqrt(scales[0]):.1f} (eigenvalue) and "
                        f"{np.sqrt(scales[1]):.1f} (mode shape) times its stated uncertainty off (median dispersion "

@@ -52,7 +52,8 @@ EVIDENCE_DEFINITION = (
     f"1/(number of parameters) per parameter:<key>, the product of both for a pair of causes; 'named' needs "
     f"evidence >= {NAMED_THRESHOLD}, a lead of {MARGIN} over the runner-up, predictions separated by at least "
     f"{SEPARATION} (half the summed squared whitened difference) from every cause within {CLOSE_EVIDENCE} of it, "
-    f"and a median dispersion of the typical window of at most {HIGH_DISPERSION}; otherwise 'ambiguous'")
+    f"a median dispersion of the typical window of at most {HIGH_DISPERSION}, and a single cause (a leading "
+    "pair of causes is reported, never named); otherwise 'ambiguous'")
 
 
 @dataclass(frozen=True)

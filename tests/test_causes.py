@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -123,3 +124,18 @@ def test_payload_form_at_any_position():
         assert getattr(full.apply(bicycle, [4.0, 0.2, -1.0]).extensions, name) == Payload(4.0, 0.2, -1.0)
     with pytest.raises(ValueError):
         payload_form(bicycle, "payload", "xz")
+
+
+@pytest.mark.parametrize("source", ["benchmark", "kooijman2008",
+                                    "tests/data/bicycleparameters/bicycles/BrowserBenchmark.txt"])
+def test_rear_payload_ends_at_the_steer_axis(source):
+    # The rear frame ends at the head tube, which leans back from where the steer axis meets
+    # the ground (w + c): a rear-frame load fitted ahead of that point would stand in for a
+    # load on the front assembly (docs/diagnosis.md, the basket trials).
+    bicycle = load_bicycle(str(Path(__file__).resolve().parent.parent / source) if source.endswith(".txt") else source)
+    p = bicycle.parameters
+    low, high = payload_bounds(bicycle, "payload")["x"]
+    assert high == pytest.approx(p["w"] + p["c"])
+    assert low < p["xB"] < high
+    front_low, front_high = payload_bounds(bicycle, "front_payload")["x"]
+    assert front_low < p["xH"] < front_high and front_high > p["w"]

@@ -95,15 +95,17 @@ def payload_bounds(bicycle: Bicycle, name: str) -> dict[str, tuple[float, float]
     """Physical bounds of a payload's mass [kg], x [m] and z [m] on its frame.
 
     Rear frame: up to three times the frame's mass, from 0.5 m behind the rear contact (a
-    rack's overhang) to 0.5 m ahead of the front contact. Front frame: up to three times its
-    mass or 20 kg (a loaded basket on a light fork), from the rear frame's mass centre forward
-    to 0.5 m ahead of the front contact (handlebar, basket, lamp). Heights: from the ground up
-    to twice the larger wheel radius plus 1 m.
+    rack's overhang) forward to where the steer axis meets the ground (w + c: the rear frame
+    ends at the head tube, which lies behind that point at every height; a rear-frame load
+    fitted beyond it stands in for a load on the front assembly). Front frame: up to three
+    times its mass or 20 kg (a loaded basket on a light fork), from the nearer frame mass
+    centre forward to 0.5 m ahead of the front contact (handlebar, basket, lamp). Heights:
+    from the ground up to twice the larger wheel radius plus 1 m.
     """
     p = bicycle.parameters
     height = (-2.0 * max(p["rR"], p["rF"]) - 1.0, 0.0)
     if name == "payload":
-        return {"mass": (0.0, 3.0 * p["mB"]), "x": (-0.5, p["w"] + 0.5), "z": height}
+        return {"mass": (0.0, 3.0 * p["mB"]), "x": (-0.5, p["w"] + p["c"]), "z": height}
     return {"mass": (0.0, max(3.0 * p["mH"], 20.0)), "x": (min(p["xB"], p["xH"]), p["w"] + 0.5), "z": height}
 
 

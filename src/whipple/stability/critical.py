@@ -35,7 +35,7 @@ as an independent check in the tests (tests/grid_critical.py).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -214,15 +214,9 @@ def critical_speeds_batch(model: LinearModel, low: float = 0.0, high: float = 10
         One per parameter set, in C order of ``model.batch_shape``.
     """
     del step
-    _check_interval(low, high)
-    check_model(model)
-    n, terms = model.n_states, model.A.shape[-3]
-    coefficients = model.A.reshape(-1, terms, n, n)
-    chunk_size = max(1, int(chunk_size * 16 / n**2))
     results: list[CriticalSpeeds] = []
-    for start in range(0, coefficients.shape[0], chunk_size):
-        chunk = coefficients[start:start + chunk_size]
-        results += _analyse_chunk(chunk, float(low), float(high), polish)
+    for _, count, found, segments in _solved_chunks(model, low, high, polish, chunk_size):
+        results += _package_all(found, segments, count, low, high)
         if progress is not None:
             progress(len(results))
     return results
@@ -259,12 +253,23 @@ def crossing_arrays(coefficients: NDArray[np.float64], low: float, high: float,
     return {**found, "characteristic": polynomials.characteristic}
 
 
-def _analyse_chunk(coefficients: NDArray[np.float64], low: float, high: float,
-                   polish: bool) -> list[CriticalSpeeds]:
-    count = coefficients.shape[0]
-    found = crossing_arrays(coefficients, low, high, polish)
-    segments = _stable_segments(found, found["characteristic"], count, low, high)
-    return _package_all(found, segments, count, low, high)
+def _solved_chunks(model: LinearModel, low: float, high: float, polish: bool, chunk_size: int
+                   ) -> Iterator[tuple[int, int, dict[str, NDArray], dict[str, NDArray]]]:
+    """Check the interval and the model, then solve its parameter sets a chunk at a time.
+
+    Yields the chunk's first set (C order of ``model.batch_shape``), its number of sets, its
+    crossings (:func:`crossing_arrays`) and its stable segments (:func:`_stable_segments`).
+    ``chunk_size`` is for a 4-state model, scaled by 16 / n^2 for n states.
+    """
+    _check_interval(low, high)
+    check_model(model)
+    n, terms = model.n_states, model.A.shape[-3]
+    coefficients = model.A.reshape(-1, terms, n, n)
+    chunk_size = max(1, int(chunk_size * 16 / n**2))
+    for start in range(0, coefficients.shape[0], chunk_size):
+        chunk = coefficients[start:start + chunk_size]
+        found = crossing_arrays(chunk, float(low), float(high), polish)
+        yield start, chunk.shape[0], found, _stable_segments(found, found["characteristic"], chunk.shape[0], low, high)
 
 
 def _stable_segments(found: dict[str, NDArray], characteristic: NDArray[np.float64],
@@ -385,17 +390,9 @@ def critical_speed_table(model: LinearModel, low: float = 0.0, high: float = 10.
     -------
     CriticalSpeedTable
     """
-    _check_interval(low, high)
-    check_model(model)
-    n, terms = model.n_states, model.A.shape[-3]
-    coefficients = model.A.reshape(-1, terms, n, n)
-    chunk_size = max(1, int(chunk_size * 16 / n**2))
     parts = []
-    for start in range(0, coefficients.shape[0], chunk_size):
-        chunk = coefficients[start:start + chunk_size]
-        found = crossing_arrays(chunk, float(low), float(high), polish)
-        segments = _stable_segments(found, found["characteristic"], chunk.shape[0], low, high)
-        weave, capsize, ranges = _main_speeds(found, segments, chunk.shape[0])
+    for start, count, found, segments in _solved_chunks(model, low, high, polish, chunk_size):
+        weave, capsize, ranges = _main_speeds(found, segments, count)
         parts.append((weave, capsize, ranges["model"] + start, ranges["low"], ranges["high"]))
     return CriticalSpeedTable(*(np.concatenate([part[k] for part in parts]) for k in range(5)))
 

@@ -99,6 +99,14 @@ def _order(results: list, case: tuple[str, str]) -> int:
     return bicycles.index(case[0]) * 100 + families_seen.index(case[1])
 
 
+def _lowest_rate(results: list, outcomes: tuple[str, ...]) -> tuple[float, str]:
+    """The lowest share of trials with one of `outcomes` over the families, and that family."""
+    if not results:
+        return float("nan"), "-"
+    return min((sum(r[5] in outcomes for r in results if r[1] == family) / sum(r[1] == family for r in results),
+                family) for family in dict.fromkeys(r[1] for r in results))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=17, help="seeds per bicycle and family")
@@ -147,20 +155,17 @@ def main() -> None:
         print(_row(family, [r for r in results if r[1] == family]))
     named = [r for r in results if r[1] != "none" and EXPECTED[r[1]] is not None]
     wrong = sum(r[5] == "wrong" for r in results)
-    worst = min((sum(r[5] == "right" for r in named if r[1] == f) / max(sum(r[1] == f for r in named), 1), f)
-                for f in dict.fromkeys(r[1] for r in named)) if named else (float("nan"), "-")
+    worst = _lowest_rate(named, ("right",))
     print(f"\nmust show: each named cause right >= 90%: lowest {worst[0]:.0%} ({worst[1]}); "
           f"wrong confident <= 5%: {wrong} of {len(results)} ({wrong / len(results):.1%}, all families)")
     outside = [r for r in results if r[1] != "none" and EXPECTED[r[1]] is None]
-    inside = [r for r in results if r not in outside]
+    inside = [r for r in results if r[1] == "none" or EXPECTED[r[1]] is not None]
     wrong_inside = sum(r[5] == "wrong" for r in inside)
     print(f"wrong confident where the truth is a candidate (or no effect): {wrong_inside} of {len(inside)} "
           f"({wrong_inside / max(len(inside), 1):.1%}); where it is none of them: "
           f"{wrong - wrong_inside} of {len(outside)}")
     # Named right, or left open with the truth among the contenders (what the data can tell).
-    open_or_right = min((sum(r[5] in ("right", "ambiguous_truth") for r in named if r[1] == f)
-                         / max(sum(r[1] == f for r in named), 1), f)
-                        for f in dict.fromkeys(r[1] for r in named)) if named else (float("nan"), "-")
+    open_or_right = _lowest_rate(named, ("right", "ambiguous_truth"))
     print(f"named right or ambiguous with the truth among the contenders: lowest {open_or_right[0]:.0%} "
           f"({open_or_right[1]})")
 

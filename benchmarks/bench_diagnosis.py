@@ -7,8 +7,8 @@ realistic size and position, diagnose them blind, and count the outcomes:
 
 - right: the verdict ``named`` with the expected cause (no effect: ``none``; a truth outside
   every candidate: ``none`` or ``ambiguous``);
-- ambiguous (truth): an ``ambiguous`` verdict whose family holds the expected cause (a named
-  pair of causes holding it is listed with the other verdicts, neither right nor wrong);
+- ambiguous (truth): an ``ambiguous`` verdict whose family, or leading pair of causes, holds
+  the expected cause (a pair is never named);
 - said none: the verdict ``none`` where an effect was hidden;
 - wrong confident: the verdict ``named`` with another cause;
 - warned: of the wrong confident, how many carry the dispersion caveat (s^2 > 2);

@@ -122,14 +122,13 @@ class Trial:
 
     @property
     def outcome(self) -> str:
-        """``right``, ``ambiguous_truth``, ``pair_truth``, ``ambiguous``, ``none`` or ``wrong``.
+        """``right``, ``ambiguous_truth``, ``ambiguous``, ``none`` or ``wrong``.
 
         ``right`` is the verdict ``named`` with the expected cause; with no effect it is
         ``none``; for a truth outside the candidates it is ``none`` or ``ambiguous`` (a named
         cause is then ``wrong``). ``ambiguous_truth``: an ambiguous verdict whose family holds
-        the expected cause (not wrong, but not right). ``pair_truth``: a named pair of causes
-        (``"A + B"``) of which one is the expected cause. ``wrong``: named, and not the
-        expected cause (nor a pair holding it): a wrong confident name.
+        the expected cause, or a leading pair holding it (not wrong, but not right; a pair is
+        never named). ``wrong``: named, and not the expected cause: a wrong confident name.
         """
         verdict, cause, expected = self.diagnosis.verdict, self.diagnosis.cause, self.expected
         if expected is None:
@@ -137,9 +136,7 @@ class Trial:
         if expected == "none":
             return {"none": "right", "named": "wrong"}.get(verdict, "ambiguous")
         if verdict == "named":
-            if cause == expected:
-                return "right"
-            return "pair_truth" if expected in cause.split(" + ") else "wrong"
+            return "right" if cause == expected else "wrong"
         if verdict == "ambiguous":
             return "ambiguous_truth" if expected in self.contenders else "ambiguous"
         return "none"

@@ -146,19 +146,27 @@ def test_crossing_modes_match_the_grid_labels_on_benchmark_like_bicycles() -> No
     assert checked > 120
 
 
-def test_the_array_table_equals_the_result_objects() -> None:
+@pytest.mark.parametrize("damping", [0.0, 0.3])
+def test_the_array_table_equals_the_result_objects(damping: float) -> None:
+    # Without damping the models have the Whipple form, which the table solves in closed form
+    # (tests/test_whipple_form.py): equal to rounding. With damping it runs the objects' solver:
+    # equal exactly.
     rng = np.random.default_rng(9)
-    model = build_linear_model(perturbed(rng, 120, 0.25))
+    model = build_linear_model(perturbed(rng, 120, 0.25), Extensions(steer_damping=damping))
     results = critical_speeds_batch(model, 0.0, 12.0, chunk_size=40)
     table = critical_speed_table(model, 0.0, 12.0, chunk_size=40)
+    rtol = 1e-12 if damping == 0.0 else 0.0
     for index, result in enumerate(results):
         for name in ("weave_speed", "capsize_speed"):
             value = getattr(result, name)
-            assert (np.isnan(getattr(table, name)[index]) if value is None
-                    else getattr(table, name)[index] == value)
+            if value is None:
+                assert np.isnan(getattr(table, name)[index])
+            else:
+                assert getattr(table, name)[index] == pytest.approx(value, rel=rtol, abs=0.0)
         mine = table.range_model == index
-        assert list(zip(table.range_low[mine].tolist(), table.range_high[mine].tolist(),
-                        strict=True)) == list(result.stable_speed_ranges)
+        ranges = np.array(result.stable_speed_ranges).reshape(-1, 2)
+        np.testing.assert_allclose(table.range_low[mine], ranges[:, 0], rtol=rtol, atol=0.0)
+        np.testing.assert_allclose(table.range_high[mine], ranges[:, 1], rtol=rtol, atol=0.0)
 
 
 def test_negative_speeds_and_the_crossing_at_rest() -> None:

@@ -69,12 +69,30 @@ def _numpy_join(axis: int) -> Callable[[Sequence[Any]], Any]:
     return join
 
 
+def _numpy_solve(M: Any, X: Any) -> Any:
+    """Return ``M^-1 X``; a 2 x 2 M (a bicycle's mass matrix) by its adjugate.
+
+    For batches of 2 x 2 matrices that is several times faster than ``numpy.linalg.solve``.
+    """
+    if np.shape(M)[-2:] != (2, 2):
+        return np.linalg.solve(M, X)
+    M, X = np.asarray(M, dtype=float), np.asarray(X, dtype=float)
+    m00, m01, m10, m11 = M[..., 0, 0, None], M[..., 0, 1, None], M[..., 1, 0, None], M[..., 1, 1, None]
+    with np.errstate(all="ignore"):
+        det = m00 * m11 - m01 * m10
+        singular = not np.all(np.isfinite(1.0 / det))
+    if singular:
+        return np.linalg.solve(M, X)  # NumPy decides: LinAlgError for a singular M
+    x0, x1 = X[..., 0, :], X[..., 1, :]
+    return np.stack([(m11 * x0 - m01 * x1) / det, (m00 * x1 - m10 * x0) / det], axis=-2)
+
+
 def _numpy_split(array: Any, width: int) -> list[Any]:
     return list(np.split(array, array.shape[-1] // width, axis=-1))
 
 
 #: NumPy arrays, with any leading batch axes (broadcast against each other).
-NUMPY_OPS = ArrayOps(_numpy_join(-1), _numpy_join(-2), _numpy_split, np.linalg.solve, _numpy_zeros,
+NUMPY_OPS = ArrayOps(_numpy_join(-1), _numpy_join(-2), _numpy_split, _numpy_solve, _numpy_zeros,
                      _numpy_identity)
 
 

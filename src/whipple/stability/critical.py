@@ -49,6 +49,7 @@ from whipple.stability.eigen import check_model
 from whipple.stability.polynomial import characteristic_at, conditions, hurwitz_stable
 from whipple.stability.polyroots import real_roots
 from whipple.stability.root_spectrum import directions, merge, merge_touches, verify_roots
+from whipple.stability.whipple_form import is_whipple_form, whipple_form_table
 
 #: Parameter sets of a 4-state model solved together (scaled by 16 / n^2 for n states).
 CHUNK_SIZE = 8192
@@ -215,7 +216,8 @@ def critical_speeds_batch(model: LinearModel, low: float = 0.0, high: float = 10
     """
     del step
     results: list[CriticalSpeeds] = []
-    for _, count, found, segments in _solved_chunks(model, low, high, polish, chunk_size):
+    coefficients = _checked_coefficients(model, low, high)
+    for _, count, found, segments in _solved_chunks(coefficients, low, high, polish, chunk_size):
         results += _package_all(found, segments, count, low, high)
         if progress is not None:
             progress(len(results))
@@ -253,18 +255,23 @@ def crossing_arrays(coefficients: NDArray[np.float64], low: float, high: float,
     return {**found, "characteristic": polynomials.characteristic}
 
 
-def _solved_chunks(model: LinearModel, low: float, high: float, polish: bool, chunk_size: int
-                   ) -> Iterator[tuple[int, int, dict[str, NDArray], dict[str, NDArray]]]:
-    """Check the interval and the model, then solve its parameter sets a chunk at a time.
-
-    Yields the chunk's first set (C order of ``model.batch_shape``), its number of sets, its
-    crossings (:func:`crossing_arrays`) and its stable segments (:func:`_stable_segments`).
-    ``chunk_size`` is for a 4-state model, scaled by 16 / n^2 for n states.
-    """
+def _checked_coefficients(model: LinearModel, low: float, high: float) -> NDArray[np.float64]:
+    """Check the interval and the model; return A's coefficients as (sets, T, n, n)."""
     _check_interval(low, high)
     check_model(model)
     n, terms = model.n_states, model.A.shape[-3]
-    coefficients = model.A.reshape(-1, terms, n, n)
+    return model.A.reshape(-1, terms, n, n)
+
+
+def _solved_chunks(coefficients: NDArray[np.float64], low: float, high: float, polish: bool,
+                   chunk_size: int) -> Iterator[tuple[int, int, dict[str, NDArray], dict[str, NDArray]]]:
+    """Solve parameter sets (A's coefficients, (sets, T, n, n)) a chunk at a time.
+
+    Yields the chunk's first set, its number of sets, its crossings (:func:`crossing_arrays`)
+    and its stable segments (:func:`_stable_segments`). ``chunk_size`` is for a 4-state model,
+    scaled by 16 / n^2 for n states.
+    """
+    n = coefficients.shape[-1]
     chunk_size = max(1, int(chunk_size * 16 / n**2))
     for start in range(0, coefficients.shape[0], chunk_size):
         chunk = coefficients[start:start + chunk_size]
@@ -376,8 +383,10 @@ def critical_speed_table(model: LinearModel, low: float = 0.0, high: float = 10.
                          polish: bool = True, chunk_size: int = CHUNK_SIZE) -> CriticalSpeedTable:
     """Return the speeds of :func:`critical_speeds_batch` as arrays, for sweeps of many models.
 
-    Same solver and numbers, without building a :class:`CriticalSpeeds` per model (which is
-    most of the cost of a large batch).
+    Same numbers, without building a :class:`CriticalSpeeds` per model (which is most of the
+    cost of a large batch). Models of the Whipple form (no steer damping, no controller) are
+    solved in closed form (:mod:`whipple.stability.whipple_form`) where that settles their
+    speeds, and by the general solver otherwise; the two agree to rounding (tested).
 
     Parameters
     ----------
@@ -390,11 +399,43 @@ def critical_speed_table(model: LinearModel, low: float = 0.0, high: float = 10.
     -------
     CriticalSpeedTable
     """
+    coefficients = _checked_coefficients(model, low, high)
+    if not (polish and low >= 0 and is_whipple_form(coefficients)):
+        return _general_table(coefficients, low, high, polish, chunk_size)
     parts = []
-    for start, count, found, segments in _solved_chunks(model, low, high, polish, chunk_size):
+    for start in range(0, coefficients.shape[0], chunk_size):
+        chunk = coefficients[start:start + chunk_size]
+        closed = whipple_form_table(chunk, low, high)
+        rest = np.nonzero(~closed.settled)[0]
+        general = _general_table(chunk[rest], low, high, polish, chunk_size)
+        weave, capsize = closed.weave_speed, closed.capsize_speed
+        weave[rest], capsize[rest] = general.weave_speed, general.capsize_speed
+        range_model = np.concatenate([closed.range_model, rest[general.range_model]])
+        # Stable: the ranges of one model stay in increasing speed.
+        order = np.argsort(range_model, kind="stable")
+        parts.append(CriticalSpeedTable(weave, capsize, range_model[order] + start,
+                                        np.concatenate([closed.range_low, general.range_low])[order],
+                                        np.concatenate([closed.range_high, general.range_high])[order]))
+    return _concatenated(parts)
+
+
+def _concatenated(parts: list[CriticalSpeedTable]) -> CriticalSpeedTable:
+    return CriticalSpeedTable(*(np.concatenate([getattr(part, field) for part in parts])
+                                for field in CriticalSpeedTable.__dataclass_fields__))
+
+
+def _general_table(coefficients: NDArray[np.float64], low: float, high: float, polish: bool,
+                   chunk_size: int) -> CriticalSpeedTable:
+    """:func:`critical_speed_table` by the general solver."""
+    parts = []
+    for start, count, found, segments in _solved_chunks(coefficients, low, high, polish, chunk_size):
         weave, capsize, ranges = _main_speeds(found, segments, count)
-        parts.append((weave, capsize, ranges["model"] + start, ranges["low"], ranges["high"]))
-    return CriticalSpeedTable(*(np.concatenate([part[k] for part in parts]) for k in range(5)))
+        parts.append(CriticalSpeedTable(weave, capsize, ranges["model"] + start, ranges["low"],
+                                        ranges["high"]))
+    if not parts:
+        empty = np.zeros(0)
+        return CriticalSpeedTable(empty, empty, np.zeros(0, dtype=np.intp), empty, empty)
+    return _concatenated(parts)
 
 
 def _package_all(found: dict[str, NDArray], segments: dict[str, NDArray], count: int,

@@ -146,11 +146,11 @@ def _closed_form(kind: str, a: NDArray[np.float64]
         root = np.sqrt((b * b - 4.0 * c).astype(complex))
         lam[:, 2], lam[:, 3] = 0.5 * (-b + root), 0.5 * (-b - root)
         return lam, genuine
-    lam[:, 1:] = _cubic_roots(a[:, 1], a[:, 2], a[:, 3])
+    lam[:, 1:] = cubic_roots(a[:, 1], a[:, 2], a[:, 3])
     return lam, np.ones(count, dtype=bool)
 
 
-def _cubic_roots(b: NDArray[np.float64], c: NDArray[np.float64], d: NDArray[np.float64]
+def cubic_roots(b: NDArray[np.float64], c: NDArray[np.float64], d: NDArray[np.float64]
                  ) -> NDArray[np.complex128]:
     """Roots of ``s^3 + b s^2 + c s + d`` (closed form, batched; used for labels only).
 

@@ -234,8 +234,10 @@ def _valid_sets(chunk: TableChunk, base: Bicycle
     rows = [row for row, problem in enumerate(problems) if not problem]
     if not rows:
         return problems, rows, None
-    model = build_linear_model({name: values[rows] for name, values in parameters.items()},
-                               base.extensions, base.controller)
+    if len(rows) < count:
+        index = np.array(rows)
+        parameters = {name: values[index] for name, values in parameters.items()}
+    model = build_linear_model(parameters, base.extensions, base.controller)
     return problems, rows, model
 
 

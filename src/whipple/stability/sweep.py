@@ -273,10 +273,6 @@ def _quoted(cell: str) -> str:
     return buffer.getvalue()
 
 
-def _speed_cell(value: float) -> str:
-    return "" if value != value else repr(value)
-
-
 def analyse_chunk(task: SweepTask) -> ChunkResult:
     """Analyse one chunk of a table and format its rows of the results table.
 
@@ -293,7 +289,9 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     if model is not None:
         table = critical_speed_table(model, *task.speed_range)
         weave, capsize = table.weave_speed.tolist(), table.capsize_speed.tolist()
-        weave_cells, capsize_cells = list(map(_speed_cell, weave)), list(map(_speed_cell, capsize))
+        # Empty for NaN (none); written inline: a call per cell costs as much as its repr.
+        weave_cells = [repr(x) if x == x else "" for x in weave]
+        capsize_cells = [repr(x) if x == x else "" for x in capsize]
         for index, low, high in zip(table.range_model.tolist(), table.range_low.tolist(),
                                     table.range_high.tolist(), strict=True):
             # Most stable ranges run from the weave to the capsize speed: reuse their text

@@ -307,7 +307,8 @@ def whipple_form_table(coefficients: NDArray[np.float64], low: float, high: floa
     genuine = (w2 > 0) & (w > modes.REAL_TOLERANCE * (1.0 + w))
     hopf_inside, hopf_within = _speeds(hopf_u, low, high)
     real_inside, real_within = _speeds(real_u, low, high)
-    defer = defer_hopf | defer_real | (c == 0)
+    # (A Hopf root u = 0 beside the factor u is a double root at rest.)
+    defer = defer_hopf | defer_real | (c == 0) | np.any(hopf_u == 0, axis=-1)
     # A pair barely on or off the axis (w ~ 0): the general solver decides on the eigenvalues.
     defer |= np.any(hopf_within & ~(np.abs(w2) > WEAK_PAIR), axis=-1)
     hopf_within &= genuine

@@ -21,7 +21,16 @@ from whipple.model.actuator import (
     pade_denominator,
     with_actuator,
 )
-from whipple.model.assembly import build_linear_model, extended_matrices, linear_model, whipple_matrices
+from whipple.model.assembly import (
+    EXTENDED_PARAMETERS,
+    EXTENSION_EFFECTS,
+    MODEL_PARAMETERS,
+    build_linear_model,
+    extended_matrices,
+    linear_model,
+    model_matrices,
+    whipple_matrices,
+)
 from whipple.model.bodies import Body, combine, frame_body
 from whipple.model.casadi_model import casadi_state_function
 from whipple.model.linear import second_order_model
@@ -91,7 +100,7 @@ def test_unit_controller_settings_give_exactly_the_feedback_model():
     bicycle = load_bicycle("sbw2024")
     plain = Controller(steer=bicycle.controller.steer)
     explicit = Controller(steer=bicycle.controller.steer, gain_scale=1.0, delay=0.0, lag=0.0)
-    m = extended_matrices(bicycle.parameters, bicycle.extensions)
+    m = model_matrices(bicycle.parameters, bicycle.extensions)
     raw = [np.zeros((2, 4)), np.zeros((2, 4))]
     raw[0][1, 2], raw[1][1, 2] = 13.0, -2.0
     by_hand = second_order_model(m.M, m.C1, m.K0, m.K2, damping=m.D, feedback=raw)
@@ -244,3 +253,19 @@ def test_tyre_model_takes_the_actuator_states_too():
         expected = model.state_matrix(speed)
         np.testing.assert_allclose(np.array(function(speed, p0)), expected, rtol=1e-12,
                                    atol=1e-12 * np.abs(expected).max())
+
+
+@pytest.mark.parametrize("name", ["benchmark", "kooijman2008", "sbw2024"])
+def test_models_without_an_effective_extension_use_the_plain_whipple_code(name):
+    # Every extension value either changes the matrices on its own or is a payload position.
+    added = set(EXTENDED_PARAMETERS) - set(MODEL_PARAMETERS)
+    assert all(value.endswith(("_x", "_z")) for value in added - set(EXTENSION_EFFECTS))
+    parameters = dict(load_bicycle(name).parameters)
+    parked = {**parameters, "payload_mass": 0.0, "payload_x": 0.4, "payload_z": -1.0}
+    plain, extended = model_matrices(parked), extended_matrices(parked)
+    for key in ("M", "C1", "K0", "K2", "D"):
+        assert np.array_equal(getattr(plain, key), getattr(whipple_matrices(parameters), key))
+        np.testing.assert_allclose(getattr(plain, key), getattr(extended, key), rtol=1e-12,
+                                   atol=1e-12 * np.max(np.abs(getattr(extended, key))))
+    loaded = {**parked, "payload_mass": 2.0}
+    assert np.array_equal(model_matrices(loaded).M, extended_matrices(loaded).M)

@@ -111,8 +111,14 @@ def _null_shares(coefficients: NDArray[np.float64], speed: NDArray[np.float64],
     A = state_matrices_at(coefficients, np.arange(speed.size), speed)
     K, C = -A[:, None, 2:, :2], -A[:, None, 2:, 2:]
     s = eigenvalues[:, :, None, None]
-    B = s * s * np.eye(2) + s * C + K
-    # q is orthogonal to the larger row of the singular 2 x 2 matrix B.
+    return null_roll_share(s * s * np.eye(2) + s * C + K)
+
+
+def null_roll_share(B: NDArray[np.complex128] | NDArray[np.float64]) -> NDArray[np.float64]:
+    """``|roll| / (|roll| + |steer|)`` of the null vector q of singular 2 x 2 matrices B (..., 2, 2).
+
+    q is orthogonal to the larger row of B (0.5 where B vanishes).
+    """
     first = np.abs(B[..., 0, 0]) + np.abs(B[..., 0, 1]) >= np.abs(B[..., 1, 0]) + np.abs(B[..., 1, 1])
     row = np.where(first[..., None], B[..., 0, :], B[..., 1, :])
     roll, steer = np.abs(row[..., 1]), np.abs(row[..., 0])

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from whipple.stability import modes
 from whipple.stability.polynomial import hurwitz_stable, is_second_order
-from whipple.stability.root_spectrum import cubic_roots
+from whipple.stability.root_spectrum import cubic_roots, null_roll_share
 
 #: Roots of a condition closer than this (relative, through the discriminant: ``|disc| <=
 #: DOUBLE_ROOT * b^2``, roots within about 1e-4 of each other) may be one double root, i.e. a
@@ -120,19 +120,6 @@ def _speeds(u: NDArray[np.float64], low: float, high: float
     return np.where(inside, v, np.nan), within
 
 
-def _roll_share(B: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``|roll| / (|roll| + |steer|)`` of the null vector of singular 2 x 2 matrices B (..., 2, 2).
-
-    The null vector is orthogonal to the larger row (as in the general solver's labels).
-    """
-    first = np.abs(B[..., 0, 0]) + np.abs(B[..., 0, 1]) >= np.abs(B[..., 1, 0]) + np.abs(B[..., 1, 1])
-    row = np.where(first[..., None], B[..., 0, :], B[..., 1, :])
-    roll, steer = np.abs(row[..., 1]), np.abs(row[..., 0])
-    with np.errstate(invalid="ignore", divide="ignore"):
-        share = roll / (roll + steer)
-    return np.where(np.isfinite(share), share, 0.5)
-
-
 def _hopf_labels(v: NDArray[np.float64], w2: NDArray[np.float64], c: NDArray[np.float64],
                  k0: NDArray[np.float64], e2: NDArray[np.float64]
                  ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
@@ -174,8 +161,8 @@ def _capsize_labels(v: NDArray[np.float64], C1: NDArray[np.float64], K0: NDArray
     has_pair = pair_imag > modes.REAL_TOLERANCE * magnitude
     K = K0[:, None] + u[..., None, None] * K2[:, None]
     C = v[..., None, None] * C1[:, None]
-    share_zero = _roll_share(K)
-    share_r = _roll_share(r[..., None, None] ** 2 * np.eye(2) + r[..., None, None] * C + K)
+    share_zero = null_roll_share(K)
+    share_r = null_roll_share(r[..., None, None] ** 2 * np.eye(2) + r[..., None, None] * C + K)
     rolling_zero, rolling_r = share_zero >= 0.5, share_r >= 0.5
     zero_candidate = rolling_zero | ~rolling_r
     r_candidate = rolling_r | ~rolling_zero

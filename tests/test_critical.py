@@ -25,6 +25,8 @@ from whipple.stability.characteristic import (
     sparsity_pattern,
 )
 from whipple.stability.critical import critical_speeds, critical_speeds_batch
+from whipple.stability.polynomial import evaluate
+from whipple.stability.polyroots import real_roots
 from whipple.stability.uncertainty import critical_speed_uncertainty
 
 G = 9.81
@@ -308,3 +310,25 @@ def test_uncertainty_rejects_bad_input() -> None:
     with pytest.raises(AnalysisError):
         # The real condition has no root near 1 m/s: Newton cannot converge there.
         critical_speed_uncertainty(function, np.ones(4), np.ones(4), 1.0, "capsize")
+
+
+def test_close_real_roots_that_the_companion_matrix_splits_into_a_pair_are_found() -> None:
+    # The Hopf condition of a tyre-model bicycle (a perturbed data-set bicycle, in u = v^2, from
+    # the slow property test): two real roots 1 % apart, v = 1.1098 (an opposite real pair) and
+    # v = 1.1221 (the crossing), which the companion matrix returns as a complex pair 2.6 % off
+    # the axis; the coefficients span 51 orders of magnitude.
+    even = [0.0, 0.0, -2.662127200046332e+34, 3.9174163946606523e+34, -1.1399084791032017e+34,
+            -2.331371588756532e+33, 8.73764875821775e+30, 4.591288313090395e+28,
+            -1.7355925813410037e+26, -4.5763293449840943e+21, 3401.017420078646,
+            -7.235369327468175e-17]
+    hopf = np.zeros((1, 2 * len(even) - 1))
+    hopf[0, ::2] = even
+    roots = real_roots(hopf, 0.0, 10.0)
+    inside = roots.speed[roots.speed > 0]
+    assert inside.size == 2
+    # Each is a sign change of the polynomial itself, to rounding.
+    below, _ = evaluate(np.repeat(hopf, 2, axis=0), inside * (1 - 1e-9))
+    above, _ = evaluate(np.repeat(hopf, 2, axis=0), inside * (1 + 1e-9))
+    assert np.all(np.sign(below) != np.sign(above))
+    assert inside[1] == pytest.approx(1.12213351204528, rel=1e-12)
+    assert all(method.startswith("companion+scan") for method in roots.method[roots.speed > 0])

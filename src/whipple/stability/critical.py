@@ -74,8 +74,9 @@ class Crossing:
     eigenvalue : complex
         The eigenvalue on the axis at the crossing [1/s] (positive imaginary part for hopf).
     method : str
-        How the root was found: ``closed-form`` (a quadratic in v or v^2) or ``companion``
-        (companion-matrix eigenvalues), with ``+newton`` when Newton's method then moved it.
+        How the root was found: ``closed-form`` (a quadratic in v or v^2), ``companion``
+        (companion-matrix eigenvalues) or ``companion+scan`` (a sign change near a companion
+        pair, bisected), with ``+newton`` or ``+secant`` when polishing then moved it.
     """
 
     speed: float

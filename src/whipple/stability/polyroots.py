@@ -12,7 +12,9 @@ Used by :mod:`whipple.stability.critical` on the Hopf and real conditions
    companion matrices, one batched ``numpy.linalg.eigvals`` call per degree.
 3. **Candidates.** Real roots, and complex ones within :data:`NEAR_REAL` of the real axis
    (a double root, where an eigenvalue touches the axis, splits into such a pair in rounding);
-   those are *touch* candidates.
+   those are *touch* candidates. Around a companion pair up to :data:`SPLIT_PAIR` off the
+   axis (two close real roots can come out so), the polynomial is scanned for sign changes
+   over a window set by the pair, and each change bisected (method ``companion+scan``).
 4. **Polishing.** Newton's method on p itself (on ``p'`` for touch candidates), accepted step by
    step only while ``|p|`` (``|p'|``) decreases.
 
@@ -34,6 +36,15 @@ from whipple.stability.polynomial import evaluate
 NEAR_REAL = 1e-6
 #: Newton steps of the polishing.
 NEWTON_STEPS = 6
+#: Relative imaginary part [-] up to which a complex pair from a companion matrix may be two
+#: close real roots split by the eigenvalue solver's error (high-degree conditions span many
+#: orders of magnitude in their coefficients): the neighbourhood is scanned for sign changes.
+SPLIT_PAIR = 0.2
+#: Points of that scan, over the real part +/- SCAN_WIDTH times the imaginary part.
+SCAN_POINTS = 64
+SCAN_WIDTH = 4.0
+#: Bisection steps on each sign change of the scan (to below rounding).
+BISECTIONS = 60
 
 
 @dataclass(frozen=True)
@@ -49,7 +60,8 @@ class PolynomialRoots:
     near : ndarray of bool
         True for a candidate from a complex pair close to the axis (a possible touch).
     method : ndarray of str
-        ``closed-form`` or ``companion``, with ``+newton`` when the polishing moved the root.
+        ``closed-form``, ``companion`` or ``companion+scan``, with ``+newton`` when the polishing
+        moved the root.
     """
 
     model: NDArray[np.intp]
@@ -120,6 +132,49 @@ def _roots_by_degree(working: NDArray[np.float64]
             np.concatenate(methods_out).astype("<U20"))
 
 
+def _split_pairs(working: NDArray[np.float64], row: NDArray[np.intp], root: NDArray[np.complex128],
+                 method: NDArray[np.str_]) -> tuple[NDArray[np.intp], NDArray[np.complex128]]:
+    """Real roots near complex companion pairs that may be split close real roots.
+
+    The eigenvalues of a companion matrix are exact for a nearby polynomial, not for this one:
+    two close real roots of a badly scaled high-degree polynomial can come out as a complex
+    pair (the tyre model's Hopf condition: two roots 1 % apart in speed, one a crossing, returned as a
+    pair 2.6 % off the axis). Around each such pair (one member per pair, relative imaginary
+    part between NEAR_REAL and SPLIT_PAIR) the polynomial itself is scanned for sign changes
+    over a window set by the pair, not by the speed interval, and each is bisected.
+    """
+    size = np.maximum(np.abs(root), 1e-300)
+    ratio = np.abs(root.imag) / size
+    pick = np.nonzero((method == "companion") & (root.imag > 0) & (ratio > NEAR_REAL)
+                      & (ratio <= SPLIT_PAIR))[0]
+    if pick.size == 0:
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=complex)
+    centre, half = root[pick].real, SCAN_WIDTH * root[pick].imag
+    grid = centre[:, None] + half[:, None] * np.linspace(-1.0, 1.0, SCAN_POINTS)[None, :]
+    polys = working[row[pick]]
+    values = _values(polys, grid)
+    change = np.nonzero(np.sign(values[:, :-1]) * np.sign(values[:, 1:]) < 0)
+    owner = change[0]
+    a, b = grid[change], grid[change[0], change[1] + 1]
+    fa = values[change]
+    own = polys[owner]
+    for _ in range(BISECTIONS):
+        middle = 0.5 * (a + b)
+        fm = _values(own, middle[:, None])[:, 0]
+        left = np.sign(fm) == np.sign(fa)
+        a, fa = np.where(left, middle, a), np.where(left, fm, fa)
+        b = np.where(left, b, middle)
+    return row[pick][owner], (0.5 * (a + b)).astype(complex)
+
+
+def _values(polys: NDArray[np.float64], points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Values of polynomials (R, L) at points (R, P) (Horner)."""
+    value = np.zeros(points.shape)
+    for j in range(polys.shape[1] - 1, -1, -1):
+        value = value * points + polys[:, j:j + 1]
+    return value
+
+
 def _polish(polys: NDArray[np.float64], model: NDArray[np.intp], speed: NDArray[np.float64],
             near: NDArray[np.bool_]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Newton on p (on p' for touch candidates), each step kept only if it reduces the residual."""
@@ -168,6 +223,10 @@ def real_roots(polys: NDArray[np.float64], low: float, high: float, polish: bool
     polys = polys[:, :nonzero[-1] + 1] if nonzero.size else polys[:, :1]
     working, even = _reduce(polys)
     row, root, method = _roots_by_degree(working)
+    split_row, split_root = _split_pairs(working, row, root, method)
+    row = np.concatenate([row, split_row])
+    root = np.concatenate([root, split_root])
+    method = np.concatenate([method, np.full(split_row.size, "companion+scan")]).astype("<U20")
     scale = np.maximum(np.abs(root), 1e-300)
     near = np.abs(root.imag) > 0
     keep = np.abs(root.imag) <= NEAR_REAL * scale

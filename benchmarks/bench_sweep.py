@@ -10,7 +10,9 @@ Run:  python benchmarks/bench_sweep.py [--bicycles 50000] [--sizes 100000 100000
    (``benchmarks/bare_solve.py``, companion eigenvalues only) given the bicycles' matrices, and
    (b) the same solve from the bicycles' parameters (the generated matrix function, then (a)),
    which starts where the sweep's analysis starts. The issue's target: the sweep within 10
-   times the bare solve per bicycle; both ratios are printed.
+   times the bare solve per bicycle; both ratios are printed, with the fixed costs measured in
+   the same run (Python and NumPy starting; ``whipple sweep`` of a one-row table) and the cost
+   of each added row.
    The sweep runs once untimed first, with Python's bytecode cache allowed (an installed
    package has its modules compiled; without the cache every run compiles ~30 modules again).
 2. Sweep throughput (rows/s) for each of ``--sizes`` rows.
@@ -123,6 +125,16 @@ def main() -> None:
               f"ratio {sweep / bare:7.1f} (target <= 10)")
         print(f"   (b) bare polynomial solve from the parameters {from_parameters * 1e6:6.2f} us per bicycle; "
               f"ratio {sweep / from_parameters:7.1f} (target <= 10)")
+        # The fixed costs in the same run: what no per-row work can remove.
+        one_row = folder / "one_row.csv"
+        one_row.write_text("".join(table.open().readlines()[:2]))
+        fixed = min(run_sweep(one_row, folder / "out_one.csv", args.source) for _ in range(3))
+        numpy_start = min(_timed_process([sys.executable, "-c", "import numpy"]) for _ in range(3))
+        per_row = (sweep * args.bicycles - fixed) / (args.bicycles - 1)
+        print(f"   fixed: Python + NumPy start {numpy_start:.3f} s, whipple sweep of one row {fixed:.3f} s "
+              f"({fixed / args.bicycles * 1e6:.2f} us per bicycle here, ratio {fixed / args.bicycles / bare:.1f}"
+              f" to (a)); per added row {per_row * 1e6:.2f} us (ratio {per_row / bare:.1f} to (a), "
+              f"{per_row / from_parameters:.1f} to (b))")
 
         print("2. throughput")
         tables = {}
@@ -143,6 +155,12 @@ def main() -> None:
             same = filecmp.cmp(folder / f"out_{size}.csv", on_cluster, shallow=False)
             print(f"3. {size} bicycles on a local Dask cluster of {args.workers} workers: {elapsed:7.1f} s, "
                   f"{size / elapsed:9.0f} rows/s; output identical to the serial run: {'yes' if same else 'NO'}")
+
+
+def _timed_process(command: list[str]) -> float:
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    return _timed(lambda: subprocess.run(command, check=True, env=env))
 
 
 def _timed(function) -> float:  # type: ignore[no-untyped-def]

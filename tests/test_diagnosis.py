@@ -9,16 +9,18 @@ from __future__ import annotations
 
 import json
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from whipple.cli import main
-from whipple.diagnosis.causes import cause_by_name, with_cause
-from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis import starts
+from whipple.diagnosis.causes import cause_by_name, payload_form, with_cause
+from whipple.diagnosis.evidence import diagnose_observations, fit_cause
 from whipple.diagnosis.observations import Observation, predicted_modes, predicted_weave
 from whipple.measurement.runs import read_run
-from whipple.model.parameters import load_bicycle
+from whipple.model.parameters import Payload, load_bicycle
 from whipple.simulation.scenario import RunScenario
 from whipple.simulation.simulator import simulate_run, write_run_csv
 
@@ -80,6 +82,25 @@ def test_mode_shapes_tell_a_longer_trail_from_a_high_payload():
     without = diagnose_observations(bicycle, [replace(o, shape=None, shape_covariance=None) for o in with_shapes])
     evidence = dict(without.ranking())
     assert evidence["parameter:c"] - evidence["payload"] < 2.0  # eigenvalues alone: no clear winner
+
+
+BROWSER = Path(__file__).resolve().parent / "data" / "bicycleparameters" / "bicycles" / "BrowserBenchmark.txt"
+
+
+def test_a_load_ahead_of_the_steer_axis_is_found(monkeypatch):
+    # A 4 kg basket load 0.1 m ahead of the Browser's front contact: fits started near the
+    # front frame's mass centre end at the frame's rear bound (chi-square ~1800 for 24
+    # residuals); the coarse grid over the bounds starts one near the load.
+    bicycle = load_bicycle(str(BROWSER))
+    p = bicycle.parameters
+    load = (4.0, p["w"] + 0.1, -p["rF"] - 0.4)
+    observations = _observations(bicycle.with_extensions(front_payload=Payload(*load)), np.random.default_rng(1))
+    cause = payload_form(bicycle, "front_payload", "mxz")
+    fit = fit_cause(bicycle, cause, observations)
+    assert fit.chi2 < 2 * len(observations) * 2
+    assert all(abs(value - true) < 3 * std for value, true, std in zip(fit.values, load, fit.std, strict=True))
+    monkeypatch.setattr(starts, "GRID_STARTS", 0)
+    assert fit_cause(bicycle, cause, observations).chi2 > 100 * fit.chi2
 
 
 def test_no_effect_gives_none():

@@ -8,6 +8,8 @@ causes
     Candidate causes: each a model change with one or two physical parameters.
 evidence
     Each cause fitted to all observations; evidence and verdict.
+starts
+    Starting values for a cause's fit: fixed points and the best points of a coarse grid.
 families
     Families of causes that change the same physics (named when the data cannot tell their
     members apart), and pairs of causes fitted jointly.

@@ -41,6 +41,7 @@ from whipple.diagnosis.observations import (
     predicted_modes,
     speed_groups,
 )
+from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
 from whipple.model.parameters import Bicycle
 
@@ -251,14 +252,15 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
         return _residuals(cause.apply(bicycle, x * scale), observations, whitening)[0]
 
-    # A few deterministic starts spread over the bounds guard against local minima.
-    tries = [np.array(cause.start)] + [np.clip(np.array(cause.start) + (upper - lower) * f, lower, upper)
-                                       for f in (0.02, 0.1)]
-    if len(cause.parameters) > 1:
-        tries += [lower + (upper - lower) * np.resize(np.array(f), len(lower))
-                  for f in ((0.02, 0.1, 0.5), (0.1, 0.3, 0.4), (0.4, 0.05, 0.6))]
-    # Given starts first; the default ones only if every given start fails.
-    rounds = [tries] if starts is None else [[np.array(start, dtype=float) for start in starts], tries]
+    def chi2(values: Sequence[float]) -> float:
+        return robust_chi2(_residuals(cause.apply(bicycle, values), observations, whitening)[0])
+
+    # Given starts first; the fixed ones only if every given start fails. The grid's best points
+    # (:mod:`whipple.diagnosis.starts`) join the first round either way.
+    grid = grid_starts(cause, chi2)
+    tries = default_starts(cause)
+    rounds = ([tries + grid] if starts is None
+              else [[np.array(start, dtype=float) for start in starts] + grid, tries])
     best = None
     for round_ in rounds:
         for start in round_:

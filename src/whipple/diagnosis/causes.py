@@ -13,6 +13,9 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
+import numpy as np
+from numpy.typing import NDArray
+
 from whipple.model.parameter_set import PARAMETER_UNITS
 from whipple.model.parameters import Bicycle, Payload, TyreCompliance
 
@@ -53,6 +56,12 @@ class Cause:
     apply: Callable[[Bicycle, Sequence[float]], Bicycle]
     prior: float = 1.0
     null: tuple[float, ...] | None = None
+
+    @property
+    def limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Lower and upper bounds of the values, as arrays (units as ``units``)."""
+        bounds = np.array(self.bounds, dtype=float).reshape(-1, 2)
+        return bounds[:, 0], bounds[:, 1]
 
 
 def _steer_damping(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:

@@ -41,7 +41,7 @@ from whipple.diagnosis.observations import (
     predicted_modes,
     speed_groups,
 )
-from whipple.diagnosis.starts import default_starts, grid_starts
+from whipple.diagnosis.starts import default_starts, grid_starts, quick_starts
 from whipple.errors import AnalysisError, InputError
 from whipple.model.parameters import Bicycle
 
@@ -245,8 +245,7 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     ``starts``: starting values to try instead of the default few spread over the bounds.
     """
     whitening = _whitening(observations, bicycle) if whitening is None else whitening
-    lower = np.array([b[0] for b in cause.bounds])
-    upper = np.array([b[1] for b in cause.bounds])
+    lower, upper = cause.limits
     scale = np.maximum(np.abs(np.array(cause.start)), (upper - lower) * 1e-3)
 
     def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -329,7 +328,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
     n = sum(counts)
     base, fits = _fit_all(bicycle, causes, observations, whitening,
-                          [_quick_starts(cause) for cause in causes] if quick else None)
+                          [quick_starts(cause) for cause in causes] if quick else None)
     scales = _dispersions([base, *fits], counts)
     single_scales = typical_dispersion(fits, counts, whitening.scales)
     pairs: list[Cause] = []
@@ -409,13 +408,6 @@ def _rescaled(fit: CauseFit, split: int, scales: tuple[float, float]) -> CauseFi
     """Return a fit at unit dispersion with its residuals divided by the dispersions (no refit)."""
     residuals = np.concatenate([fit.residuals[:split] / np.sqrt(scales[0]), fit.residuals[split:] / np.sqrt(scales[1])])
     return replace(fit, residuals=residuals, chi2=robust_chi2(residuals))
-
-
-def _quick_starts(cause: Cause) -> list[list[float]]:
-    """Return the no-effect values and 5% of the bounds away (a fit started on a bound can stall)."""
-    start = np.array(cause.start, dtype=float)
-    lower, upper = (np.array([b[k] for b in cause.bounds]) for k in (0, 1))
-    return [list(start), [float(v) for v in np.clip(start + 0.05 * (upper - lower), lower, upper)]]
 
 
 def _clearly_better_pairs(scored: list[CauseFit], margin: float) -> list[CauseFit]:
@@ -526,7 +518,7 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], observations: Seq
         jacobian = np.hstack([columns[i], columns[j]])
         step = np.linalg.lstsq(jacobian, -residual, rcond=None)[0]
         pair = combined_cause(causes[i], causes[j])
-        linear = np.clip(np.array(pair.start) + step, [b[0] for b in pair.bounds], [b[1] for b in pair.bounds])
+        linear = np.clip(np.array(pair.start) + step, *pair.limits)
         ranked.append((float(np.sum((residual + jacobian @ step) ** 2)), pair, [float(v) for v in linear]))
     ranked.sort(key=lambda entry: entry[0])
     chosen: list[tuple[Cause, list[float]]] = []

@@ -1,4 +1,4 @@
-"""Starting values for fitting a cause: a few fixed points, and the best points of a coarse grid.
+"""Starting values for fitting a cause: fixed points, quick ones, and the best points of a coarse grid.
 
 A cause's fit (:func:`whipple.diagnosis.evidence.fit_cause`) is a local least-squares search;
 several starts guard against local minima. The fixed starts sit near the cause's no-effect
@@ -25,23 +25,26 @@ GRID_STARTS = 2
 GRID_MAX_VALUES = 3
 
 
-def _bounds(cause: Cause) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    return np.array([b[0] for b in cause.bounds], dtype=float), np.array([b[1] for b in cause.bounds], dtype=float)
-
-
 def default_starts(cause: Cause) -> list[NDArray[np.float64]]:
     """Return the fixed starts, in the values' units.
 
     The no-effect values, steps of 2% and 10% of the bounds from them, and for a cause with
     several values three points spread over the bounds.
     """
-    lower, upper = _bounds(cause)
+    lower, upper = cause.limits
     start = np.array(cause.start, dtype=float)
     tries = [start] + [np.clip(start + (upper - lower) * f, lower, upper) for f in (0.02, 0.1)]
     if len(cause.parameters) > 1:
         tries += [lower + (upper - lower) * np.resize(np.array(f), len(lower))
                   for f in ((0.02, 0.1, 0.5), (0.1, 0.3, 0.4), (0.4, 0.05, 0.6))]
     return tries
+
+
+def quick_starts(cause: Cause) -> list[list[float]]:
+    """Return the no-effect values and 5% of the bounds away (a fit started on a bound can stall)."""
+    lower, upper = cause.limits
+    start = np.array(cause.start, dtype=float)
+    return [list(start), [float(v) for v in np.clip(start + 0.05 * (upper - lower), lower, upper)]]
 
 
 def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[NDArray[np.float64]]:
@@ -59,7 +62,7 @@ def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[
     k = len(cause.parameters)
     if not 2 <= k <= GRID_MAX_VALUES:
         return []
-    lower, upper = _bounds(cause)
+    lower, upper = cause.limits
     cells = (np.arange(GRID_POINTS) + 0.5) / GRID_POINTS
     scored = []
     for fractions in itertools.product(cells, repeat=k):

@@ -421,6 +421,9 @@ def critical_speed_table(model: LinearModel, low: float = 0.0, high: float = 10.
 
 
 def _concatenated(parts: list[CriticalSpeedTable]) -> CriticalSpeedTable:
+    """One table of the models of all parts (none: an empty table)."""
+    empty = np.zeros(0)
+    parts = parts or [CriticalSpeedTable(empty, empty, np.zeros(0, dtype=np.intp), empty, empty)]
     return CriticalSpeedTable(*(np.concatenate([getattr(part, field) for part in parts])
                                 for field in CriticalSpeedTable.__dataclass_fields__))
 
@@ -433,9 +436,6 @@ def _general_table(coefficients: NDArray[np.float64], low: float, high: float, p
         weave, capsize, ranges = _main_speeds(found, segments, count)
         parts.append(CriticalSpeedTable(weave, capsize, ranges["model"] + start, ranges["low"],
                                         ranges["high"]))
-    if not parts:
-        empty = np.zeros(0)
-        return CriticalSpeedTable(empty, empty, np.zeros(0, dtype=np.intp), empty, empty)
     return _concatenated(parts)
 
 

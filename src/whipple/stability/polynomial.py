@@ -105,6 +105,17 @@ def is_second_order(coefficients: NDArray[np.float64]) -> bool:
     return bool(np.all(upper == kinematics))
 
 
+def det_2x2(X: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``det`` of 2 x 2 matrices X (..., 2, 2)."""
+    return X[..., 0, 0] * X[..., 1, 1] - X[..., 0, 1] * X[..., 1, 0]
+
+
+def mixed_2x2(X: NDArray[np.float64], Y: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``m(X, Y) = det(X + Y) - det X - det Y`` of 2 x 2 matrices (..., 2, 2)."""
+    return (X[..., 0, 0] * Y[..., 1, 1] + X[..., 1, 1] * Y[..., 0, 0]
+            - X[..., 0, 1] * Y[..., 1, 0] - X[..., 1, 0] * Y[..., 0, 1])
+
+
 def _det2(X: NDArray[np.float64], length: int) -> Poly:
     """``det`` of 2 x 2 matrices of polynomials ``(N, 2, 2, L)``."""
     return (multiply(X[:, 0, 0], X[:, 1, 1], length) - multiply(X[:, 0, 1], X[:, 1, 0], length))

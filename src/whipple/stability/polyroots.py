@@ -152,7 +152,7 @@ def _split_pairs(working: NDArray[np.float64], row: NDArray[np.intp], root: NDAr
     centre, half = root[pick].real, SCAN_WIDTH * root[pick].imag
     grid = centre[:, None] + half[:, None] * np.linspace(-1.0, 1.0, SCAN_POINTS)[None, :]
     polys = working[row[pick]]
-    values = _values(polys, grid)
+    values = evaluate(polys[:, None, :], grid)[0]
     change = np.nonzero(np.sign(values[:, :-1]) * np.sign(values[:, 1:]) < 0)
     owner = change[0]
     a, b = grid[change], grid[change[0], change[1] + 1]
@@ -160,19 +160,11 @@ def _split_pairs(working: NDArray[np.float64], row: NDArray[np.intp], root: NDAr
     own = polys[owner]
     for _ in range(BISECTIONS):
         middle = 0.5 * (a + b)
-        fm = _values(own, middle[:, None])[:, 0]
+        fm = evaluate(own, middle)[0]
         left = np.sign(fm) == np.sign(fa)
         a, fa = np.where(left, middle, a), np.where(left, fm, fa)
         b = np.where(left, b, middle)
     return row[pick][owner], (0.5 * (a + b)).astype(complex)
-
-
-def _values(polys: NDArray[np.float64], points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Values of polynomials (R, L) at points (R, P) (Horner)."""
-    value = np.zeros(points.shape)
-    for j in range(polys.shape[1] - 1, -1, -1):
-        value = value * points + polys[:, j:j + 1]
-    return value
 
 
 def _polish(polys: NDArray[np.float64], model: NDArray[np.intp], speed: NDArray[np.float64],

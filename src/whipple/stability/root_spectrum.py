@@ -28,7 +28,13 @@ from numpy.typing import NDArray
 
 from whipple.stability import modes
 from whipple.stability.crossing_modes import crossing_modes
-from whipple.stability.polynomial import characteristic_at, is_second_order, state_matrices_at
+from whipple.stability.polynomial import (
+    characteristic_at,
+    det_2x2,
+    is_second_order,
+    mixed_2x2,
+    state_matrices_at,
+)
 
 #: Largest |real part| [1/s, relative to 1 + |lambda|] of an eigenvalue accepted as touching
 #: the imaginary axis at a tangential root.
@@ -280,14 +286,8 @@ def characteristic_at_roots(coefficients: NDArray[np.float64], model: NDArray[np
     """``[1, a_1 .. a_4]`` of second-order models at their roots, from ``det(s^2 I + s C + K)``."""
     A = state_matrices_at(coefficients, model, speed)
     K, C = -A[:, 2:, :2], -A[:, 2:, 2:]
-
-    def det(X: NDArray[np.float64]) -> NDArray[np.float64]:
-        return X[:, 0, 0] * X[:, 1, 1] - X[:, 0, 1] * X[:, 1, 0]
-
-    mixed = C[:, 0, 0] * K[:, 1, 1] + C[:, 1, 1] * K[:, 0, 0] - C[:, 0, 1] * K[:, 1, 0] \
-        - C[:, 1, 0] * K[:, 0, 1]
     return np.stack([np.ones(speed.size), C[:, 0, 0] + C[:, 1, 1],
-                     K[:, 0, 0] + K[:, 1, 1] + det(C), mixed, det(K)], axis=-1)
+                     K[:, 0, 0] + K[:, 1, 1] + det_2x2(C), mixed_2x2(C, K), det_2x2(K)], axis=-1)
 
 
 def merge(parts: list[dict[str, NDArray]]) -> dict[str, NDArray]:

@@ -33,7 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.stability import modes
-from whipple.stability.polynomial import hurwitz_stable, is_second_order
+from whipple.stability.polynomial import det_2x2, hurwitz_stable, is_second_order, mixed_2x2
 from whipple.stability.root_spectrum import cubic_roots, null_roll_share
 
 #: Roots of a condition closer than this (relative, through the discriminant: ``|disc| <=
@@ -83,15 +83,6 @@ def is_whipple_form(coefficients: NDArray[np.float64]) -> bool:
                 and not np.any(lower[:, 2:3, :, 2:]))
 
 
-def _det(X: NDArray[np.float64]) -> NDArray[np.float64]:
-    return X[:, 0, 0] * X[:, 1, 1] - X[:, 0, 1] * X[:, 1, 0]
-
-
-def _mixed(X: NDArray[np.float64], Y: NDArray[np.float64]) -> NDArray[np.float64]:
-    return (X[:, 0, 0] * Y[:, 1, 1] + X[:, 1, 1] * Y[:, 0, 0]
-            - X[:, 0, 1] * Y[:, 1, 0] - X[:, 1, 0] * Y[:, 0, 1])
-
-
 def _quadratic_roots(p0: NDArray[np.float64], p1: NDArray[np.float64], p2: NDArray[np.float64]
                      ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Real roots (N, 2) of ``p0 + p1 u + p2 u^2`` (NaN for none) and whether to defer.
@@ -110,98 +101,13 @@ def _quadratic_roots(p0: NDArray[np.float64], p1: NDArray[np.float64], p2: NDArr
     return roots, defer
 
 
-def _speeds(u: NDArray[np.float64], low: float, high: float
+def _speeds(v: NDArray[np.float64], low: float, high: float
             ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Speeds ``sqrt(u)`` strictly inside (low, high) (NaN otherwise), and roots in [low, high]."""
+    """Speeds v [m/s] strictly inside (low, high) (NaN otherwise), and which are in [low, high]."""
     with np.errstate(invalid="ignore"):
-        v = np.sqrt(u)
         within = (v >= low) & (v <= high)
         inside = (v > low) & (v < high)
     return np.where(inside, v, np.nan), within
-
-
-def _hopf_labels(v: NDArray[np.float64], w2: NDArray[np.float64], c: NDArray[np.float64],
-                 k0: NDArray[np.float64], e2: NDArray[np.float64]
-                 ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """Whether each Hopf crossing (R, 2) is the weave, and whether that is too close to call.
-
-    At the root the quartic is ``(s^2 + w^2)(s^2 + a1 s + a2 - w^2)``; the crossing pair is the
-    weave unless the other pair is complex with a lower frequency.
-    """
-    a1 = v * c[:, None]
-    rest = k0[:, None] + v * v * e2[:, None] - w2
-    disc = a1 * a1 - 4.0 * rest
-    frequency = 0.5 * np.sqrt(np.maximum(-disc, 0.0))
-    magnitude = 1.0 + np.sqrt(np.abs(rest))
-    other_pair = frequency > modes.REAL_TOLERANCE * magnitude
-    w = np.sqrt(np.maximum(w2, 0.0))
-    weave = ~other_pair | (frequency >= w * (1.0 - 1e-12))
-    doubtful = (np.abs(frequency - modes.REAL_TOLERANCE * magnitude) <= 1e-3 * modes.REAL_TOLERANCE * magnitude) \
-        | (np.abs(frequency - w) <= 1e-9 * w)
-    return weave, doubtful
-
-
-def _capsize_labels(v: NDArray[np.float64], C1: NDArray[np.float64], K0: NDArray[np.float64],
-                    K2: NDArray[np.float64], c: NDArray[np.float64], k0: NDArray[np.float64],
-                    e2: NDArray[np.float64], d1: NDArray[np.float64], d3: NDArray[np.float64]
-                    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """Whether each real crossing (R, 2) is the capsize, and whether the closed form can tell.
-
-    At the root the other eigenvalues solve ``s^3 + a1 s^2 + a2 s + a3``. With a complex pair
-    among them (the weave) and one real eigenvalue r, the crossing (s = 0) is the capsize when
-    it is the rightmost of the roll-dominated real eigenvalues (of all real ones if neither is
-    roll-dominated). Without a pair the general solver follows the branches over speed.
-    """
-    u = v * v
-    a1, a2, a3 = v * c[:, None], k0[:, None] + u * e2[:, None], v * (d1[:, None] + u * d3[:, None])
-    others = cubic_roots(a1.ravel(), a2.ravel(), a3.ravel()).reshape(v.shape + (3,))
-    r = others[..., 0].real
-    pair_imag = np.abs(others[..., 1].imag)
-    magnitude = 1.0 + np.abs(others[..., 1])
-    has_pair = pair_imag > modes.REAL_TOLERANCE * magnitude
-    K = K0[:, None] + u[..., None, None] * K2[:, None]
-    C = v[..., None, None] * C1[:, None]
-    share_zero = null_roll_share(K)
-    share_r = null_roll_share(r[..., None, None] ** 2 * np.eye(2) + r[..., None, None] * C + K)
-    rolling_zero, rolling_r = share_zero >= 0.5, share_r >= 0.5
-    zero_candidate = rolling_zero | ~rolling_r
-    r_candidate = rolling_r | ~rolling_zero
-    capsize = zero_candidate & (~r_candidate | (r < 0))
-    doubtful = ~has_pair | (np.abs(pair_imag - modes.REAL_TOLERANCE * magnitude)
-                            <= 1e-3 * modes.REAL_TOLERANCE * magnitude)
-    doubtful |= (np.abs(share_zero - 0.5) <= 1e-9) | (np.abs(share_r - 0.5) <= 1e-9) | (r == 0)
-    return capsize, doubtful
-
-
-def _crossing_at_rest(c: NDArray[np.float64], k0: NDArray[np.float64], d1: NDArray[np.float64],
-                      f0: NDArray[np.float64]) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """Whether the weave crosses the axis at v = 0, and whether the closed form cannot tell.
-
-    v = 0 is the root of the factor u of the Hopf condition.
-
-    At rest the quartic is ``s^4 + k0 s^2 + f0``: a pair is on the axis where a root z of
-    ``z^2 + k0 z + f0`` is negative, the lowest-frequency one (the weave) at the negative z
-    nearest zero, ``w^2 = -z``. It crosses when ``Re d lambda / dv = (c w^2 - d1) / (2 k0 -
-    4 w^2)`` is not zero (the model is odd in v, so the real part changes sign there).
-    """
-    disc = k0 * k0 - 4.0 * f0
-    root = np.sqrt(np.maximum(disc, 0.0))
-    upper, lower = 0.5 * (-k0 + root), 0.5 * (-k0 - root)
-    w2 = np.where(disc >= 0, np.where(upper < 0, -upper, -lower), -1.0)
-    w = np.sqrt(np.maximum(w2, 0.0))
-    on_axis = (w2 > 0) & (w > modes.REAL_TOLERANCE * (1.0 + w))
-    slope, curvature = c * w2 - d1, 2.0 * k0 - 4.0 * w2
-    scale = 1e-6 * (np.abs(c) * np.abs(w2) + np.abs(d1))
-    doubtful = (np.abs(w - modes.REAL_TOLERANCE * (1.0 + w)) <= 1e-3 * modes.REAL_TOLERANCE) \
-        | (np.abs(disc) <= DOUBLE_ROOT * k0 * k0)
-    doubtful |= on_axis & ((np.abs(slope) <= scale) | (np.abs(curvature) <= 1e-6 * (np.abs(k0) + w2)))
-    return on_axis & ~doubtful, doubtful
-
-
-def _first(v: NDArray[np.float64], chosen: NDArray[np.bool_]) -> NDArray[np.float64]:
-    """Lowest of the chosen speeds (R, 2) per row; NaN where none is chosen."""
-    first = np.min(np.where(chosen, v, np.inf), axis=-1)
-    return np.where(np.isfinite(first), first, np.nan)
 
 
 @dataclass(frozen=True)
@@ -227,8 +133,8 @@ class _Invariants:
         C1 = -coefficients[:, 1, 2:, 2:] if coefficients.shape[1] > 1 else np.zeros((count, 2, 2))
         K2 = -coefficients[:, 2, 2:, :2] if coefficients.shape[1] > 2 else np.zeros((count, 2, 2))
         return cls(C1, K0, K2, C1[:, 0, 0] + C1[:, 1, 1], K0[:, 0, 0] + K0[:, 1, 1],
-                   K2[:, 0, 0] + K2[:, 1, 1] + _det(C1), _mixed(C1, K0), _mixed(C1, K2), _det(K0),
-                   _mixed(K0, K2), _det(K2))
+                   K2[:, 0, 0] + K2[:, 1, 1] + det_2x2(C1), mixed_2x2(C1, K0), mixed_2x2(C1, K2), det_2x2(K0),
+                   mixed_2x2(K0, K2), det_2x2(K2))
 
     def select(self, rows: NDArray[np.intp]) -> _Invariants:
         return _Invariants(*(getattr(self, name)[rows] for name in self.__dataclass_fields__))
@@ -241,14 +147,96 @@ class _Invariants:
                          self.f0[rows] + u * (self.f2[rows] + u * self.f4[rows])], axis=-1)
 
 
+def _hopf_labels(p: _Invariants, v: NDArray[np.float64], w2: NDArray[np.float64]
+                 ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Whether each Hopf crossing (R, 2) is the weave, and whether that is too close to call.
+
+    At the root the quartic is ``(s^2 + w^2)(s^2 + a1 s + a2 - w^2)``; the crossing pair is the
+    weave unless the other pair is complex with a lower frequency.
+    """
+    a1 = v * p.c[:, None]
+    rest = p.k0[:, None] + v * v * p.e2[:, None] - w2
+    disc = a1 * a1 - 4.0 * rest
+    frequency = 0.5 * np.sqrt(np.maximum(-disc, 0.0))
+    magnitude = 1.0 + np.sqrt(np.abs(rest))
+    other_pair = frequency > modes.REAL_TOLERANCE * magnitude
+    w = np.sqrt(np.maximum(w2, 0.0))
+    weave = ~other_pair | (frequency >= w * (1.0 - 1e-12))
+    doubtful = (np.abs(frequency - modes.REAL_TOLERANCE * magnitude) <= 1e-3 * modes.REAL_TOLERANCE * magnitude) \
+        | (np.abs(frequency - w) <= 1e-9 * w)
+    return weave, doubtful
+
+
+def _capsize_labels(p: _Invariants, v: NDArray[np.float64]
+                    ) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Whether each real crossing (R, 2) is the capsize, and whether the closed form can tell.
+
+    At the root the other eigenvalues solve ``s^3 + a1 s^2 + a2 s + a3``. With a complex pair
+    among them (the weave) and one real eigenvalue r, the crossing (s = 0) is the capsize when
+    it is the rightmost of the roll-dominated real eigenvalues (of all real ones if neither is
+    roll-dominated). Without a pair the general solver follows the branches over speed.
+    """
+    u = v * v
+    a1, a2 = v * p.c[:, None], p.k0[:, None] + u * p.e2[:, None]
+    a3 = v * (p.d1[:, None] + u * p.d3[:, None])
+    others = cubic_roots(a1.ravel(), a2.ravel(), a3.ravel()).reshape(v.shape + (3,))
+    r = others[..., 0].real
+    pair_imag = np.abs(others[..., 1].imag)
+    magnitude = 1.0 + np.abs(others[..., 1])
+    has_pair = pair_imag > modes.REAL_TOLERANCE * magnitude
+    K = p.K0[:, None] + u[..., None, None] * p.K2[:, None]
+    C = v[..., None, None] * p.C1[:, None]
+    share_zero = null_roll_share(K)
+    share_r = null_roll_share(r[..., None, None] ** 2 * np.eye(2) + r[..., None, None] * C + K)
+    rolling_zero, rolling_r = share_zero >= 0.5, share_r >= 0.5
+    zero_candidate = rolling_zero | ~rolling_r
+    r_candidate = rolling_r | ~rolling_zero
+    capsize = zero_candidate & (~r_candidate | (r < 0))
+    doubtful = ~has_pair | (np.abs(pair_imag - modes.REAL_TOLERANCE * magnitude)
+                            <= 1e-3 * modes.REAL_TOLERANCE * magnitude)
+    doubtful |= (np.abs(share_zero - 0.5) <= 1e-9) | (np.abs(share_r - 0.5) <= 1e-9) | (r == 0)
+    return capsize, doubtful
+
+
+def _crossing_at_rest(p: _Invariants) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Whether the weave crosses the axis at v = 0, and whether the closed form cannot tell.
+
+    v = 0 is the root of the factor u of the Hopf condition.
+
+    At rest the quartic is ``s^4 + k0 s^2 + f0``: a pair is on the axis where a root z of
+    ``z^2 + k0 z + f0`` is negative, the lowest-frequency one (the weave) at the negative z
+    nearest zero, ``w^2 = -z``. It crosses when ``Re d lambda / dv = (c w^2 - d1) / (2 k0 -
+    4 w^2)`` is not zero (the model is odd in v, so the real part changes sign there).
+    """
+    c, k0, d1 = p.c, p.k0, p.d1
+    disc = k0 * k0 - 4.0 * p.f0
+    root = np.sqrt(np.maximum(disc, 0.0))
+    upper, lower = 0.5 * (-k0 + root), 0.5 * (-k0 - root)
+    w2 = np.where(disc >= 0, np.where(upper < 0, -upper, -lower), -1.0)
+    w = np.sqrt(np.maximum(w2, 0.0))
+    on_axis = (w2 > 0) & (w > modes.REAL_TOLERANCE * (1.0 + w))
+    slope, curvature = c * w2 - d1, 2.0 * k0 - 4.0 * w2
+    scale = 1e-6 * (np.abs(c) * np.abs(w2) + np.abs(d1))
+    doubtful = (np.abs(w - modes.REAL_TOLERANCE * (1.0 + w)) <= 1e-3 * modes.REAL_TOLERANCE) \
+        | (np.abs(disc) <= DOUBLE_ROOT * k0 * k0)
+    doubtful |= on_axis & ((np.abs(slope) <= scale) | (np.abs(curvature) <= 1e-6 * (np.abs(k0) + w2)))
+    return on_axis & ~doubtful, doubtful
+
+
+def _first(v: NDArray[np.float64], chosen: NDArray[np.bool_]) -> NDArray[np.float64]:
+    """Lowest of the chosen speeds (R, 2) per row; NaN where none is chosen."""
+    first = np.min(np.where(chosen, v, np.inf), axis=-1)
+    return np.where(np.isfinite(first), first, np.nan)
+
+
 def _first_weave(p: _Invariants, v: NDArray[np.float64], w2: NDArray[np.float64],
                  within: NDArray[np.bool_], low: float) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Return the first weave crossing in the interval [m/s] (NaN for none), and any doubt."""
-    weave, doubt = _hopf_labels(v, w2, p.c, p.k0, p.e2)
+    weave, doubt = _hopf_labels(p, v, w2)
     first = _first(v, within & weave)
     doubtful = np.any(within & doubt, axis=-1)
     if low == 0.0:
-        at_rest, doubt_at_rest = _crossing_at_rest(p.c, p.k0, p.d1, p.f0)
+        at_rest, doubt_at_rest = _crossing_at_rest(p)
         first[at_rest] = 0.0
         doubtful |= doubt_at_rest
     return first, doubtful
@@ -257,7 +245,7 @@ def _first_weave(p: _Invariants, v: NDArray[np.float64], w2: NDArray[np.float64]
 def _first_capsize(p: _Invariants, v: NDArray[np.float64], within: NDArray[np.bool_], low: float
                    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Return the first capsize crossing in the interval [m/s] (NaN for none), and any doubt."""
-    capsize, doubt = _capsize_labels(v, p.C1, p.K0, p.K2, p.c, p.k0, p.e2, p.d1, p.d3)
+    capsize, doubt = _capsize_labels(p, v)
     doubtful = np.any(within & doubt, axis=-1)
     if low == 0.0:
         doubtful |= p.f0 == 0  # a real root at rest
@@ -292,8 +280,8 @@ def whipple_form_table(coefficients: NDArray[np.float64], low: float, high: floa
         hopf_v, real_v = np.sqrt(hopf_u), np.sqrt(real_u)
     w = np.sqrt(np.maximum(w2, 0.0))
     genuine = (w2 > 0) & (w > modes.REAL_TOLERANCE * (1.0 + w))
-    hopf_inside, hopf_within = _speeds(hopf_u, low, high)
-    real_inside, real_within = _speeds(real_u, low, high)
+    hopf_inside, hopf_within = _speeds(hopf_v, low, high)
+    real_inside, real_within = _speeds(real_v, low, high)
     # (A Hopf root u = 0 beside the factor u is a double root at rest.)
     defer = defer_hopf | defer_real | (c == 0) | np.any(hopf_u == 0, axis=-1)
     # A pair barely on or off the axis (w ~ 0): the general solver decides on the eigenvalues.

@@ -118,9 +118,9 @@ def main() -> None:
         from_parameters = min(_timed(lambda: bare_critical_roots(*matrices(arguments)))
                               for _ in range(5)) / args.bicycles
         run_sweep(table, folder / "out_small.csv", args.source)  # compiles and caches the modules
-        sweep = min(run_sweep(table, folder / "out_small.csv", args.source) for _ in range(3)) / args.bicycles
+        sweep = min(run_sweep(table, folder / "out_small.csv", args.source) for _ in range(5)) / args.bicycles
         print(f"1. {args.bicycles} random bicycles: whipple sweep end to end {sweep * 1e6:8.2f} us per bicycle "
-              "(best of 3)")
+              "(best of 5)")
         print(f"   (a) bare polynomial solve from the matrices   {bare * 1e6:6.2f} us per bicycle; "
               f"ratio {sweep / bare:7.1f} (target <= 10)")
         print(f"   (b) bare polynomial solve from the parameters {from_parameters * 1e6:6.2f} us per bicycle; "
@@ -128,8 +128,8 @@ def main() -> None:
         # The fixed costs in the same run: what no per-row work can remove.
         one_row = folder / "one_row.csv"
         one_row.write_text("".join(table.open().readlines()[:2]))
-        fixed = min(run_sweep(one_row, folder / "out_one.csv", args.source) for _ in range(3))
-        numpy_start = min(_timed_process([sys.executable, "-c", "import numpy"]) for _ in range(3))
+        fixed = min(run_sweep(one_row, folder / "out_one.csv", args.source) for _ in range(5))
+        numpy_start = min(_timed_process([sys.executable, "-c", "import numpy"]) for _ in range(5))
         per_row = (sweep * args.bicycles - fixed) / (args.bicycles - 1)
         print(f"   fixed: Python + NumPy start {numpy_start:.3f} s, whipple sweep of one row {fixed:.3f} s "
               f"({fixed / args.bicycles * 1e6:.2f} us per bicycle here, ratio {fixed / args.bicycles / bare:.1f}"

@@ -132,6 +132,59 @@ def test_reader_parses_like_python_floats_and_names_bad_cells(tmp_path):
         read_parameter_table(sets)
 
 
+def _messy_table(path, seed: int) -> list[list[float]]:
+    """A table of plain rows among comments, blank lines, quoted and spaced cells and CRLF ends.
+
+    Returns the rows' values as Python's ``float`` reads the cells (the reference).
+    """
+    rng = np.random.default_rng(seed)
+    lines, expected = ["# made by a test", "c,mB,w"], []
+    for _ in range(60):
+        values = (0.08 * np.exp(0.1 * rng.standard_normal(3)) * [1.0, 1000.0, 13.0]).tolist()
+        cells = [repr(x) for x in values]
+        kind = rng.integers(12)
+        if kind == 0:
+            lines.append("")
+        elif kind == 1:
+            lines.append("# " + ",".join(cells))
+        if kind == 2:
+            cells[1] = f'"{cells[1]}"'
+        elif kind == 3:
+            cells[0] = f" {cells[0]} "
+        elif kind == 4:
+            cells[2] = f"{values[2]:.3e}"
+            values[2] = float(cells[2])
+        lines.append(",".join(cells) + ("\r" if kind == 5 else ""))
+        expected.append(values)
+    path.write_text("\n".join(lines) + "\n", newline="")
+    return expected
+
+
+@pytest.mark.parametrize("rows", [1, 2, 7, 10_000])
+def test_fast_and_general_readers_agree_on_messy_tables(tmp_path, rows):
+    # Plain blocks take the fast reader, any other the general one: each chunk size mixes them
+    # differently, and every one must read the values Python reads and repeat the rows as written.
+    sets = tmp_path / "sets.csv"
+    expected = _messy_table(sets, seed=rows)
+    names, chunks = table_chunks(sets, rows=rows)
+    chunks = list(chunks)
+    assert names == ("c", "mB", "w")
+    assert np.concatenate([chunk.values for chunk in chunks]).tolist() == expected
+    written = [line.rstrip("\r") for line in sets.read_bytes().decode().split("\n")[2:]
+               if line.strip() and not line.startswith("#")]
+    assert [line for chunk in chunks for line in chunk.lines] == written
+
+
+def test_bad_cell_after_plain_chunks_is_named_by_its_line(tmp_path):
+    sets = tmp_path / "sets.csv"
+    sets.write_text("c,mB\n# note\n" + "0.08,85\n" * 9 + "\n0.08,1_0\n")
+    assert read_parameter_table(sets).columns["mB"].tolist() == [85.0] * 9 + [10.0]  # as float() reads
+    sets.write_text(sets.read_text() + "0.08,nan\n")
+    for rows in (1, 3, 4, 100):
+        with pytest.raises(ValueError, match=r"line 14, column mB: not finite: 'nan'"):
+            list(table_chunks(sets, rows=rows)[1])
+
+
 def test_bad_cell_late_in_the_table_leaves_no_output(tmp_path, capsys):
     sets, out = tmp_path / "sets.csv", tmp_path / "out.csv"
     sets.write_text("c\n" + "0.08\n" * 3 + "x\n")

@@ -401,23 +401,26 @@ def critical_speed_table(model: LinearModel, low: float = 0.0, high: float = 10.
     CriticalSpeedTable
     """
     coefficients = _checked_coefficients(model, low, high)
-    if not (polish and low >= 0 and is_whipple_form(coefficients)):
+    if not (polish and low >= 0 and coefficients.shape[0] and is_whipple_form(coefficients)):
         return _general_table(coefficients, low, high, polish, chunk_size)
-    parts = []
-    for start in range(0, coefficients.shape[0], chunk_size):
-        chunk = coefficients[start:start + chunk_size]
-        closed = whipple_form_table(chunk, low, high)
-        rest = np.nonzero(~closed.settled)[0]
-        general = _general_table(chunk[rest], low, high, polish, chunk_size)
-        weave, capsize = closed.weave_speed, closed.capsize_speed
-        weave[rest], capsize[rest] = general.weave_speed, general.capsize_speed
-        range_model = np.concatenate([closed.range_model, rest[general.range_model]])
-        # Stable: the ranges of one model stay in increasing speed.
-        order = np.argsort(range_model, kind="stable")
-        parts.append(CriticalSpeedTable(weave, capsize, range_model[order] + start,
-                                        np.concatenate([closed.range_low, general.range_low])[order],
-                                        np.concatenate([closed.range_high, general.range_high])[order]))
-    return _concatenated(parts)
+    closed = [whipple_form_table(coefficients[start:start + chunk_size], low, high)
+              for start in range(0, coefficients.shape[0], chunk_size)]
+    settled = np.concatenate([part.settled for part in closed])
+    # The few models the closed form leaves go to the general solver together: its cost is
+    # mostly per call.
+    rest = np.nonzero(~settled)[0]
+    general = _general_table(coefficients[rest], low, high, polish, chunk_size)
+    weave = np.concatenate([part.weave_speed for part in closed])
+    capsize = np.concatenate([part.capsize_speed for part in closed])
+    weave[rest], capsize[rest] = general.weave_speed, general.capsize_speed
+    offsets = np.arange(0, coefficients.shape[0], chunk_size)
+    range_model = np.concatenate([part.range_model + offset for part, offset in zip(closed, offsets, strict=True)]
+                                 + [rest[general.range_model]])
+    # Stable: the ranges of one model stay in increasing speed.
+    order = np.argsort(range_model, kind="stable")
+    return CriticalSpeedTable(weave, capsize, range_model[order],
+                              np.concatenate([part.range_low for part in closed] + [general.range_low])[order],
+                              np.concatenate([part.range_high for part in closed] + [general.range_high])[order])
 
 
 def _concatenated(parts: list[CriticalSpeedTable]) -> CriticalSpeedTable:

@@ -22,7 +22,9 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
+import fastnumbers
 import numpy as np
+import orjson
 from numpy.typing import NDArray
 
 from whipple.errors import InputError
@@ -105,11 +107,70 @@ def _parse_block(lines: list[tuple[int, str]], header: tuple[str, ...], path: Pa
     return values
 
 
+def _plain_block(lines: list[str], columns: int) -> NDArray[np.float64] | None:
+    """Return the cells of lines that are all plain rows of finite numbers; None for anything else.
+
+    Nearly every table is such a block (no comments, blank lines or quotes), and reading the
+    numbers is most of the cost of a sweep's row: fastnumbers' parser (the fast_float algorithm,
+    correctly rounded, so the values are those of ``float``) reads them several times faster
+    than NumPy's or Python's. A block that is not plain (or a cell ``float`` would take and it
+    refuses, e.g. ``1_0``) is read by the general path, which also names a bad cell.
+    """
+    if set(map(str.count, lines, itertools.repeat(","))) != {columns - 1}:
+        return None
+    values = fastnumbers.try_array(",".join(lines).split(","), dtype=float, on_fail=np.nan)
+    if not np.all(np.isfinite(values)):
+        return None
+    return values.reshape(len(lines), columns)
+
+
+#: Characters read from a table at a time.
+_READ_SIZE = 1 << 20
+
+
 def _open_text(path: Path) -> io.TextIOWrapper:
     try:
-        return path.open(newline="", encoding="utf-8")
+        # Universal newlines: lines end in "\n" whatever the file's convention.
+        return path.open(encoding="utf-8")
     except OSError as error:
         raise InputError(f"cannot read: {error.strerror}", path) from None
+
+
+def _line_blocks(handle: io.TextIOWrapper, rows: int) -> Iterator[list[str]]:
+    """Yield the rest of a file's lines (without line ends), `rows` at a time (the last block fewer).
+
+    Read in large pieces and split at once: iterating a file line by line and stripping each
+    line's end costs as much as parsing its numbers.
+    """
+    pending: list[str] = []
+    carry = ""
+    while text := handle.read(_READ_SIZE):
+        lines = (carry + text).split("\n")
+        carry = lines.pop()
+        pending.extend(lines)
+        while len(pending) >= rows:
+            yield pending[:rows]
+            del pending[:rows]
+    if carry:
+        pending.append(carry)
+    for start in range(0, len(pending), rows):
+        yield pending[start:start + rows]
+
+
+def _header(handle: Iterable[str], path: Path) -> tuple[tuple[str, ...], int]:
+    """Return the column names from the first data line and that line's number (reading no further)."""
+    first = next(_data_lines(handle, 1), None)
+    if first is None:
+        raise InputError("empty parameter table", path)
+    header = tuple(cell.strip() for cell in next(csv.reader([first[1]])))
+    unknown = [name for name in header if name not in PARAMETER_NAMES]
+    if unknown:
+        raise InputError(f"unknown column(s) {', '.join(unknown)}; columns must be benchmark parameter "
+                         "names", path)
+    repeated = sorted({name for name in header if header.count(name) > 1})
+    if repeated:
+        raise InputError(f"repeated column(s) {', '.join(repeated)}", path)
+    return header, first[0]
 
 
 def table_chunks(path: str | Path, rows: int = CHUNK_ROWS) -> tuple[tuple[str, ...], Iterator[TableChunk]]:
@@ -134,21 +195,23 @@ def table_chunks(path: str | Path, rows: int = CHUNK_ROWS) -> tuple[tuple[str, .
     """
     path = Path(path)
     handle = _open_text(path)
+
+    def blocks(first_line: int) -> Iterator[TableChunk]:
+        """Chunks of at most `rows` lines of the file, from line `first_line` on."""
+        for block in _line_blocks(handle, rows):
+            values = _plain_block(block, len(header))
+            if values is not None:
+                yield TableChunk(header, values, tuple(block))
+            elif data := list(_data_lines(block, first_line)):
+                yield TableChunk(header, _parse_block(data, header, path), tuple(line for _, line in data))
+            first_line += len(block)
+
     try:
-        lines = _data_lines(handle, 1)
-        first = next(lines, None)
+        # The header is the first data line; the lines before it are comments or blank.
+        header, header_line_number = _header(handle, path)
+        chunks = blocks(header_line_number + 1)
+        first = next(chunks, None)
         if first is None:
-            raise InputError("empty parameter table", path)
-        header = tuple(cell.strip() for cell in next(csv.reader([first[1]])))
-        unknown = [name for name in header if name not in PARAMETER_NAMES]
-        if unknown:
-            raise InputError(f"unknown column(s) {', '.join(unknown)}; columns must be benchmark parameter "
-                             "names", path)
-        repeated = sorted({name for name in header if header.count(name) > 1})
-        if repeated:
-            raise InputError(f"repeated column(s) {', '.join(repeated)}", path)
-        block = list(itertools.islice(lines, rows))
-        if not block:
             raise InputError("no parameter sets (only a header)", path)
     except UnicodeDecodeError:
         handle.close()
@@ -157,18 +220,15 @@ def table_chunks(path: str | Path, rows: int = CHUNK_ROWS) -> tuple[tuple[str, .
         handle.close()
         raise
 
-    def chunks() -> Iterator[TableChunk]:
-        nonlocal block
+    def all_chunks() -> Iterator[TableChunk]:
         with handle:
             try:
-                while block:
-                    yield TableChunk(header, _parse_block(block, header, path),
-                                     tuple(line.rstrip("\r\n") for _, line in block))
-                    block = list(itertools.islice(lines, rows))
+                yield first
+                yield from chunks
             except UnicodeDecodeError:
                 raise InputError("not a text (UTF-8) file", path) from None
 
-    return header, chunks()
+    return header, all_chunks()
 
 
 def read_parameter_table(path: str | Path) -> ParameterTable:
@@ -228,7 +288,9 @@ def _valid_sets(chunk: TableChunk, base: Bicycle
     every row. The model is None when no row is valid.
     """
     count = chunk.values.shape[0]
-    parameters = {name: np.full(count, value) for name, value in base.parameters.items()}
+    # The base's values stay scalars (broadcast): a check of a column the table does not vary
+    # then costs nothing per row.
+    parameters: dict[str, float | NDArray[np.float64]] = dict(base.parameters)
     parameters.update({name: chunk.values[:, c] for c, name in enumerate(chunk.names)})
     problems = validate_rows(parameters)
     rows = [row for row, problem in enumerate(problems) if not problem]
@@ -236,7 +298,8 @@ def _valid_sets(chunk: TableChunk, base: Bicycle
         return problems, rows, None
     if len(rows) < count:
         index = np.array(rows)
-        parameters = {name: values[index] for name, values in parameters.items()}
+        parameters = {name: values[index] if isinstance(values, np.ndarray) else values
+                      for name, values in parameters.items()}
     model = build_linear_model(parameters, base.extensions, base.controller)
     return problems, rows, model
 
@@ -266,6 +329,18 @@ def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, flo
     return problems, critical
 
 
+def float_cells(values: NDArray[np.float64]) -> list[str]:
+    """CSV cells of numbers: the shortest text that reads back exactly, empty for NaN.
+
+    The text of ``repr`` (apart from the exponent form of some very small or large numbers),
+    written by orjson's float formatter, which is several times faster than ``repr`` and most
+    of the cost of writing a results table otherwise.
+    """
+    if not values.size:
+        return []
+    return orjson.dumps(values.tolist())[1:-1].decode().replace("null", "").split(",")
+
+
 def _quoted(cell: str) -> str:
     """Write one CSV cell as the csv module does (quoted only if it must be)."""
     buffer = io.StringIO()
@@ -283,35 +358,34 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     :func:`analyse_sets`, without a result object per row).
     """
     problems, valid, model = _valid_sets(task.chunk, task.base)
-    weave_cells: list[str] = []
-    capsize_cells: list[str] = []
-    ranges: list[str] = [""] * len(valid)
+    count = len(problems)
+    weave_cells, capsize_cells, ranges = [""] * count, [""] * count, [""] * count
     if model is not None:
         table = critical_speed_table(model, *task.speed_range)
-        weave, capsize = table.weave_speed.tolist(), table.capsize_speed.tolist()
-        # Empty for NaN (none); written inline: a call per cell costs as much as its repr.
-        weave_cells = [repr(x) if x == x else "" for x in weave]
-        capsize_cells = [repr(x) if x == x else "" for x in capsize]
-        for index, low, high in zip(table.range_model.tolist(), table.range_low.tolist(),
-                                    table.range_high.tolist(), strict=True):
-            # Most stable ranges run from the weave to the capsize speed: reuse their text
-            # (formatting the floats is most of the cost of writing a row).
-            pair = (f"{weave_cells[index] if low == weave[index] else repr(low)}:"
-                    f"{capsize_cells[index] if high == capsize[index] else repr(high)}")
+        weave_cells, capsize_cells = float_cells(table.weave_speed), float_cells(table.capsize_speed)
+        ranges = [""] * len(valid)
+        pairs = map(":".join, zip(float_cells(table.range_low), float_cells(table.range_high), strict=True))
+        for index, pair in zip(table.range_model.tolist(), pairs, strict=True):
             ranges[index] = f"{ranges[index]};{pair}" if ranges[index] else pair
+        if len(valid) < count:  # rows not analysed have empty cells
+            weave_cells, capsize_cells, ranges = (_scattered(cells, valid, count)
+                                                  for cells in (weave_cells, capsize_cells, ranges))
     rows = task.chunk.lines
     if rows is None:
-        rows = tuple(",".join(map(repr, cells)) for cells in task.chunk.values.tolist())
-    lines: list[str] = []
-    append = lines.append
-    position = 0
-    for inputs, problem in zip(rows, problems, strict=True):
-        if problem:
-            append(f"{inputs},,,,{_quoted(problem)}\n")
-            continue
-        append(f"{inputs},{weave_cells[position]},{capsize_cells[position]},{ranges[position]},\n")
-        position += 1
-    return ChunkResult("".join(lines), len(lines), len(rows) - len(valid))
+        cells, width = float_cells(task.chunk.values.ravel()), task.chunk.values.shape[1]
+        rows = tuple(",".join(cells[start:start + width]) for start in range(0, len(cells), width))
+    problem_cells = [_quoted(problem) if problem else "" for problem in problems]
+    text = "".join([f"{inputs},{weave},{capsize},{pairs},{problem}\n" for inputs, weave, capsize, pairs, problem
+                    in zip(rows, weave_cells, capsize_cells, ranges, problem_cells, strict=True)])
+    return ChunkResult(text, count, count - len(valid))
+
+
+def _scattered(cells: list[str], rows: list[int], count: int) -> list[str]:
+    """`count` cells: ``cells[k]`` at ``rows[k]``, empty elsewhere."""
+    full = [""] * count
+    for row, cell in zip(rows, cells, strict=True):
+        full[row] = cell
+    return full
 
 
 def header_line(names: tuple[str, ...]) -> str:

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from whipple.errors import InputError
 from whipple.model.first_order import second_order_coefficients
 
 #: States of the Whipple model, in order, with their units.
@@ -88,6 +89,13 @@ class LinearModel:
             self.A[index], self.B[index], self.state_names, self.state_units,
             self.input_names, self.input_units, self.description,
         )
+
+
+def check_model(model: LinearModel) -> None:
+    """Raise InputError if the model's matrices hold NaN or infinite entries."""
+    if not np.all(np.isfinite(model.A)):
+        raise InputError("the model's matrices have NaN or infinite entries",
+                         model.description or None)
 
 
 def _evaluate_polynomial(coefficients: NDArray[np.float64], speeds: ArrayLike) -> NDArray[np.float64]:

@@ -43,9 +43,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import InputError
-from whipple.model.linear import LinearModel
+from whipple.model.linear import LinearModel, check_model
 from whipple.stability import modes
-from whipple.stability.eigen import check_model
 from whipple.stability.polynomial import characteristic_at, conditions, hurwitz_stable
 from whipple.stability.polyroots import real_roots
 from whipple.stability.root_spectrum import directions, merge, merge_touches, verify_roots

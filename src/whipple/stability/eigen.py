@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import InputError
-from whipple.model.linear import LinearModel
+from whipple.model.linear import LinearModel, check_model
 from whipple.stability import modes
 
 #: Largest speed step [m/s] of the grid on which eigenvalues are tracked.
@@ -138,13 +138,6 @@ def check_speeds(speeds: ArrayLike) -> NDArray[np.float64]:
     if not np.all(np.isfinite(array)):
         raise InputError("speeds must be finite numbers")
     return array
-
-
-def check_model(model: LinearModel) -> None:
-    """Raise InputError if the model's matrices hold NaN or infinite entries."""
-    if not np.all(np.isfinite(model.A)):
-        raise InputError("the model's matrices have NaN or infinite entries",
-                         model.description or None)
 
 
 def tracked_eigenvalues(

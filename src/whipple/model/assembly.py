@@ -17,9 +17,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import ParameterError
 from whipple.generated import whipple_extended_numpy, whipple_numpy
+from whipple.model.actuator import with_actuator
 from whipple.model.bodies import fold_point_wheels
 from whipple.model.linear import LinearModel, second_order_model
 from whipple.model.parameters import Bicycle, Controller, Extensions
+from whipple.model.tyre import tyre_linear_model
 
 _NO_EXTENSIONS = Extensions()
 
@@ -156,16 +158,10 @@ def build_linear_model(
         State feedback whose gains are polynomials in the speed; with a delay or lag the
         model gains actuator states (:mod:`whipple.model.actuator`).
     """
-    # The actuator and tyre models are imported when a bicycle has them: most models (and
-    # every row of a plain sweep) need neither, and loading them is a tenth of a sweep's start.
     if controller is not None and controller.has_dynamics():
-        from whipple.model.actuator import with_actuator
-
         return with_actuator(build_linear_model(parameters, extensions, None, description), controller)
     tyres = extensions is not None and extensions.tyre_compliance is not None
     if tyres or "cornering_stiffness" in parameters:
-        from whipple.model.tyre import tyre_linear_model
-
         return tyre_linear_model(parameters, extensions, controller, description)
     matrices = model_matrices(parameters, extensions)
     feedback = controller.feedback_coefficients() if controller is not None else None

@@ -86,7 +86,7 @@ def whipple_command() -> list[str]:
     """The installed ``whipple`` command beside this Python (``python -m whipple`` if there is none).
 
     The command is what users run; ``python -m whipple`` measured 15-20 ms more per process here
-    (runpy's start-up path), which would be charged to every row of the table.
+    (cause not pinned down), which would be charged to every row of the table.
     """
     script = Path(sys.executable).parent / "whipple"
     return [str(script)] if script.is_file() else [sys.executable, "-m", "whipple"]

@@ -11,8 +11,9 @@ from dataclasses import replace
 import numpy as np
 
 from whipple.diagnosis.causes import cause_by_name, with_cause
-from whipple.diagnosis.evidence import diagnose_observations, fit_cause
+from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import combined_cause, common_family, describe_family
+from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import Observation, predicted_modes, speed_groups
 from whipple.model.parameters import load_bicycle

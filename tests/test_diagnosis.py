@@ -17,7 +17,8 @@ import pytest
 from whipple.cli import main
 from whipple.diagnosis import starts
 from whipple.diagnosis.causes import cause_by_name, payload_form, with_cause
-from whipple.diagnosis.evidence import diagnose_observations, fit_cause
+from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.observations import Observation, predicted_modes, predicted_weave
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import Payload, load_bicycle

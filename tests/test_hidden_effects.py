@@ -23,10 +23,10 @@ from whipple.model.parameters import load_bicycle
 #: One seed of a few cases, fixed in advance (not chosen for passing).
 FAST_CASES = [("benchmark", "steer_damping"), ("kooijman2008", "speed_scale"), ("browser", "payload"),
               ("benchmark", "parameter"), ("kooijman2008", "motor"),
-              # A known failure: on the Browser a front payload explains a hidden roll damping
-              # to the noise and is named (docs/diagnosis.md, the rates).
-              pytest.param("browser", "roll_damping", marks=pytest.mark.xfail(
-                  strict=True, reason="a front payload is named for roll damping"))]
+              # On the Browser a front payload explains a hidden roll damping to the noise; only
+              # its values' drift with speed keeps it from being named (not in every seed: see
+              # the rates in docs/diagnosis.md).
+              ("browser", "roll_damping")]
 
 
 @pytest.mark.parametrize(("bicycle", "family"), FAST_CASES)

@@ -25,7 +25,8 @@ import argparse
 import numpy as np
 
 from whipple.diagnosis.causes import candidate_causes
-from whipple.diagnosis.evidence import diagnose_observations, fit_cause
+from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
 from whipple.measurement.bundled import bundled_runs

@@ -6,8 +6,13 @@ observations
     One window's measured weave eigenvalue and mode shape, and the model's nearest mode.
 causes
     Candidate causes: each a model change with one or two physical parameters.
+fitting
+    Whitened residuals of a model, and one cause fitted to observations (robust least squares).
+consistency
+    Whether a fitted cause holds across speeds: its jackknife spread over speed groups, and its
+    values fitted to the low and the high speeds apart.
 evidence
-    Each cause fitted to all observations; evidence and verdict.
+    Every cause fitted to all observations; evidence and verdict.
 starts
     Starting values for a cause's fit: fixed points and the best points of a coarse grid.
 families

@@ -27,32 +27,21 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
-from numpy.typing import NDArray
-from scipy.optimize import least_squares
 
 from whipple.diagnosis.causes import Cause, candidate_causes
+from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, combined_cause, components, describe_family
-from whipple.diagnosis.observations import (
-    Observation,
-    compared_shapes,
-    predicted_modes,
-    speed_groups,
-)
-from whipple.diagnosis.starts import default_starts, grid_starts, quick_starts
-from whipple.errors import AnalysisError, InputError
+from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2, window_whitening
+from whipple.diagnosis.observations import Observation
+from whipple.diagnosis.starts import quick_starts
+from whipple.errors import InputError
 from whipple.model.parameters import Bicycle
 
 NAMED_THRESHOLD = 3.0  # evidence (log Bayes factor) a cause needs over the base model: ~20:1
 MARGIN = 2.0  # evidence by which the best must beat the runner-up: ~7:1
-#: Whitened residuals beyond about this many standard deviations count less than quadratically
-#: (soft L1 loss): a few windows at very unstable speeds are fitted far worse than their stated
-#: uncertainty (the seed paper reports the same spread below 3 m/s) and must not decide alone.
-ROBUST_SCALE = 3.0
-#: A runner-up within this much evidence whose predictions are within SEPARATION of the best's
-#: makes the verdict ambiguous (a prior or a fitted value more is then all that ranks them).
 CLOSE_EVIDENCE = 5.0
 #: Half the summed squared whitened difference of two fits' predictions below which the data
 #: could not single out one of them even if it were true (odds below e^2, about 7:1).
@@ -68,32 +57,12 @@ COMBINE_DISPERSION = 2.0
 HIGH_DISPERSION = 5.0
 #: How many leading single causes are tried in pairs (3 pairs).
 PAIR_CANDIDATES = 3
+#: Evidence for values that differ between the low and the high speeds (see
+#: :func:`speed_dependence`) above which a leading cause is not named: its form does not follow
+#: how the error changes with speed. The same odds as ``MARGIN`` (~7:1).
+SPEED_DEPENDENCE = MARGIN
 #: How many more pairs, the best by a linearised screen of all pairs, are tried.
 PAIR_SCREENED = 3
-
-
-def robust_chi2(residuals: NDArray[np.float64]) -> float:
-    """Soft-L1 sum of squares: ~ sum r^2 for |r| << ROBUST_SCALE, ~ linear beyond."""
-    c2 = ROBUST_SCALE**2
-    return float(np.sum(2.0 * c2 * (np.sqrt(1.0 + residuals**2 / c2) - 1.0)))
-
-
-@dataclass(frozen=True)
-class CauseFit:
-    """A cause fitted to all observations."""
-
-    cause: str
-    parameters: tuple[str, ...]
-    units: tuple[str, ...]
-    values: tuple[float, ...]
-    std: tuple[float, ...]
-    chi2: float
-    evidence: float = 0.0
-    predicted: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, complex), repr=False)
-    block_chi2: tuple[float, ...] = (0.0, 0.0)
-    #: Whitened residuals, each kind divided by its dispersion: the difference of two fits'
-    #: residuals is the difference of their predictions in units of the observations' noise.
-    residuals: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), repr=False)
 
 
 @dataclass(frozen=True)
@@ -127,6 +96,9 @@ class Diagnosis:
     typical_scales : tuple of float
         Typical-window dispersions of the leading cause: above ``HIGH_DISPERSION`` the verdict
         is not a confident name.
+    speed_dependence : SpeedDependence or None
+        The leading cause fitted to the low and the high speeds apart (:func:`speed_dependence`),
+        where its name was otherwise confident; above ``SPEED_DEPENDENCE`` it is not named.
     """
 
     verdict: str
@@ -145,147 +117,12 @@ class Diagnosis:
     combinations: tuple[str, ...] = ()
     single_scales: tuple[float, float] = (1.0, 1.0)
     typical_scales: tuple[float, float] = (1.0, 1.0)
+    speed_dependence: SpeedDependence | None = None
 
     def ranking(self) -> list[tuple[str, float]]:
         """Causes by decreasing evidence, with ``none`` at 0."""
         entries = [(fit.cause, fit.evidence) for fit in self.fits] + [("none", 0.0)]
         return sorted(entries, key=lambda entry: -entry[1])
-
-
-@dataclass(frozen=True)
-class _Whitening:
-    """Whitening of the residuals: inverse Cholesky factors and dispersions.
-
-    Per window the inverse Cholesky factors of the eigenvalue's and the shape's covariance,
-    and the dispersion (reduced chi-square >= 1) by which each kind of residual is scaled.
-    """
-
-    eigenvalue: NDArray[np.float64]
-    shape_index: NDArray[np.int_]
-    shape: NDArray[np.float64]
-    scales: tuple[float, float] = (1.0, 1.0)
-
-
-def _inverse_cholesky(covariance: NDArray[np.float64] | None, observation: Observation,
-                      what: str) -> NDArray[np.float64]:
-    where = f"window {observation.run} {observation.start:.2f}-{observation.stop:.2f} s"
-    covariance = np.asarray(covariance, dtype=float)
-    if covariance.shape != (2, 2) or not np.all(np.isfinite(covariance)):
-        raise InputError(f"{where}: {what} covariance must be a finite 2x2 matrix")
-    try:
-        return np.asarray(np.linalg.inv(np.linalg.cholesky(covariance)))
-    except np.linalg.LinAlgError:
-        raise InputError(f"{where}: {what} covariance is not positive definite") from None
-
-
-
-#: Systematic error of a window's eigenvalue, relative to its magnitude, added to each part's
-#: variance: the fitting function's own bias. On noise-free simulated runs of the benchmark,
-#: kooijman2008 and sbw2024 bicycles at 2.5-8 m/s it is 0.01-0.3% of |lambda| at most speeds and
-#: up to 2.5% near the weave speed, where windows are long and their stated uncertainty tiny;
-#: without a floor such windows alone decided between causes (a 0.1% speed scale was "named"
-#: in 2 of 8 effect-free trials of kooijman2008).
-EIGENVALUE_FLOOR = 0.005
-
-
-def _with_floor(observation: Observation) -> NDArray[np.float64]:
-    covariance = np.asarray(observation.covariance, dtype=float)
-    if covariance.shape != (2, 2):
-        return covariance
-    return covariance + np.eye(2) * (EIGENVALUE_FLOOR * abs(observation.eigenvalue)) ** 2
-
-
-def _whitening(observations: Sequence[Observation], bicycle: Bicycle,
-               scales: tuple[float, float] = (1.0, 1.0)) -> _Whitening:
-    """Whitening of every window's eigenvalue, and of the shapes the base ``bicycle`` compares."""
-    eigenvalue = np.array([_inverse_cholesky(_with_floor(o), o, "eigenvalue") for o in observations])
-    index = np.flatnonzero(compared_shapes(bicycle, observations))
-    shape = np.array([_inverse_cholesky(observations[int(n)].shape_covariance, observations[int(n)], "mode shape")
-                      for n in index]).reshape(-1, 2, 2)
-    return _Whitening(eigenvalue, index, shape, scales)
-
-
-def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whitening: _Whitening
-                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.complex128]]:
-    """Return the whitened residuals at unit dispersion and the predicted eigenvalues.
-
-    Eigenvalue residuals are 2 per window, shape residuals 2 per window with a shape.
-    """
-    predicted, shapes = predicted_modes(bicycle, observations)
-    difference = np.array([[o.eigenvalue.real, o.eigenvalue.imag] for o in observations])
-    difference -= np.column_stack([predicted.real, predicted.imag])
-    eigenvalue = np.einsum("nij,nj->ni", whitening.eigenvalue, difference).ravel()
-    index = whitening.shape_index
-    measured = np.array([complex(observations[int(n)].shape or 0.0) for n in index])
-    shape_difference = np.column_stack([(measured - shapes[index]).real, (measured - shapes[index]).imag])
-    shape = np.einsum("nij,nj->ni", whitening.shape, shape_difference.reshape(-1, 2)).ravel()
-    return eigenvalue, shape, predicted
-
-
-def _residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: _Whitening
-               ) -> tuple[NDArray[np.float64], NDArray[np.complex128], tuple[float, float]]:
-    """Return all residuals, the predicted eigenvalues and each kind's robust chi-square.
-
-    Each kind of residual is divided by its dispersion; the chi-squares are at unit dispersion
-    (for :func:`_dispersions`).
-    """
-    eigenvalue, shape, predicted = _residual_blocks(bicycle, observations, whitening)
-    # A model whose weave vanishes at a window's speed has no shape to compare: count it as a
-    # large, finite misfit rather than stopping the fit.
-    eigenvalue, shape = (np.nan_to_num(block, nan=1e3, posinf=1e3, neginf=-1e3) for block in (eigenvalue, shape))
-    scaled = np.concatenate([eigenvalue / np.sqrt(whitening.scales[0]), shape / np.sqrt(whitening.scales[1])])
-    return scaled, predicted, (robust_chi2(eigenvalue), robust_chi2(shape))
-
-
-def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
-              whitening: _Whitening | None = None,
-              starts: Sequence[Sequence[float]] | None = None) -> CauseFit:
-    """Fit one cause's values to all observations by robust weighted least squares.
-
-    ``starts``: starting values to try instead of the default few spread over the bounds.
-    """
-    whitening = _whitening(observations, bicycle) if whitening is None else whitening
-    lower, upper = cause.limits
-    scale = np.maximum(np.abs(np.array(cause.start)), (upper - lower) * 1e-3)
-
-    def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return _residuals(cause.apply(bicycle, x * scale), observations, whitening)[0]
-
-    def chi2(values: Sequence[float]) -> float:
-        return robust_chi2(_residuals(cause.apply(bicycle, values), observations, whitening)[0])
-
-    # Given starts first; the fixed ones only if every given start fails. The grid's best points
-    # (:mod:`whipple.diagnosis.starts`) join the first round either way.
-    grid = grid_starts(cause, chi2)
-    tries = default_starts(cause)
-    rounds = ([tries + grid] if starts is None
-              else [[np.array(start, dtype=float) for start in starts] + grid, tries])
-    best = None
-    for round_ in rounds:
-        for start in round_:
-            x0 = np.clip(start, lower, upper) / scale
-            try:
-                result = least_squares(residual, x0, bounds=(lower / scale, upper / scale), x_scale="jac",
-                                       diff_step=1e-6, loss="soft_l1", f_scale=ROBUST_SCALE)
-            except (np.linalg.LinAlgError, ValueError):
-                continue
-            if best is None or result.cost < best.cost:
-                best = result
-        if best is not None:
-            break
-    if best is None:
-        raise AnalysisError(f"fit of {cause.name} failed")
-    values = best.x * scale
-    jacobian = best.jac / scale
-    try:
-        covariance = np.linalg.pinv(jacobian.T @ jacobian)
-        std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
-    except np.linalg.LinAlgError:
-        std = np.full(len(values), np.inf)
-    final, predicted, block_chi2 = _residuals(cause.apply(bicycle, values), observations, whitening)
-    return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
-                    tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2,
-                    residuals=final)
 
 
 def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[float, float]:
@@ -324,7 +161,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     if len(observations) < 2:
         raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
     causes = list(candidate_causes(bicycle)) if causes is None else list(causes)
-    whitening = _whitening(observations, bicycle)
+    whitening = window_whitening(observations, bicycle)
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
     n = sum(counts)
     base, fits = _fit_all(bicycle, causes, observations, whitening,
@@ -367,12 +204,25 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], counts, whitening.scales)
     verdict, name, rivals, reasons = _verdict(scored, typical, named_threshold, margin)
+    dependence = None
+    if verdict == "named" and chosen is not None and best is not None and not quick:
+        dependence = speed_dependence(bicycle, chosen, observations, best.values, scales)
+        if dependence is not None and dependence.evidence > SPEED_DEPENDENCE:
+            verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
                      observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index),
                      chosen=chosen if verdict != "none" else None, rivals=rivals,
                      family=describe_family([name, *rivals]) if verdict == "ambiguous" else "",
                      reasons=reasons, combinations=tuple(pair.name for pair in pairs),
-                     single_scales=single_scales, typical_scales=typical)
+                     single_scales=single_scales, typical_scales=typical, speed_dependence=dependence)
+
+
+def _speed_dependence_reason(best: CauseFit, dependence: SpeedDependence) -> str:
+    change = ", ".join(f"{name} {low:.4g} -> {high:.4g}{' ' + unit if unit else ''}" for name, unit, low, high
+                       in zip(best.parameters, best.units, dependence.low, dependence.high, strict=True))
+    return (f"{best.cause} fitted below and above {dependence.split:.2f} m/s apart takes different values ({change}; "
+            f"evidence {dependence.evidence:.1f} for values that change with speed): its form does not follow how "
+            "the error changes with speed, so the truth may be none of the candidates")
 
 
 #: Median of a chi-square variable with 2 degrees of freedom (2 ln 2): each window's whitened
@@ -491,7 +341,7 @@ def _leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[
 
 
 def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
-                    whitening: _Whitening, tried: set[str]) -> list[tuple[Cause, list[float]]]:
+                    whitening: Whitening, tried: set[str]) -> list[tuple[Cause, list[float]]]:
     """Return the ``PAIR_SCREENED`` pairs, not in ``tried``, that best explain the base model's residuals.
 
     Linearised at the base model (each cause's residual derivative by a step of 5% of its
@@ -499,7 +349,7 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], observations: Seq
     linearised values within bounds. The true pair is often not among the leading singles
     (docs/diagnosis.md, "Two causes together").
     """
-    residual = _residuals(bicycle, observations, whitening)[0]
+    residual = model_residuals(bicycle, observations, whitening)[0]
     columns = []
     for cause in causes:
         origin = np.array(cause.start, dtype=float)
@@ -508,7 +358,7 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], observations: Seq
             x = origin.copy()
             step = 0.05 * (high - low)
             x[i] = origin[i] + step if origin[i] + step <= high else origin[i] - step
-            changed = _residuals(cause.apply(bicycle, [float(v) for v in x]), observations, whitening)[0]
+            changed = model_residuals(cause.apply(bicycle, [float(v) for v in x]), observations, whitening)[0]
             steps.append((changed - residual) / (x[i] - origin[i]))
         columns.append(np.column_stack(steps))
     ranked = []
@@ -532,9 +382,9 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], observations: Seq
 
 
 def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
-             whitening: _Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None
+             whitening: Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None
              ) -> tuple[CauseFit, list[CauseFit]]:
-    residual, predicted, block_chi2 = _residuals(bicycle, observations, whitening)
+    residual, predicted, block_chi2 = model_residuals(bicycle, observations, whitening)
     base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted, block_chi2=block_chi2,
                     residuals=residual)
     starts = [None] * len(causes) if starts is None else starts
@@ -561,30 +411,3 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
                                      general.std, general.chi2, evidence, general.predicted,
                                      residuals=supported.residuals)
     return sorted(merged.values(), key=lambda fit: -fit.evidence)
-
-
-def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
-                  values: Sequence[float], scales: tuple[float, float] = (1.0, 1.0)) -> NDArray[np.float64]:
-    """Leave-one-speed-group-out jackknife standard deviation of a cause's values.
-
-    The fit's own standard deviation assumes independent windows; errors shared by the windows
-    of one speed (a fitting-function bias that depends on speed, a speed error) are not in it.
-    The jackknife over speed groups is robust to such errors. Zero with fewer than 3 groups.
-    """
-    groups = speed_groups(observations)
-    if len(groups) < 3:
-        return np.zeros(len(values))
-    estimates = []
-    for group in groups:
-        kept = [o for i, o in enumerate(observations) if i not in group]
-        if len(kept) < 2:
-            continue
-        estimates.append(fit_cause(bicycle, replace(cause, start=tuple(values)), kept,
-                                   _whitening(kept, bicycle, scales)).values)
-    if len(estimates) < 3:
-        return np.zeros(len(values))
-    estimates_array = np.array(estimates)
-    g = len(estimates_array)
-    return np.asarray(np.sqrt((g - 1) / g * np.sum((estimates_array - estimates_array.mean(axis=0)) ** 2, axis=0)))
-
-

@@ -21,7 +21,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.causes import Cause, with_cause
-from whipple.diagnosis.evidence import diagnose_observations, fit_cause
+from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
 from whipple.errors import AnalysisError
 from whipple.measurement.weavefit import response_with_eigenvalue

@@ -18,15 +18,14 @@ from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
 from whipple.diagnosis.evidence import (
     CLOSE_EVIDENCE,
-    EIGENVALUE_FLOOR,
     HIGH_DISPERSION,
     MARGIN,
     NAMED_THRESHOLD,
-    ROBUST_SCALE,
     SEPARATION,
     Diagnosis,
     diagnose_observations,
 )
+from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE
 from whipple.diagnosis.gain import HELPS, Gain, held_out_gain
 from whipple.diagnosis.observations import (
     Observation,
@@ -363,6 +362,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "rivals": list(diagnosis.rivals),
         "verdict_reasons": list(diagnosis.reasons),
         "combinations_tried": list(diagnosis.combinations),
+        "speed_dependence": _speed_dependence_json(diagnosis),
         "estimate": estimate,
         "ranking": [{"cause": cause, "evidence": evidence} for cause, evidence in diagnosis.ranking()],
         "gain": gain,
@@ -389,3 +389,13 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         result["extended_model"]["matrices"] = {name: getattr(matrices, name).tolist()
                                                 for name in ("M", "C1", "D", "K0", "K2")}
     return result
+
+
+def _speed_dependence_json(diagnosis: Diagnosis) -> dict[str, Any] | None:
+    """Return the leading cause fitted below and above a speed apart (None where not checked)."""
+    dependence, best = diagnosis.speed_dependence, diagnosis.best
+    if dependence is None or best is None:
+        return None
+    return {"split_speed": dependence.split, "parameters": list(best.parameters), "units": list(best.units),
+            "low_speeds": list(dependence.low), "high_speeds": list(dependence.high),
+            "evidence": dependence.evidence}

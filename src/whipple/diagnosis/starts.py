@@ -1,6 +1,6 @@
 """Starting values for fitting a cause: fixed points, quick ones, and the best points of a coarse grid.
 
-A cause's fit (:func:`whipple.diagnosis.evidence.fit_cause`) is a local least-squares search;
+A cause's fit (:func:`whipple.diagnosis.fitting.fit_cause`) is a local least-squares search;
 several starts guard against local minima. The fixed starts sit near the cause's no-effect
 values; for causes with two or three values, the best points of a coarse grid over the bounds
 reach the rest of them.

@@ -1,0 +1,79 @@
+"""The speed-dependence check: a cause whose best values drift with speed is not named.
+
+Synthetic weave eigenvalues of the benchmark bicycle with a steer damping that is the same at
+every speed (the cause's own form) or that jumps between the low and the high speeds (a form no
+candidate has): only the second must show values that depend on speed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from whipple.diagnosis.causes import cause_by_name
+from whipple.diagnosis.consistency import speed_dependence
+from whipple.diagnosis.evidence import SPEED_DEPENDENCE, diagnose_observations
+from whipple.diagnosis.fitting import fit_cause
+from whipple.diagnosis.observations import Observation, predicted_weave
+from whipple.model.parameters import load_bicycle
+
+SPEEDS = np.repeat([3.0, 4.0, 5.0, 6.0, 7.0, 8.0], 3)  # m/s
+STD = 0.05  # 1/s, of both parts of each eigenvalue
+
+
+def _observations(damping_at_speed, seed=5):
+    """Windows whose true steer damping [N m s/rad] at speed v is ``damping_at_speed(v)``."""
+    bicycle = load_bicycle("benchmark")
+    rng = np.random.default_rng(seed)
+    covariance = np.eye(2) * STD**2
+    observations = []
+    for v in SPEEDS:
+        guess = Observation("r", 0.0, 1.0, v, (v, v), complex(-1.0, 5.0), covariance)
+        truth = bicycle.with_extensions(steer_damping=damping_at_speed(v))
+        eigenvalue = predicted_weave(truth, [guess])[0] + complex(*rng.normal(0.0, STD, 2))
+        observations.append(Observation("r", 0.0, 1.0, v, (v, v), eigenvalue, covariance))
+    return bicycle, observations
+
+
+def _dependence(damping_at_speed):
+    bicycle, observations = _observations(damping_at_speed)
+    cause = cause_by_name(bicycle, "steer_damping")
+    fit = fit_cause(bicycle, cause, observations)
+    return speed_dependence(bicycle, cause, observations, fit.values, (1.0, 1.0))
+
+
+def test_a_cause_of_its_own_form_has_the_same_values_at_low_and_high_speeds():
+    dependence = _dependence(lambda v: 0.8)
+    assert dependence is not None
+    assert dependence.evidence < SPEED_DEPENDENCE
+    assert abs(dependence.low[0] - 0.8) < 0.1 and abs(dependence.high[0] - 0.8) < 0.1
+    assert 5.0 < dependence.split < 6.0  # between the third and the fourth speed
+
+
+def test_values_that_drift_with_speed_are_found():
+    dependence = _dependence(lambda v: 0.3 if v < 5.5 else 1.3)
+    assert dependence is not None
+    assert dependence.evidence > SPEED_DEPENDENCE
+    assert abs(dependence.low[0] - 0.3) < 0.15 and abs(dependence.high[0] - 1.3) < 0.15
+
+
+def test_a_drifting_cause_is_not_named():
+    bicycle, observations = _observations(lambda v: 0.3 if v < 5.5 else 1.3)
+    diagnosis = diagnose_observations(bicycle, observations)
+    assert not (diagnosis.verdict == "named" and diagnosis.cause == "steer_damping")
+    if diagnosis.cause == "steer_damping":
+        assert any("change with speed" in reason for reason in diagnosis.reasons)
+
+
+def test_a_constant_cause_is_still_named():
+    bicycle, observations = _observations(lambda v: 0.8)
+    diagnosis = diagnose_observations(bicycle, observations)
+    assert (diagnosis.verdict, diagnosis.cause) == ("named", "steer_damping")
+    assert diagnosis.speed_dependence is not None
+    assert diagnosis.speed_dependence.evidence < SPEED_DEPENDENCE
+
+
+def test_too_few_windows_for_a_half_give_no_check():
+    bicycle, observations = _observations(lambda v: 0.8)
+    cause = cause_by_name(bicycle, "payload")  # three values: a half of two windows cannot hold them
+    few = [observations[0], observations[-1], observations[-2]]
+    assert speed_dependence(bicycle, cause, few, (1.0, 0.3, -0.9), (1.0, 1.0)) is None

@@ -10,9 +10,9 @@ from __future__ import annotations
 import numpy as np
 
 from whipple.diagnosis.causes import cause_by_name
-from whipple.diagnosis.consistency import speed_dependence
+from whipple.diagnosis.consistency import clustering, speed_dependence
 from whipple.diagnosis.evidence import SPEED_DEPENDENCE, diagnose_observations
-from whipple.diagnosis.fitting import fit_cause
+from whipple.diagnosis.fitting import fit_cause, window_whitening
 from whipple.diagnosis.observations import Observation, predicted_weave
 from whipple.model.parameters import load_bicycle
 
@@ -20,22 +20,26 @@ SPEEDS = np.repeat([3.0, 4.0, 5.0, 6.0, 7.0, 8.0], 3)  # m/s
 STD = 0.05  # 1/s, of both parts of each eigenvalue
 
 
-def _observations(damping_at_speed, seed=5):
-    """Windows whose true steer damping [N m s/rad] at speed v is ``damping_at_speed(v)``."""
+def _observations(damping_at_speed, seed=5, shared=0.0):
+    """Windows whose true steer damping [N m s/rad] at speed v is ``damping_at_speed(v)``.
+
+    ``shared``: std [1/s] of an error common to all windows of one speed (a fitting bias).
+    """
     bicycle = load_bicycle("benchmark")
     rng = np.random.default_rng(seed)
     covariance = np.eye(2) * STD**2
     observations = []
+    bias = {v: complex(*rng.normal(0.0, shared, 2)) for v in np.unique(SPEEDS)}
     for v in SPEEDS:
         guess = Observation("r", 0.0, 1.0, v, (v, v), complex(-1.0, 5.0), covariance)
         truth = bicycle.with_extensions(steer_damping=damping_at_speed(v))
-        eigenvalue = predicted_weave(truth, [guess])[0] + complex(*rng.normal(0.0, STD, 2))
+        eigenvalue = predicted_weave(truth, [guess])[0] + complex(*rng.normal(0.0, STD, 2)) + bias[v]
         observations.append(Observation("r", 0.0, 1.0, v, (v, v), eigenvalue, covariance))
     return bicycle, observations
 
 
-def _dependence(damping_at_speed):
-    bicycle, observations = _observations(damping_at_speed)
+def _dependence(damping_at_speed, **noise):
+    bicycle, observations = _observations(damping_at_speed, **noise)
     cause = cause_by_name(bicycle, "steer_damping")
     fit = fit_cause(bicycle, cause, observations)
     return speed_dependence(bicycle, cause, observations, fit.values, (1.0, 1.0))
@@ -77,3 +81,25 @@ def test_too_few_windows_for_a_half_give_no_check():
     cause = cause_by_name(bicycle, "payload")  # three values: a half of two windows cannot hold them
     few = [observations[0], observations[-1], observations[-2]]
     assert speed_dependence(bicycle, cause, few, (1.0, 0.3, -0.9), (1.0, 1.0)) is None
+
+
+def test_errors_shared_by_a_speed_make_the_design_effect_large():
+    bicycle, observations = _observations(lambda v: 0.8)
+    whitening = window_whitening(observations, bicycle)
+    one_per_speed = np.repeat([[2.0, -1.0]], len(observations), axis=0).ravel()
+    squares, count = clustering(one_per_speed, observations, whitening)
+    # Three windows per speed that move together: each group's sum is 3x a window's residual.
+    assert np.isclose(squares / count, 3.0 * (4.0 + 1.0) / 2.0)
+    alternating = one_per_speed * np.repeat(np.tile([1.0, -1.0, 0.0], len(SPEEDS) // 3), 2)
+    assert clustering(alternating, observations, whitening)[0] == 0.0
+
+
+def test_a_bias_shared_by_each_speed_is_not_taken_for_a_drift():
+    independent = [_dependence(lambda v: 0.8, seed=seed) for seed in range(6)]
+    shared = [_dependence(lambda v: 0.8, seed=seed, shared=4 * STD) for seed in range(6)]
+    assert all(d is not None and d.clustering < 2.0 for d in independent)
+    assert all(d is not None and d.clustering > 2.0 for d in shared)
+    assert all(d.evidence < SPEED_DEPENDENCE for d in shared)
+    # Without the discount, the same chi-square differences would read as a drift.
+    penalty = 0.5 * np.log(2 * len(SPEEDS))
+    assert any((d.evidence + penalty) * d.clustering - penalty > SPEED_DEPENDENCE for d in shared)

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.causes import Cause
-from whipple.diagnosis.fitting import fit_cause, model_residuals, robust_chi2, window_whitening
+from whipple.diagnosis.fitting import Whitening, fit_cause, model_residuals, robust_chi2, window_whitening
 from whipple.diagnosis.observations import Observation, speed_groups
 from whipple.errors import AnalysisError
 from whipple.model.parameters import Bicycle
@@ -32,13 +32,17 @@ class SpeedDependence:
         The cause's values fitted to the windows below and above ``split`` (units of the cause).
     evidence : float
         Approximate log Bayes factor of separate values for the two halves over one set:
-        ``(chi2_one - chi2_low - chi2_high) / 2 - (k / 2) ln n``.
+        ``(chi2_one - chi2_low - chi2_high) / (2 D) - (k / 2) ln n``.
+    clustering : float
+        D, the design effect of the two halves' residuals by speed group (>= 1): how much more
+        the residuals of one speed's windows move together than independent noise would.
     """
 
     split: float
     low: tuple[float, ...]
     high: tuple[float, ...]
     evidence: float
+    clustering: float = 1.0
 
 
 def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
@@ -66,6 +70,26 @@ def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observa
     return np.asarray(np.sqrt((g - 1) / g * np.sum((estimates_array - estimates_array.mean(axis=0)) ** 2, axis=0)))
 
 
+def clustering(residuals: NDArray[np.float64], observations: Sequence[Observation],
+               whitening: Whitening) -> tuple[float, float]:
+    """Return the sum of squares of the residuals summed per speed group and kind, and their count.
+
+    ``residuals`` as :func:`~whipple.diagnosis.fitting.model_residuals` orders them (eigenvalue
+    real and imaginary parts per window, then the mode shape's per window with a shape). For
+    independent unit noise the first is about the second; errors shared by a speed's windows
+    (a fitting bias that depends on speed) make it larger.
+    """
+    windows = np.concatenate([np.repeat(np.arange(len(observations)), 2), np.repeat(whitening.shape_index, 2)])
+    kinds = np.concatenate([np.tile([0, 1], len(observations)), np.tile([2, 3], len(whitening.shape_index))])
+    group_of = np.empty(len(observations), dtype=int)
+    for g, group in enumerate(speed_groups(observations)):
+        group_of[group] = g
+    cells = group_of[windows] * 4 + kinds
+    sums = np.bincount(cells, weights=residuals)
+    counts = np.bincount(cells)
+    return float(np.sum(sums**2)), float(np.sum(counts))
+
+
 def speed_dependence(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
                      values: Sequence[float], scales: tuple[float, float]) -> SpeedDependence | None:
     """Fit a cause to the low and the high speeds apart, to see whether its values depend on speed.
@@ -88,14 +112,22 @@ def speed_dependence(bicycle: Bicycle, cause: Cause, observations: Sequence[Obse
     whitening = window_whitening(observations, bicycle, scales)
     one = robust_chi2(model_residuals(cause.apply(bicycle, values), observations, whitening)[0])
     n = 2 * len(observations) + 2 * len(whitening.shape_index)
-    fits = []
+    fits, shared, independent = [], 0.0, 0.0
     for half in halves:
         kept = [observations[i] for i in half]
+        kept_whitening = window_whitening(kept, bicycle, scales)
         try:
-            fits.append(fit_cause(bicycle, cause, kept, window_whitening(kept, bicycle, scales), [values], grid=False))
+            fit = fit_cause(bicycle, cause, kept, kept_whitening, [values], grid=False)
         except AnalysisError:
             return None
+        fits.append(fit)
+        squares, count = clustering(fit.residuals, kept, kept_whitening)
+        shared, independent = shared + squares, independent + count
+    # Residuals that a speed's windows share, left after each half has its own values, are not
+    # a drift the split could explain: they make every chi-square difference larger by about
+    # this design effect, so the evidence is discounted by it.
+    design_effect = max(1.0, shared / independent)
     speeds = [[observations[i].speed for i in half] for half in halves]
-    evidence = (one - fits[0].chi2 - fits[1].chi2) / 2.0 - 0.5 * k * np.log(n)
+    evidence = (one - fits[0].chi2 - fits[1].chi2) / (2.0 * design_effect) - 0.5 * k * np.log(n)
     return SpeedDependence(float((max(speeds[0]) + min(speeds[1])) / 2.0), fits[0].values, fits[1].values,
-                           float(evidence))
+                           float(evidence), design_effect)

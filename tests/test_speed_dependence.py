@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from whipple.diagnosis.causes import cause_by_name
-from whipple.diagnosis.consistency import clustering, speed_dependence
+from whipple.diagnosis.consistency import speed_dependence, speed_group_sums
 from whipple.diagnosis.evidence import SPEED_DEPENDENCE, diagnose_observations
 from whipple.diagnosis.fitting import fit_cause, window_whitening
 from whipple.diagnosis.observations import Observation, predicted_weave
@@ -87,19 +87,19 @@ def test_errors_shared_by_a_speed_make_the_design_effect_large():
     bicycle, observations = _observations(lambda v: 0.8)
     whitening = window_whitening(observations, bicycle)
     one_per_speed = np.repeat([[2.0, -1.0]], len(observations), axis=0).ravel()
-    squares, count = clustering(one_per_speed, observations, whitening)
+    squares, count = speed_group_sums(one_per_speed, observations, whitening)
     # Three windows per speed that move together: each group's sum is 3x a window's residual.
     assert np.isclose(squares / count, 3.0 * (4.0 + 1.0) / 2.0)
     alternating = one_per_speed * np.repeat(np.tile([1.0, -1.0, 0.0], len(SPEEDS) // 3), 2)
-    assert clustering(alternating, observations, whitening)[0] == 0.0
+    assert speed_group_sums(alternating, observations, whitening)[0] == 0.0
 
 
 def test_a_bias_shared_by_each_speed_is_not_taken_for_a_drift():
     independent = [_dependence(lambda v: 0.8, seed=seed) for seed in range(6)]
     shared = [_dependence(lambda v: 0.8, seed=seed, shared=4 * STD) for seed in range(6)]
-    assert all(d is not None and d.clustering < 2.0 for d in independent)
-    assert all(d is not None and d.clustering > 2.0 for d in shared)
+    assert all(d is not None and d.design_effect < 2.0 for d in independent)
+    assert all(d is not None and d.design_effect > 2.0 for d in shared)
     assert all(d.evidence < SPEED_DEPENDENCE for d in shared)
     # Without the discount, the same chi-square differences would read as a drift.
     penalty = 0.5 * np.log(2 * len(SPEEDS))
-    assert any((d.evidence + penalty) * d.clustering - penalty > SPEED_DEPENDENCE for d in shared)
+    assert any((d.evidence + penalty) * d.design_effect - penalty > SPEED_DEPENDENCE for d in shared)

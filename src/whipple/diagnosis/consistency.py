@@ -33,7 +33,7 @@ class SpeedDependence:
     evidence : float
         Approximate log Bayes factor of separate values for the two halves over one set:
         ``(chi2_one - chi2_low - chi2_high) / (2 D) - (k / 2) ln n``.
-    clustering : float
+    design_effect : float
         D, the design effect of the two halves' residuals by speed group (>= 1): how much more
         the residuals of one speed's windows move together than independent noise would.
     """
@@ -42,7 +42,7 @@ class SpeedDependence:
     low: tuple[float, ...]
     high: tuple[float, ...]
     evidence: float
-    clustering: float = 1.0
+    design_effect: float = 1.0
 
 
 def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
@@ -70,24 +70,21 @@ def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observa
     return np.asarray(np.sqrt((g - 1) / g * np.sum((estimates_array - estimates_array.mean(axis=0)) ** 2, axis=0)))
 
 
-def clustering(residuals: NDArray[np.float64], observations: Sequence[Observation],
-               whitening: Whitening) -> tuple[float, float]:
+def speed_group_sums(residuals: NDArray[np.float64], observations: Sequence[Observation],
+                     whitening: Whitening) -> tuple[float, float]:
     """Return the sum of squares of the residuals summed per speed group and kind, and their count.
 
-    ``residuals`` as :func:`~whipple.diagnosis.fitting.model_residuals` orders them (eigenvalue
-    real and imaginary parts per window, then the mode shape's per window with a shape). For
+    ``residuals`` as :func:`~whipple.diagnosis.fitting.model_residuals` returns them. For
     independent unit noise the first is about the second; errors shared by a speed's windows
-    (a fitting bias that depends on speed) make it larger.
+    (a fitting bias that depends on speed) make it larger: their ratio is the design effect.
     """
-    windows = np.concatenate([np.repeat(np.arange(len(observations)), 2), np.repeat(whitening.shape_index, 2)])
-    kinds = np.concatenate([np.tile([0, 1], len(observations)), np.tile([2, 3], len(whitening.shape_index))])
+    windows, kinds = whitening.residual_layout()
     group_of = np.empty(len(observations), dtype=int)
     for g, group in enumerate(speed_groups(observations)):
         group_of[group] = g
     cells = group_of[windows] * 4 + kinds
     sums = np.bincount(cells, weights=residuals)
-    counts = np.bincount(cells)
-    return float(np.sum(sums**2)), float(np.sum(counts))
+    return float(np.sum(sums**2)), float(len(residuals))
 
 
 def speed_dependence(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
@@ -121,7 +118,7 @@ def speed_dependence(bicycle: Bicycle, cause: Cause, observations: Sequence[Obse
         except AnalysisError:
             return None
         fits.append(fit)
-        squares, count = clustering(fit.residuals, kept, kept_whitening)
+        squares, count = speed_group_sums(fit.residuals, kept, kept_whitening)
         shared, independent = shared + squares, independent + count
     # Residuals that a speed's windows share, left after each half has its own values, are not
     # a drift the split could explain: they make every chi-square difference larger by about

@@ -66,6 +66,16 @@ class Whitening:
     shape: NDArray[np.float64]
     scales: tuple[float, float] = (1.0, 1.0)
 
+    def residual_layout(self) -> tuple[NDArray[np.int_], NDArray[np.int_]]:
+        """Return the window and the kind of each residual, in :func:`model_residuals`' order.
+
+        Kinds: 0 and 1 the eigenvalue's real and imaginary part, 2 and 3 the mode shape's.
+        """
+        n = len(self.eigenvalue)
+        windows = np.concatenate([np.repeat(np.arange(n), 2), np.repeat(self.shape_index, 2)])
+        kinds = np.concatenate([np.tile([0, 1], n), np.tile([2, 3], len(self.shape_index))])
+        return windows, kinds
+
 
 def _inverse_cholesky(covariance: NDArray[np.float64] | None, observation: Observation,
                       what: str) -> NDArray[np.float64]:

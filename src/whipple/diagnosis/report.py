@@ -398,4 +398,4 @@ def _speed_dependence_json(diagnosis: Diagnosis) -> dict[str, Any] | None:
         return None
     return {"split_speed": dependence.split, "parameters": list(best.parameters), "units": list(best.units),
             "low_speeds": list(dependence.low), "high_speeds": list(dependence.high),
-            "evidence": dependence.evidence, "design_effect": dependence.clustering}
+            "evidence": dependence.evidence, "design_effect": dependence.design_effect}

@@ -16,6 +16,9 @@ alike; pushes and catches break that pattern. From the swings:
   trend or is over in under half the time of its neighbours (outside forcing: a new push, a
   hand), when a swing collapses far below the trend (a catch), when the signal saturates, or
   at the end of the record.
+* A **grab**: the first swing after a push that is over in under half the record's half
+  period and half the push's time, starting while the bicycle moves fast, is a hand catching
+  the falling bicycle, not a free swing; it ends the window and starts none itself.
 * An unstable run may grow out of the noise and be caught within a swing or two, with no
   visible push: the swings that grew up to the catch form the window.
 * A stretch with no free swing, or a single swing back followed by stillness (a push or a
@@ -209,6 +212,8 @@ class _Finder:
         self.margin = max(1, int(run.sample_rate / (4 * swings.cutoff)))
         self.ratios = self.swings[1:] / np.maximum(self.swings[:-1], 1e-300)
         self.durations = np.diff(self.extremes)
+        # Half a period of the record's dominant oscillation [samples].
+        self.half_period = 0.5 * run.sample_rate / swings.frequency
         limit = 0.98 * np.max(np.abs(x))
         flat = np.r_[False, x[1:] == x[:-1]] & (np.abs(x) >= limit)
         # Three equal samples at the top of the range: the sensor (or the bicycle) hit a stop.
@@ -238,6 +243,19 @@ class _Finder:
             return False
         around = self.durations[j - 1:j + 2:2]
         return bool(self.durations[j] < 0.5 * around.min())
+
+    def grab(self, j: int) -> bool:
+        """Whether swing j is a hand grabbing the moving bicycle (a catch as it falls).
+
+        The record's oscillation sets how quick a free swing can be: a swing over in under half
+        the record's half period and half the time of the swing before it, that starts while
+        the bicycle moves fast (a roll rate of twice a push's least height), is a catch,
+        whatever follows it (the return after a catch can be as quick). A push is quick too,
+        but starts from near rest.
+        """
+        return 1 <= j < self.swings.size and bool(
+            self.durations[j] < 0.5 * min(self.half_period, self.durations[j - 1])
+            and abs(self.smooth[self.extremes[j]]) >= 2 * self.loud)
 
     def forced(self, j: int) -> bool:
         return self.ratio(j) > PUSH_RATIO and not self.sustained(j)
@@ -286,7 +304,10 @@ class _Finder:
                 catch = min(following, self.swings.size - 1)
                 window = self.growth_before(catch, earliest) or window
             (windows if not window.reason.startswith("rejected") else rejected).append(window)
-            j = max(following, j + 1)
+            # A hand that grabbed the bicycle right after the push starts nothing; other
+            # forcing may be the next push.
+            grabbed = following == j + 1 and self.grab(following)
+            j = max(following + grabbed, j + 1)
         return windows, rejected
 
     def growth_before(self, catch: int, earliest: int) -> Window | None:
@@ -349,8 +370,10 @@ class _Finder:
                 resume = j + 1
                 break
             # The first free swing may be quick after a slow push; quick and followed by
-            # stillness it is a catch (the bicycle grabbed and held).
-            if self.abrupt(j) and a >= level and (j > push + 1 or growth or self.held(j + 1)):
+            # stillness, or far quicker than the record's oscillation, it is a catch (the
+            # bicycle grabbed, perhaps as it fell).
+            grabbed = j == push + 1 and self.grab(j)
+            if a >= level and (grabbed or self.abrupt(j) and (j > push + 1 or growth or self.held(j + 1))):
                 end, resume = self.onset(j), j
                 why = f"abrupt swing at {self.run.time[end]:.2f} s"
                 break

@@ -16,7 +16,8 @@ realistic size and position, diagnose them blind, and count the outcomes:
   the true values.
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
-[--bicycles ...] [--families ...] [--log FILE]``; ``--seeds`` is per bicycle and family. The
+[--bicycles ...] [--families ...] [--trials FILE] [--log FILE]``; ``--seeds`` is per bicycle and
+family; ``--trials`` runs only the listed trials among those. The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
 (:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this
 repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE``
@@ -119,6 +120,8 @@ def main() -> None:
     parser.add_argument("--families", nargs="*", default=None, help="default: all a bicycle supports")
     parser.add_argument("--log", type=Path, help="append each trial's result to this JSON-lines file as it ends")
     parser.add_argument("--from-log", type=Path, help="tabulate the trials of a log instead of running any")
+    parser.add_argument("--trials", type=Path,
+                        help="run only these trials (JSON lines [bicycle, family, seed], e.g. from changed_windows.py)")
     args = parser.parse_args()
     if args.from_log is not None:
         results = [_reclassified(tuple(json.loads(line)))
@@ -129,6 +132,9 @@ def main() -> None:
         jobs = [(bicycle, family, seed) for seed in range(args.first_seed, args.first_seed + args.seeds)
                 for bicycle in args.bicycles
                 for family in families(bicycle) if args.families is None or family in args.families]
+        if args.trials is not None:
+            listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
+            jobs = [job for job in jobs if job in listed]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

@@ -1,9 +1,10 @@
 """Compare two hidden-effect logs trial by trial (same seeds): what a change of the diagnosis did.
 
-Run: ``python benchmarks/compare_logs.py BEFORE.jsonl AFTER.jsonl``. Both logs are read under
-the current verdict rules (``bench_diagnosis._reclassified``); only trials present in both are
-compared. Prints the outcome counts of each log per family and every trial whose verdict,
-cause or outcome changed.
+Run: ``python benchmarks/compare_logs.py BEFORE.jsonl AFTER.jsonl [--merged OUT.jsonl]``. Both
+logs are read under the current verdict rules (``bench_diagnosis._reclassified``); only trials
+present in both are compared. Prints the outcome counts of each log per family and every trial
+whose verdict, cause or outcome changed. ``--merged`` writes BEFORE with AFTER's trials in
+place of its own (AFTER a rerun of only the trials a change touched).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("before", type=Path)
     parser.add_argument("after", type=Path)
+    parser.add_argument("--merged", type=Path, help="write BEFORE with AFTER's trials replacing its own")
     args = parser.parse_args()
     before, after = _read(args.before), _read(args.after)
     common = sorted(set(before) & set(after))
@@ -46,6 +48,11 @@ def main() -> None:
         old, new = before[key], after[key]
         if old[3:6] != new[3:6]:
             print(f"  {key}: {old[3]} {old[4]} {old[5]} -> {new[3]} {new[4]} {new[5]}")
+    if args.merged is not None:
+        merged = {**before, **after}
+        keys = list(before) + [key for key in after if key not in before]
+        args.merged.write_text("".join(json.dumps(merged[key]) + "\n" for key in keys))
+        print(f"\n{len(keys)} trials written to {args.merged}")
 
 
 if __name__ == "__main__":

@@ -262,25 +262,35 @@ def bicycle_source(name: str) -> str:
     return BICYCLES.get(name, name)
 
 
-def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None) -> Trial:
-    """Simulate runs of a hidden effect and diagnose them against the base bicycle.
+def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None):
+    """Return ``(base, truth, runs)``: the base bicycle, the hidden effect's true values, and
+    the simulated runs (one per speed) of a trial.
 
     ``base_name`` is a key of :data:`BICYCLES`, the controlled bicycle, or any bicycle
-    ``load_bicycle`` reads. The controlled bicycle's windows leave out their first 0.3 s (its
-    slow castering mode; see docs/diagnosis.md, ``--settle``).
+    ``load_bicycle`` reads.
     """
     families = (*CAUSES, *PHYSICAL, "motor", *CONTROLLER, "parameter")
     rng = np.random.default_rng([seed, families.index(cause) if cause in families else 99])
     base = load_bicycle(bicycle_source(base_name))
-    controlled = not base.controller.is_empty()
     if speeds is None:
-        speeds = CONTROLLED_SPEEDS if controlled else SPEEDS
+        speeds = SPEEDS if base.controller.is_empty() else CONTROLLED_SPEEDS
     truth_bicycle, truth, model = hidden_bicycle(base, cause, rng)
-    measurements = []
+    runs = []
     for k, speed in enumerate(speeds):
         scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES)
-        run = run_from_simulation(simulate_run(truth_bicycle, scenario, model=model, name=f"run{k}"))
-        measurements += measure_run(run, baseline="auto", settle=0.3 if controlled else 0.0)
+        runs.append(run_from_simulation(simulate_run(truth_bicycle, scenario, model=model, name=f"run{k}")))
+    return base, truth, runs
+
+
+def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None) -> Trial:
+    """Simulate runs of a hidden effect and diagnose them against the base bicycle.
+
+    The controlled bicycle's windows leave out their first 0.3 s (its slow castering mode; see
+    docs/diagnosis.md, ``--settle``).
+    """
+    base, truth, runs = trial_runs(cause, seed, base_name, speeds)
+    settle = 0.0 if base.controller.is_empty() else 0.3
+    measurements = [m for run in runs for m in measure_run(run, baseline="auto", settle=settle)]
     diagnosis = diagnose_observations(base, observations(measurements))
     return Trial(cause, seed, truth, diagnosis, base_name)
 
@@ -302,4 +312,4 @@ def _supports(names: tuple[str, ...]) -> bool:
 
 
 __all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLER", "EXPECTED", "PHYSICAL", "Trial", "box",
-           "cause_by_name", "families", "hidden_bicycle", "run_trial", "with_body"]
+           "cause_by_name", "families", "hidden_bicycle", "run_trial", "trial_runs", "with_body"]

@@ -1,0 +1,79 @@
+"""Which hidden-effect trials a change of the window finder touches (to rerun only those).
+
+A trial's diagnosis depends on its runs only through the windows found in them (the fits of
+unchanged windows are unchanged), so after a change of ``whipple.measurement.windows`` only the
+trials with some other window need to run again; the rest of an earlier log stands.
+
+Run: ``python benchmarks/changed_windows.py OLD_WINDOWS.py [--seeds 50] [--first-seed 0]
+[--workers 2] > trials.jsonl``, where OLD_WINDOWS.py is the earlier
+``src/whipple/measurement/windows.py`` (e.g. ``git show REV:src/whipple/measurement/windows.py``).
+Prints one JSON line ``[bicycle, family, seed]`` per touched trial, for
+``bench_diagnosis.py --trials``; on stderr the count and the touched speeds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import json
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from hidden_effects import BICYCLES, CONTROLLED, families, trial_runs  # noqa: E402
+
+from whipple.measurement import windows as current  # noqa: E402
+from whipple.measurement.experiment import FitOptions  # noqa: E402
+
+
+def _load(path: str):
+    spec = importlib.util.spec_from_file_location("earlier_windows", path)
+    module = importlib.util.module_from_spec(spec)
+    # Dataclasses look their module up while they are built.
+    sys.modules["earlier_windows"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def _touched(job: tuple[str, str, str, int]) -> tuple[str, str, int, list[float]]:
+    """The speeds [m/s] of a trial whose runs the two finders cut differently."""
+    old_path, bicycle, family, seed = job
+    earlier = _load(old_path)
+    _, _, runs = trial_runs(family, seed, bicycle)
+    speeds = []
+    for run in runs:
+        # The samples measure_run lets a window use.
+        valid = np.isfinite(run.speed()) & np.logical_and.reduce(
+            [np.isfinite(run.signals[name]) for name in FitOptions().signals])
+        before = [(w.start_index, w.stop_index) for w in earlier.find_windows(run, valid=valid).windows]
+        after = [(w.start_index, w.stop_index) for w in current.find_windows(run, valid=valid).windows]
+        if before != after:
+            speeds.append(float(np.median(run.speed())))
+    return bicycle, family, seed, speeds
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("old_windows", help="the earlier windows.py")
+    parser.add_argument("--seeds", type=int, default=50)
+    parser.add_argument("--first-seed", type=int, default=0)
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args()
+    jobs = [(args.old_windows, bicycle, family, seed)
+            for seed in range(args.first_seed, args.first_seed + args.seeds)
+            for bicycle in (*BICYCLES, CONTROLLED) for family in families(bicycle)]
+    touched = 0
+    with ProcessPoolExecutor(args.workers) as pool:
+        for bicycle, family, seed, speeds in pool.map(_touched, jobs, chunksize=4):
+            if speeds:
+                touched += 1
+                print(json.dumps([bicycle, family, seed]), flush=True)
+                print(f"{bicycle} {family} {seed}: {speeds}", file=sys.stderr)
+    print(f"{touched} of {len(jobs)} trials have other windows", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

@@ -68,6 +68,18 @@ def _cse(model: DerivedModel):
     return replacements, reduced
 
 
+def _scalar_path(arguments: tuple[str, ...]) -> list[str]:
+    """Lines that turn 0-d arguments into NumPy scalars.
+
+    One parameter set (a diagnosis fit evaluates thousands, one at a time) costs several times
+    less as NumPy scalars than as 0-d arrays; the arithmetic is the same IEEE double arithmetic
+    (the printed code has only +, -, *, / and NumPy functions), so the results are identical.
+    """
+    names = ", ".join(arguments)
+    return ["    if not shape:",
+            f"        {names}, = (value[()] for value in ({names},))"]
+
+
 def emit_numpy(model: DerivedModel, source_hash: str) -> str:
     """Module text with ``matrices(**parameters)`` broadcasting over arrays of parameters."""
     printer = _NumPyPrinter()
@@ -83,7 +95,8 @@ def emit_numpy(model: DerivedModel, source_hash: str) -> str:
              '    """',
              f"    {arguments}, = numpy.broadcast_arrays("
              + ", ".join(f"numpy.asarray({name}, dtype=float)" for name in model.parameters) + ")",
-             f"    shape = {model.parameters[0]}.shape"]
+             f"    shape = {model.parameters[0]}.shape",
+             *_scalar_path(model.parameters)]
     for symbol, expression in replacements:
         lines.append(f"    {symbol} = {printer.doprint(expression)}")
     position = 0

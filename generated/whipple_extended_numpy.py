@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple_extended``).
 
-Derivation sources sha256: f88300bddf8ec7208a0e4f332729d3ebdf9a74afb88d83c35ca35764eece87c6
+Derivation sources sha256: 5849ea184397072fcd8ef0cb717d387b2f9b93b72cf53f10515b5769f1573a43
 SymPy version: 1.14.0
 
 Equation form: M q'' + (v C1 + D) q' + (K0 + v**2 K2) q = f, q = [roll, steer], f = [roll torque, steer torque]; K0 includes gravity.
@@ -57,6 +57,8 @@ def matrices(w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH,
     """
     w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, payload_mass, payload_x, payload_z, steer_inertia, steer_damping, front_payload_mass, front_payload_x, front_payload_z, reflected_steer_inertia, = numpy.broadcast_arrays(numpy.asarray(w, dtype=float), numpy.asarray(c, dtype=float), numpy.asarray(lam, dtype=float), numpy.asarray(g, dtype=float), numpy.asarray(rR, dtype=float), numpy.asarray(mR, dtype=float), numpy.asarray(IRxx, dtype=float), numpy.asarray(IRyy, dtype=float), numpy.asarray(xB, dtype=float), numpy.asarray(zB, dtype=float), numpy.asarray(mB, dtype=float), numpy.asarray(IBxx, dtype=float), numpy.asarray(IBzz, dtype=float), numpy.asarray(IBxz, dtype=float), numpy.asarray(xH, dtype=float), numpy.asarray(zH, dtype=float), numpy.asarray(mH, dtype=float), numpy.asarray(IHxx, dtype=float), numpy.asarray(IHzz, dtype=float), numpy.asarray(IHxz, dtype=float), numpy.asarray(rF, dtype=float), numpy.asarray(mF, dtype=float), numpy.asarray(IFxx, dtype=float), numpy.asarray(IFyy, dtype=float), numpy.asarray(payload_mass, dtype=float), numpy.asarray(payload_x, dtype=float), numpy.asarray(payload_z, dtype=float), numpy.asarray(steer_inertia, dtype=float), numpy.asarray(steer_damping, dtype=float), numpy.asarray(front_payload_mass, dtype=float), numpy.asarray(front_payload_x, dtype=float), numpy.asarray(front_payload_z, dtype=float), numpy.asarray(reflected_steer_inertia, dtype=float))
     shape = w.shape
+    if not shape:
+        w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, payload_mass, payload_x, payload_z, steer_inertia, steer_damping, front_payload_mass, front_payload_x, front_payload_z, reflected_steer_inertia, = (value[()] for value in (w, c, lam, g, rR, mR, IRxx, IRyy, xB, zB, mB, IBxx, IBzz, IBxz, xH, zH, mH, IHxx, IHzz, IHxz, rF, mF, IFxx, IFyy, payload_mass, payload_x, payload_z, steer_inertia, steer_damping, front_payload_mass, front_payload_x, front_payload_z, reflected_steer_inertia,))
     x0 = front_payload_mass*front_payload_z*front_payload_z
     x1 = mF*rF*rF
     x2 = mH*zH*zH

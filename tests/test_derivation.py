@@ -14,6 +14,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import whipple.generated
+import whipple.generated.tyre_numpy
+import whipple.generated.whipple_extended_numpy
+import whipple.generated.whipple_numpy
 from meijaard_oracle import meijaard_matrices, random_physical_parameters
 from whipple.derivation.regenerate import differences, generate
 
@@ -79,6 +82,30 @@ def test_broadcasting_over_parameter_arrays():
     assert matrices.M.shape == (7, 3, 2, 2)
     single = whipple_matrices({**benchmark, "c": parameters["c"][4, 0], "mB": 90.0})
     np.testing.assert_array_equal(matrices.K0[4, 2], single.K0)
+
+
+def test_one_parameter_set_gives_exactly_its_row_of_a_batch():
+    # One set is evaluated as NumPy scalars (the diagnosis' fits evaluate thousands, one at a
+    # time); a batch as arrays. The arithmetic is the same, so the results must be bit for bit.
+    parameters = random_physical_parameters(np.random.default_rng(11), 40)
+    rng = np.random.default_rng(12)
+    extensions = {"payload_mass": rng.uniform(0, 20, 40), "payload_x": rng.uniform(-0.3, 1.0, 40),
+                  "payload_z": rng.uniform(-1.5, -0.3, 40), "steer_inertia": rng.uniform(0, 0.2, 40),
+                  "steer_damping": rng.uniform(0, 2, 40), "front_payload_mass": rng.uniform(0, 8, 40),
+                  "front_payload_x": rng.uniform(0.8, 1.4, 40), "front_payload_z": rng.uniform(-1.5, -0.5, 40),
+                  "reflected_steer_inertia": rng.uniform(0, 0.3, 40),
+                  "cornering_stiffness": rng.uniform(5, 50, 40), "camber_stiffness": rng.uniform(0.3, 1.5, 40),
+                  "relaxation_length": rng.uniform(0.01, 0.3, 40), "pneumatic_trail": rng.uniform(0, 0.03, 40)}
+    table = {**parameters, **extensions}
+    modules = (whipple.generated.whipple_numpy, whipple.generated.whipple_extended_numpy,
+               whipple.generated.tyre_numpy)
+    for module in modules:
+        batch = module.matrices(*(table[name] for name in module.PARAMETERS))
+        for index in (0, 17, 39):
+            single = module.matrices(*(float(table[name][index]) for name in module.PARAMETERS))
+            for name, one, many in zip(module.OUTPUTS, single, batch, strict=True):
+                assert one.shape == many.shape[1:]
+                np.testing.assert_array_equal(one, many[index], err_msg=f"{module.__name__} {name}")
 
 
 def test_generated_folder_is_reproduced_by_a_fresh_derivation():

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from whipple.diagnosis.causes import Cause
-from whipple.diagnosis.observations import Observation, compared_shapes, predicted_modes
+from whipple.diagnosis.observations import Observation, compared_shapes, mode_targets, nearest_modes
 from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
 from whipple.model.parameters import Bicycle
@@ -59,12 +59,18 @@ class Whitening:
 
     Per window the inverse Cholesky factors of the eigenvalue's and the shape's covariance,
     and the dispersion (reduced chi-square >= 1) by which each kind of residual is scaled.
+    ``targets`` and ``measured_shapes`` are the windows' measured values
+    (:func:`~whipple.diagnosis.observations.mode_targets`, and the shapes compared, in the order
+    of ``shape_index``), gathered once for the thousands of residual evaluations of a fit.
     """
 
     eigenvalue: NDArray[np.float64]
     shape_index: NDArray[np.int_]
     shape: NDArray[np.float64]
     scales: tuple[float, float] = (1.0, 1.0)
+    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None]] = field(
+        default=(np.zeros(0), np.zeros(0, complex), []), repr=False)
+    measured_shapes: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, complex), repr=False)
 
     def residual_layout(self) -> tuple[NDArray[np.int_], NDArray[np.int_]]:
         """Return the window and the kind of each residual, in :func:`model_residuals`' order.
@@ -113,7 +119,8 @@ def window_whitening(observations: Sequence[Observation], bicycle: Bicycle,
     index = np.flatnonzero(compared_shapes(bicycle, observations))
     shape = np.array([_inverse_cholesky(observations[int(n)].shape_covariance, observations[int(n)], "mode shape")
                       for n in index]).reshape(-1, 2, 2)
-    return Whitening(eigenvalue, index, shape, scales)
+    measured_shapes = np.array([complex(observations[int(n)].shape or 0.0) for n in index], dtype=complex)
+    return Whitening(eigenvalue, index, shape, scales, mode_targets(observations), measured_shapes)
 
 
 def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whitening: Whitening
@@ -122,12 +129,14 @@ def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whit
 
     Eigenvalue residuals are 2 per window, shape residuals 2 per window with a shape.
     """
-    predicted, shapes = predicted_modes(bicycle, observations)
-    difference = np.array([[o.eigenvalue.real, o.eigenvalue.imag] for o in observations])
-    difference -= np.column_stack([predicted.real, predicted.imag])
+    if len(observations) != len(whitening.eigenvalue):
+        raise ValueError(f"{len(observations)} observations, whitening of {len(whitening.eigenvalue)}")
+    predicted, shapes = nearest_modes(bicycle, *whitening.targets)
+    targets = whitening.targets[1]
+    difference = np.column_stack([targets.real - predicted.real, targets.imag - predicted.imag])
     eigenvalue = np.einsum("nij,nj->ni", whitening.eigenvalue, difference).ravel()
     index = whitening.shape_index
-    measured = np.array([complex(observations[int(n)].shape or 0.0) for n in index])
+    measured = whitening.measured_shapes
     shape_difference = np.column_stack([(measured - shapes[index]).real, (measured - shapes[index]).imag])
     shape = np.einsum("nij,nj->ni", whitening.shape, shape_difference.reshape(-1, 2)).ravel()
     return eigenvalue, shape, predicted

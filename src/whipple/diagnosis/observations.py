@@ -103,11 +103,19 @@ def predicted_modes(bicycle: Bicycle, observations: Sequence[Observation]
     The eigenvalue is as in :func:`predicted_weave`; the mode shape is the eigenvector's ratio
     of the observation's ``shape_signals`` (NaN where the observation has no shape).
     """
-    observations = tuple(observations)
-    speeds = np.array([o.speed for o in observations])
-    targets = np.array([o.eigenvalue for o in observations])
-    signals = [o.shape_signals if _has_shape(o) else None for o in observations]
-    return nearest_modes(bicycle, speeds, targets, signals)
+    return nearest_modes(bicycle, *mode_targets(observations))
+
+
+def mode_targets(observations: Sequence[Observation]
+                 ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None]]:
+    """Return what :func:`nearest_modes` compares with, per window.
+
+    The measured speed [m/s], eigenvalue [1/s] and shape signals (None where the window has
+    no shape).
+    """
+    speeds = np.array([o.speed for o in observations], dtype=float)
+    targets = np.array([o.eigenvalue for o in observations], dtype=complex)
+    return speeds, targets, [o.shape_signals if _has_shape(o) else None for o in observations]
 
 
 def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
@@ -122,13 +130,16 @@ def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArra
     values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(bicycle.model_speed(speeds)))
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)
-    vectors = np.where(lower[:, None, :], np.conj(vectors), vectors)
     nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
     shapes = np.full(len(nearest), np.nan, dtype=complex)
-    for n, pair in enumerate(signals):
-        if pair is not None:
-            vector = vectors[n, :, nearest[n]]
-            shapes[n] = vector[MODE_SHAPE_STATES[pair[0]]] / vector[MODE_SHAPE_STATES[pair[1]]]
+    rows = np.array([n for n, pair in enumerate(signals) if pair is not None], dtype=int)
+    if len(rows):
+        numerator = [MODE_SHAPE_STATES[signals[n][0]] for n in rows]  # type: ignore[index]
+        denominator = [MODE_SHAPE_STATES[signals[n][1]] for n in rows]  # type: ignore[index]
+        vector = vectors[rows, :, nearest[rows]]
+        # The eigenvector of the upper-half-plane eigenvalue: conjugated where eig gave the lower.
+        vector = np.where(lower[rows, nearest[rows]][:, None], np.conj(vector), vector)
+        shapes[rows] = vector[np.arange(len(rows)), numerator] / vector[np.arange(len(rows)), denominator]
     return np.asarray(values[np.arange(len(nearest)), nearest], dtype=complex), shapes
 
 

@@ -63,7 +63,10 @@ def _numpy_identity(like: Any, size: int) -> Any:
 def _numpy_join(axis: int) -> Callable[[Sequence[Any]], Any]:
     def join(blocks: Sequence[Any]) -> Any:
         arrays = [np.asarray(block, dtype=float) for block in blocks]
-        batch = np.broadcast_shapes(*(array.shape[:-2] for array in arrays))
+        batches = {array.shape[:-2] for array in arrays}
+        if len(batches) == 1:  # one bicycle, or a batch alike in every block: nothing to broadcast
+            return np.concatenate(arrays, axis=axis)
+        batch = np.broadcast_shapes(*batches)
         return np.concatenate([np.broadcast_to(a, batch + a.shape[-2:]) for a in arrays], axis=axis)
 
     return join

@@ -8,6 +8,7 @@ effect, and say ``none`` without one. The end-to-end runs use the run simulator.
 from __future__ import annotations
 
 import json
+import warnings
 from dataclasses import replace
 from pathlib import Path
 
@@ -18,7 +19,7 @@ from whipple.cli import main
 from whipple.diagnosis import starts
 from whipple.diagnosis.causes import cause_by_name, payload_form, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
-from whipple.diagnosis.fitting import fit_cause
+from whipple.diagnosis.fitting import fit_cause, model_residuals, window_whitening
 from whipple.diagnosis.observations import Observation, predicted_modes, predicted_weave
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import Payload, load_bicycle
@@ -55,6 +56,22 @@ def test_synthetic_eigenvalues_name_the_hidden_cause(cause, values, verdict):
     best = diagnosis.best
     for value, estimate, std in zip(values, best.values, best.std, strict=True):
         assert abs(estimate - value) < 4 * std  # loose here; calibration is measured in benchmarks
+
+
+def test_a_singular_trial_model_is_a_misfit_without_numpy_warnings():
+    # A parameter cause's bounds reach 0 (a wheelbase of 0 makes the model singular): a fit may
+    # try such a value. It must cost the fit, not print NumPy's RuntimeWarnings at the user.
+    bicycle = load_bicycle("benchmark")
+    seen = _observations(bicycle, np.random.default_rng(5))
+    whitening = window_whitening(seen, bicycle)
+    wheelbase = cause_by_name(bicycle, "parameter:w")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        tiny = model_residuals(wheelbase.apply(bicycle, [1e-12]), seen, whitening)[0]
+        assert np.all(np.isfinite(tiny))
+        assert np.sum(tiny**2) > 100 * np.sum(model_residuals(bicycle, seen, whitening)[0] ** 2)
+        with pytest.raises(np.linalg.LinAlgError):  # a failed step: fit_cause drops that start
+            model_residuals(wheelbase.apply(bicycle, [0.0]), seen, whitening)
 
 
 SHAPE_STD = 0.004  # s, of both parts of steer angle per roll rate

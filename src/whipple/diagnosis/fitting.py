@@ -149,7 +149,11 @@ def model_residuals(bicycle: Bicycle, observations: Sequence[Observation], white
     Each kind of residual is divided by its dispersion; the chi-squares are at unit dispersion
     (for :func:`_dispersions`).
     """
-    eigenvalue, shape, predicted = _residual_blocks(bicycle, observations, whitening)
+    # A trial value at the edge of a cause's bounds (a wheelbase or a wheel radius near 0) can
+    # make the model singular; such a model is a misfit or a failed step of the fit, not
+    # something to warn the user about.
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        eigenvalue, shape, predicted = _residual_blocks(bicycle, observations, whitening)
     # A model whose weave vanishes at a window's speed has no shape to compare: count it as a
     # large, finite misfit rather than stopping the fit.
     eigenvalue, shape = (np.nan_to_num(block, nan=1e3, posinf=1e3, neginf=-1e3) for block in (eigenvalue, shape))

@@ -6,8 +6,10 @@ cause chosen again per left-out speed, the nonlinear amplitude check, the report
 The baseline measured in the same run is the held-out gain that only refits the cause chosen
 on all speeds (the earlier, faster and leakier form); the ratio says what choosing again costs.
 
-Run: ``python benchmarks/bench_diagnose_time.py [--effect two]`` (``two``: steer damping and a
-rear-frame roll inertia 40% high together, so that no single cause fits and pairs are tried).
+Run: ``python benchmarks/bench_diagnose_time.py [--effect two] [--workers N]`` (``two``: steer
+damping and a rear-frame roll inertia 40% high together, so that no single cause fits and
+pairs are tried; ``--workers N``: the whole command also with ``--workers N``, the held-out
+speeds diagnosed on a local Dask cluster, its start included).
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=40)
     parser.add_argument("--effect", choices=("one", "two"), default="one")
+    parser.add_argument("--workers", type=int, default=None, metavar="N")
     args = parser.parse_args()
     base = load_bicycle("benchmark")
     truth = base.with_extensions(steer_damping=0.8)
@@ -58,12 +61,16 @@ def main() -> None:
         if diagnosis.chosen is not None:
             held_out_gain(base, seen, fixed=diagnosis.chosen)
         refitted = time.perf_counter()
-        output = StringIO()
+        command = ["diagnose", *map(str, files), "--bicycle", "benchmark", "--json", str(Path(folder) / "d.json"),
+                   "--report", str(Path(folder) / "report")]
         cpu = time.process_time()
-        with redirect_stdout(output):
-            whipple_main(["diagnose", *map(str, files), "--bicycle", "benchmark", "--json",
-                          str(Path(folder) / "d.json"), "--report", str(Path(folder) / "report")])
+        with redirect_stdout(StringIO()):
+            whipple_main(command)
         finished, cpu = time.perf_counter(), time.process_time() - cpu
+        if args.workers is not None:
+            with redirect_stdout(StringIO()):
+                whipple_main([*command, "--workers", str(args.workers)])
+            parallel = time.perf_counter() - finished
     hidden = "steer damping 0.8 + IBxx x1.4" if args.effect == "two" else "steer damping 0.8"
     print(f"{args.runs} runs, {len(seen)} windows; hidden: {hidden}")
     print(f"verdict {diagnosis.verdict} ({diagnosis.cause}); pairs tried: "
@@ -73,6 +80,9 @@ def main() -> None:
     print(f"measure {measured - started:.1f} s, diagnose {diagnosed - measured:.1f} s, gain (choice redone) "
           f"{again:.1f} s, gain (refit only, baseline) {refit:.1f} s: ratio {again / max(refit, 1e-9):.1f}")
     print(f"whipple diagnose (whole command, with report): {finished - refitted:.1f} s wall, {cpu:.1f} s CPU")
+    if args.workers is not None:
+        print(f"the same with --workers {args.workers}: {parallel:.1f} s wall "
+              f"(ratio {parallel / (finished - refitted):.2f})")
 
 
 if __name__ == "__main__":

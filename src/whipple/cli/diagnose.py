@@ -4,7 +4,9 @@ Every free-coasting window of the runs is fitted; each candidate cause (steer da
 inertia rigid or reflected, speed scale, rear or front payload, tyre compliance, the
 controller's gain, delay or lag, a wrong parameter) is fitted to all windows
 jointly and compared by its evidence; the chosen cause's extended model is tested on held-out
-speeds. The bicycle file carries the controller, if any.
+speeds. The bicycle file carries the controller, if any. --workers N runs the held-out
+speeds' diagnoses on a local Dask cluster of N processes, --scheduler ADDRESS on an existing
+one; the results are those of the serial run.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
 from whipple.diagnosis.report import assemble, gain_sentences, report_json
+from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import FitOptions, measure_run
@@ -49,10 +52,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="leave the first SECONDS of every window out of the eigenvalue fits (default 0, as "
                              "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
                              "measured speeds (see docs/diagnosis.md)")
+    cluster = parser.add_mutually_exclusive_group()
+    cluster.add_argument("--workers", type=int, metavar="N",
+                         help="diagnose the held-out speeds on a local Dask cluster of N processes")
+    cluster.add_argument("--scheduler", metavar="ADDRESS",
+                         help="diagnose the held-out speeds on an existing Dask cluster (e.g. tcp://host:8786)")
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
+    check_cluster_options(args.scheduler, args.workers)
     options = FitOptions(baseline=args.baseline, settle=args.settle)
     sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
     if not sources:
@@ -67,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
     runs = [read_run(source, args.layout) for source in sources]
     windows = read_windows(args.windows, runs) if args.windows is not None else None
     measurements = [m for run_ in runs for m in measure_run(run_, windows, options)]
-    report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters)
+    report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters,
+                      scheduler=args.scheduler, workers=args.workers)
     data = report_json(report)
     diagnosis = report.diagnosis
     print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs)")

@@ -24,6 +24,7 @@ from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
+from whipple.distributed import map_ordered
 from whipple.errors import AnalysisError
 from whipple.measurement.weavefit import response_with_eigenvalue
 from whipple.model.parameters import Bicycle
@@ -124,9 +125,16 @@ def _fold_model(bicycle: Bicycle, training: Sequence[Observation], causes: Seque
             diagnosis.best.values)
 
 
+def _fold_task(task: tuple[Bicycle, Sequence[Observation], Sequence[Cause] | None, Cause | None]
+               ) -> tuple[Bicycle, str, str, tuple[float, ...]]:
+    """One fold as a task of :func:`whipple.distributed.map_ordered`."""
+    return _fold_model(*task)
+
+
 def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause] | None = None,
                   series: Sequence[tuple[NDArray[np.float64], NDArray[np.float64], str]] | None = None,
-                  fixed: Cause | None = None) -> Gain:
+                  fixed: Cause | None = None, *, scheduler: str | None = None,
+                  workers: int | None = None, processes: bool = True) -> Gain:
     """Leave each speed group out: choose and fit the cause on the others, predict it.
 
     Parameters
@@ -143,6 +151,10 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
     fixed : Cause, optional
         Only refit this cause on each fold instead of choosing again (faster; the choice then
         has seen every speed).
+    scheduler, workers, processes : optional
+        Run the folds (each a whole diagnosis) on a Dask cluster: an existing one at
+        ``scheduler``, or a local one of ``workers`` processes (threads with ``processes=False``),
+        see :func:`whipple.distributed.map_ordered`. The results are those of the serial run.
 
     With a single speed group, falls back to leave-one-window-out.
     """
@@ -150,14 +162,15 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
     groups = speed_groups(observations)
     if len(groups) < 2:
         groups = [[i] for i in range(len(observations))]
+    groups = [group for group in groups if len(observations) - len(group) >= 2]
     errors: dict[str, list[float]] = {"base": [], "extended": [], "time_base": [], "time_extended": []}
     speeds = []
-    for group in groups:
-        training = [o for i, o in enumerate(observations) if i not in group]
+    tasks = (([o for i, o in enumerate(observations) if i not in group]) for group in groups)
+    with map_ordered(_fold_task, ((bicycle, training, causes, fixed) for training in tasks),
+                     scheduler=scheduler, workers=workers, processes=processes) as folds:
+        models = list(folds)
+    for group, (extended, name, verdict, values) in zip(groups, models, strict=True):
         held = [observations[i] for i in group]
-        if len(training) < 2:
-            continue
-        extended, name, verdict, values = _fold_model(bicycle, training, causes, fixed)
         measured = np.array([o.eigenvalue for o in held])
         fold: dict[str, NDArray[np.float64]] = {}
         for key, model in (("base", bicycle), ("extended", extended)):

@@ -211,11 +211,14 @@ def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | 
 
 def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
              include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0),
-             amplitude: bool = True) -> DiagnosisReport:
+             amplitude: bool = True, scheduler: str | None = None, workers: int | None = None
+             ) -> DiagnosisReport:
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain.
 
     With ``amplitude``, also compare the nonlinear model's weave at each window's measured
     amplitude with the linear one (:func:`whipple.diagnosis.amplitude.check_amplitudes`).
+    ``scheduler`` or ``workers``: run the held-out gain's folds on a Dask cluster
+    (:func:`whipple.diagnosis.gain.held_out_gain`); the results are the serial ones.
     """
     used = tuple(m for m in measurements if m.usable)
     if len(used) < 2:
@@ -231,7 +234,7 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     if chosen is not None:
         series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
         try:
-            gain = held_out_gain(bicycle, observations, causes, series)
+            gain = held_out_gain(bicycle, observations, causes, series, scheduler=scheduler, workers=workers)
         except AnalysisError as error:
             note = str(error)
     else:

@@ -165,8 +165,8 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
     groups = [group for group in groups if len(observations) - len(group) >= 2]
     errors: dict[str, list[float]] = {"base": [], "extended": [], "time_base": [], "time_extended": []}
     speeds = []
-    tasks = (([o for i, o in enumerate(observations) if i not in group]) for group in groups)
-    with map_ordered(_fold_task, ((bicycle, training, causes, fixed) for training in tasks),
+    trainings = ([o for i, o in enumerate(observations) if i not in group] for group in groups)
+    with map_ordered(_fold_task, ((bicycle, training, causes, fixed) for training in trainings),
                      scheduler=scheduler, workers=workers, processes=processes) as folds:
         models = list(folds)
     for group, (extended, name, verdict, values) in zip(groups, models, strict=True):

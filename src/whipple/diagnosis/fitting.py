@@ -67,10 +67,9 @@ class Whitening:
     eigenvalue: NDArray[np.float64]
     shape_index: NDArray[np.int_]
     shape: NDArray[np.float64]
+    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None]] = field(repr=False)
+    measured_shapes: NDArray[np.complex128] = field(repr=False)
     scales: tuple[float, float] = (1.0, 1.0)
-    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None]] = field(
-        default=(np.zeros(0), np.zeros(0, complex), []), repr=False)
-    measured_shapes: NDArray[np.complex128] = field(default_factory=lambda: np.zeros(0, complex), repr=False)
 
     def residual_layout(self) -> tuple[NDArray[np.int_], NDArray[np.int_]]:
         """Return the window and the kind of each residual, in :func:`model_residuals`' order.
@@ -120,7 +119,7 @@ def window_whitening(observations: Sequence[Observation], bicycle: Bicycle,
     shape = np.array([_inverse_cholesky(observations[int(n)].shape_covariance, observations[int(n)], "mode shape")
                       for n in index]).reshape(-1, 2, 2)
     measured_shapes = np.array([complex(observations[int(n)].shape or 0.0) for n in index], dtype=complex)
-    return Whitening(eigenvalue, index, shape, scales, mode_targets(observations), measured_shapes)
+    return Whitening(eigenvalue, index, shape, mode_targets(observations), measured_shapes, scales)
 
 
 def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whitening: Whitening

@@ -134,7 +134,7 @@ def _fold_task(task: tuple[Bicycle, Sequence[Observation], Sequence[Cause] | Non
 def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause] | None = None,
                   series: Sequence[tuple[NDArray[np.float64], NDArray[np.float64], str]] | None = None,
                   fixed: Cause | None = None, *, scheduler: str | None = None,
-                  workers: int | None = None, processes: bool = True) -> Gain:
+                  workers: int | None = None) -> Gain:
     """Leave each speed group out: choose and fit the cause on the others, predict it.
 
     Parameters
@@ -151,10 +151,10 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
     fixed : Cause, optional
         Only refit this cause on each fold instead of choosing again (faster; the choice then
         has seen every speed).
-    scheduler, workers, processes : optional
+    scheduler, workers : optional
         Run the folds (each a whole diagnosis) on a Dask cluster: an existing one at
-        ``scheduler``, or a local one of ``workers`` processes (threads with ``processes=False``),
-        see :func:`whipple.distributed.map_ordered`. The results are those of the serial run.
+        ``scheduler``, or a local one of ``workers`` processes, see
+        :func:`whipple.distributed.map_ordered`. The results are those of the serial run.
 
     With a single speed group, falls back to leave-one-window-out.
     """
@@ -167,7 +167,7 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
     speeds = []
     trainings = ([o for i, o in enumerate(observations) if i not in group] for group in groups)
     with map_ordered(_fold_task, ((bicycle, training, causes, fixed) for training in trainings),
-                     scheduler=scheduler, workers=workers, processes=processes) as folds:
+                     scheduler=scheduler, workers=workers) as folds:
         models = list(folds)
     for group, (extended, name, verdict, values) in zip(groups, models, strict=True):
         held = [observations[i] for i in group]

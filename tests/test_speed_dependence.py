@@ -7,10 +7,12 @@ candidate has): only the second must show values that depend on speed.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from whipple.diagnosis.causes import cause_by_name
-from whipple.diagnosis.consistency import speed_dependence, speed_group_sums
+from whipple.diagnosis.consistency import jackknife_std, speed_dependence, speed_group_sums
 from whipple.diagnosis.evidence import SPEED_DEPENDENCE, diagnose_observations
 from whipple.diagnosis.fitting import fit_cause, window_whitening
 from whipple.diagnosis.observations import Observation, predicted_weave
@@ -103,3 +105,31 @@ def test_a_bias_shared_by_each_speed_is_not_taken_for_a_drift():
     # Without the discount, the same chi-square differences would read as a drift.
     penalty = 0.5 * np.log(2 * len(SPEEDS))
     assert any((d.evidence + penalty) * d.design_effect - penalty > SPEED_DEPENDENCE for d in shared)
+
+
+def _jackknife_and_fit_std(**noise):
+    bicycle, observations = _observations(lambda v: 0.8, **noise)
+    cause = cause_by_name(bicycle, "steer_damping")
+    fit = fit_cause(bicycle, cause, observations)
+    return jackknife_std(bicycle, cause, observations, fit.values)[0], fit.std[0], fit.values[0]
+
+
+def test_the_jackknife_sees_errors_shared_by_a_speeds_windows():
+    # Independent window noise only: the jackknife spread and the fit's own std agree roughly.
+    alone, fit_std, value = _jackknife_and_fit_std()
+    assert abs(value - 0.8) < 0.1
+    assert 0.3 * fit_std < alone < 3.0 * fit_std
+    # An error common to the windows of each speed (10x the window noise): the fit's std, which
+    # counts every window as independent, misses it; the spread over left-out speeds does not.
+    shared, fit_std, _ = _jackknife_and_fit_std(shared=0.5)
+    assert shared > 3.0 * fit_std
+
+
+def test_the_jackknife_of_exact_data_is_zero():
+    bicycle, observations = _observations(lambda v: 0.8)
+    exact = [dataclasses.replace(o, eigenvalue=predicted_weave(bicycle.with_extensions(steer_damping=0.8), [o])[0])
+             for o in observations]
+    cause = cause_by_name(bicycle, "steer_damping")
+    fit = fit_cause(bicycle, cause, exact)
+    assert abs(fit.values[0] - 0.8) < 1e-6
+    assert jackknife_std(bicycle, cause, exact, fit.values)[0] < 1e-6

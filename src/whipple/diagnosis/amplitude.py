@@ -259,9 +259,12 @@ def check_amplitudes(bicycle: Bicycle, used: Sequence[WindowMeasurement],
     vectors = np.where(lower[:, None, :], np.conj(vectors), vectors)
     targets = measured if linear is None else np.asarray(linear)
     nearest = np.argmin(np.abs(values - targets[:, None]), axis=1)
+    # A given prediction is the linear eigenvalue itself (the report shows one number for it);
+    # eig only supplies its mode's full eigenvector, which starts the nonlinear model.
+    eigenvalues = values[np.arange(len(used)), nearest] if linear is None else targets
     checks = []
     for n, measurement in enumerate(used):
-        checks.append(_check(forced, measurement, float(speeds[n]), complex(values[n, nearest[n]]),
+        checks.append(_check(forced, measurement, float(speeds[n]), complex(eigenvalues[n]),
                              vectors[n, :, nearest[n]]))
     return AmplitudeReport(tuple(checks), forced.estimated)
 

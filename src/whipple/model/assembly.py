@@ -169,6 +169,43 @@ def build_linear_model(
                               damping=matrices.D, feedback=feedback, description=description)
 
 
+def second_order_matrices(bicycle: Bicycle, speeds: ArrayLike
+                          ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None:
+    """Return M, C(v) and K(v) of ``M q'' + C(v) q' + K(v) q = 0``, or None for a model with more states.
+
+    The bicycle's linear model (:func:`linear_model`) when it has the states ``[q, q']`` only:
+    no tyre states and no controller dynamics (a state-feedback controller enters C and K).
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        One bicycle.
+    speeds : array_like
+        True forward speeds [m/s], shape S.
+
+    Returns
+    -------
+    tuple of ndarray or None
+        M [kg m^2] (2, 2); ``C = v C1 + D - F_rate(v)`` [N m s/rad] and
+        ``K = K0 + v^2 K2 - F_angle(v)`` [N m/rad], each S + (2, 2).
+    """
+    controller, extensions = bicycle.controller, bicycle.extensions
+    if controller is not None and controller.has_dynamics():
+        return None
+    tyres = extensions is not None and extensions.tyre_compliance is not None
+    if tyres or "cornering_stiffness" in bicycle.parameters:
+        return None
+    matrices = model_matrices(bicycle.parameters, extensions)
+    v = np.asarray(speeds, dtype=float)[..., None, None]
+    C = v * matrices.C1 + matrices.D
+    K = matrices.K0 + v * v * matrices.K2
+    # The feedback f = sum_k v^k F_k x moves to the left-hand side.
+    for power, gain in enumerate(controller.feedback_coefficients() if controller is not None else []):
+        C = C - v**power * gain[:, 2:]
+        K = K - v**power * gain[:, :2]
+    return matrices.M, C, K
+
+
 def linear_model(bicycle: Bicycle) -> LinearModel:
     """Return the linear model of a bicycle, with its extensions and controller."""
     return build_linear_model(bicycle.parameters, bicycle.extensions, bicycle.controller,

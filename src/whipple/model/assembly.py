@@ -139,6 +139,11 @@ def model_matrices(parameters: Mapping[str, ArrayLike], extensions: Extensions |
     return whipple_matrices(parameters)
 
 
+def _has_tyre_states(parameters: Mapping[str, ArrayLike], extensions: Extensions | None) -> bool:
+    """Whether the model has tyre states (:mod:`whipple.model.tyre`), from extensions or parameters."""
+    return (extensions is not None and extensions.tyre_compliance is not None) or "cornering_stiffness" in parameters
+
+
 def build_linear_model(
     parameters: Mapping[str, ArrayLike],
     extensions: Extensions | None = None,
@@ -160,8 +165,7 @@ def build_linear_model(
     """
     if controller is not None and controller.has_dynamics():
         return with_actuator(build_linear_model(parameters, extensions, None, description), controller)
-    tyres = extensions is not None and extensions.tyre_compliance is not None
-    if tyres or "cornering_stiffness" in parameters:
+    if _has_tyre_states(parameters, extensions):
         return tyre_linear_model(parameters, extensions, controller, description)
     matrices = model_matrices(parameters, extensions)
     feedback = controller.feedback_coefficients() if controller is not None else None
@@ -190,10 +194,7 @@ def second_order_matrices(bicycle: Bicycle, speeds: ArrayLike
         ``K = K0 + v^2 K2 - F_angle(v)`` [N m/rad], each S + (2, 2).
     """
     controller, extensions = bicycle.controller, bicycle.extensions
-    if controller is not None and controller.has_dynamics():
-        return None
-    tyres = extensions is not None and extensions.tyre_compliance is not None
-    if tyres or "cornering_stiffness" in bicycle.parameters:
+    if (controller is not None and controller.has_dynamics()) or _has_tyre_states(bicycle.parameters, extensions):
         return None
     matrices = model_matrices(bicycle.parameters, extensions)
     v = np.asarray(speeds, dtype=float)[..., None, None]

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.model.linear import second_order_model
 from whipple.stability.polynomial import det_2x2, mixed_2x2
 
 #: Largest mismatch, relative to the size of the terms that make up each coefficient, between
@@ -145,19 +146,10 @@ def second_order_eigenvalues(M: NDArray[np.float64], C: NDArray[np.float64], K: 
     if np.any(doubtful):
         shape = roots.shape[:-1]
         M, C, K = (np.broadcast_to(X, shape + (2, 2)) for X in (M, C, K))
-        roots[doubtful] = np.linalg.eigvals(first_order_matrix(M[doubtful], C[doubtful], K[doubtful]))
+        zero = np.zeros_like(K[doubtful])
+        first_order = second_order_model(M[doubtful], zero, K[doubtful], zero, damping=C[doubtful])
+        roots[doubtful] = np.linalg.eigvals(first_order.state_matrix(0.0))
     return roots
-
-
-def first_order_matrix(M: NDArray[np.float64], C: NDArray[np.float64], K: NDArray[np.float64]
-                       ) -> NDArray[np.float64]:
-    """State matrix ``[[0, I], [-M^-1 K, -M^-1 C]]`` (..., 4, 4) of ``M q'' + C q' + K q = 0``."""
-    shape = np.broadcast_shapes(M.shape, C.shape, K.shape)
-    A = np.zeros(shape[:-2] + (4, 4))
-    A[..., 0, 2] = A[..., 1, 3] = 1.0
-    A[..., 2:, :2] = -np.linalg.solve(np.broadcast_to(M, shape), np.broadcast_to(K, shape))
-    A[..., 2:, 2:] = -np.linalg.solve(np.broadcast_to(M, shape), np.broadcast_to(C, shape))
-    return A
 
 
 def second_order_eigenvectors(M: NDArray[np.float64], C: NDArray[np.float64], K: NDArray[np.float64],

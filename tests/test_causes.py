@@ -8,7 +8,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from whipple.diagnosis.causes import candidate_causes, cause_by_name, payload_bounds, payload_form, with_cause
+from whipple.diagnosis.causes import (
+    POSITIVE_PARAMETERS,
+    candidate_causes,
+    cause_by_name,
+    payload_bounds,
+    payload_form,
+    with_cause,
+)
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.observations import observations
 from whipple.measurement.experiment import measure_run
@@ -139,3 +146,20 @@ def test_rear_payload_ends_at_the_steer_axis(source):
     assert low < p["xB"] < high
     front_low, front_high = payload_bounds(bicycle, "front_payload")["x"]
     assert front_low < p["xH"] < front_high and front_high > p["w"]
+
+
+@pytest.mark.parametrize("name", ["benchmark", "kooijman2008", "sbw2024"])
+def test_a_wrong_parameter_keeps_positive_quantities_positive(name):
+    bicycle = load_bicycle(name)
+    parameters = {cause.name.split(":", 1)[1]: cause for cause in candidate_causes(bicycle)
+                  if cause.name.startswith("parameter:")}
+    assert POSITIVE_PARAMETERS <= set(parameters)
+    for key, cause in parameters.items():
+        lower, upper = cause.limits
+        value = bicycle.parameters[key]
+        assert lower[0] <= value <= upper[0]
+        if key in POSITIVE_PARAMETERS:
+            # No fit can blame a massless frame, a zero wheelbase or wheel radius.
+            assert lower[0] == pytest.approx(value / 3.0) and lower[0] > 0
+        else:
+            assert lower[0] < value < upper[0]

@@ -206,11 +206,24 @@ BLAMEABLE_PARAMETERS = ("w", "c", "lam", "rR", "mR", "IRxx", "IRyy", "xB", "zB",
                         "xH", "zH", "mH", "IHxx", "IHzz", "IHxz", "rF", "mF", "IFxx", "IFyy")
 
 
+#: Blameable parameters that no real bicycle has at or below zero (masses, wheel radii, the
+#: wheelbase, principal inertias); the trail, head angle, positions and products of inertia may
+#: take either sign.
+POSITIVE_PARAMETERS = frozenset(("w", "rR", "mR", "IRxx", "IRyy", "mB", "IBxx", "IBzz", "mH", "IHxx", "IHzz", "rF",
+                                 "mF", "IFxx", "IFyy"))
+
+
 def parameter_cause(bicycle: Bicycle, key: str, share: float) -> Cause:
-    """``parameter:<key>``: the bicycle's value of key is wrong."""
+    """``parameter:<key>``: the bicycle's value of key is wrong.
+
+    Bounds: the value +/- its magnitude, except that a positive quantity stays above a third
+    of its value (a fit at 0 would blame a massless frame or a zero wheelbase, and makes the
+    model singular).
+    """
     value = float(bicycle.parameters[key])
     span = max(abs(value), 1e-3)
-    return Cause(f"parameter:{key}", (key,), (PARAMETER_UNITS.get(key, ""),), (value,), ((value - span, value + span),),
+    lower = value / 3.0 if key in POSITIVE_PARAMETERS and value >= 0 else value - span
+    return Cause(f"parameter:{key}", (key,), (PARAMETER_UNITS.get(key, ""),), (value,), ((lower, value + span),),
                  _parameter(key), prior=share, null=(value,))
 
 

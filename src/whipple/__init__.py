@@ -31,10 +31,10 @@ __version__ = "0.1.0"
 _EXPORTS: dict[str, tuple[str, ...]] = {
     "whipple.errors": ("WhippleError", "InputError", "ParameterError", "BicycleFileError", "RunFileError",
                        "AnalysisError"),
-    "whipple.model.parameters": ("Bicycle", "Controller", "Extensions", "Payload", "TyreCompliance",
+    "whipple.model.parameters": ("Bicycle", "Controller", "Extensions", "Payload", "Rider", "TyreCompliance",
                                  "ValidationReport", "PARAMETER_NAMES", "PARAMETER_DESCRIPTIONS", "PARAMETER_UNITS",
                                  "builtin_names", "check_physical", "load_bicycle", "read_benchmark_txt",
-                                 "read_bicycle_toml", "validate", "write_bicycle_toml"),
+                                 "read_bicycle_toml", "read_rider_txt", "add_rider", "validate", "write_bicycle_toml"),
     "whipple.model.linear": ("LinearModel", "second_order_model"),
     "whipple.model.assembly": ("Matrices", "build_linear_model", "extended_matrices", "linear_model",
                                "whipple_matrices"),

@@ -27,3 +27,10 @@ def speed_list(text: str) -> list[float]:
     if not speeds:
         raise argparse.ArgumentTypeError("no speeds given")
     return speeds
+
+
+def add_rider_argument(parser: argparse.ArgumentParser) -> None:
+    """``--rider FILE``: a rigid rider joined to the bicycle's rear frame."""
+    parser.add_argument("--rider", metavar="FILE",
+                        help="BicycleParameters rider file (<Rider><Bicycle>Benchmark.txt): the rider's body, "
+                             "joined to the rear frame as a rigid rider")

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from whipple.cli.arguments import speed_range
+from whipple.cli.arguments import add_rider_argument, speed_range
 from whipple.errors import InputError
 from whipple.model.parameters import load_bicycle
 from whipple.stability.report import analyse_bicycle
@@ -19,6 +19,7 @@ from whipple.stability.report import analyse_bicycle
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
+    add_rider_argument(parser)
     parser.add_argument("bicycle", metavar="PARAMS",
                         help="bicycle file (.toml or BicycleParameters *Benchmark.txt) or built-in name")
     parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
@@ -33,7 +34,7 @@ def _matrix_lines(name: str, matrix) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
-    bicycle = load_bicycle(args.bicycle)
+    bicycle = load_bicycle(args.bicycle, rider=args.rider)
     try:
         report = analyse_bicycle(bicycle, speed_range=args.speeds)
     except InputError as error:

@@ -18,6 +18,7 @@ import sys
 from pathlib import Path
 
 from whipple.atomic import write_text_atomic
+from whipple.cli.arguments import add_rider_argument
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
@@ -33,6 +34,7 @@ from whipple.model.parameters import load_bicycle, write_bicycle_toml
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
+    add_rider_argument(parser)
     parser.add_argument("runs", nargs="*", type=Path, metavar="RUNS", help="run files")
     parser.add_argument("--bundled", action="store_true", help="use the bundled steer-by-wire treadmill runs")
     parser.add_argument("--bicycle", required=True, metavar="PARAMS", help="bicycle file or built-in name")
@@ -66,13 +68,13 @@ def run(args: argparse.Namespace) -> int:
     sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
     if not sources:
         raise InputError("no run files given (name files, or use --bundled)")
-    inputs = [s for s in sources if isinstance(s, Path)] + [args.bicycle]
+    inputs = [s for s in sources if isinstance(s, Path)] + [args.bicycle, *([args.rider] if args.rider else [])]
     if args.windows is not None:
         inputs.append(args.windows)
     report_file = args.report / "report.md" if args.report is not None else None
     check_outputs({"--json": args.json, "--save-model": args.save_model, "--report's report.md": report_file},
                   inputs, {"--report": args.report})
-    bicycle = load_bicycle(args.bicycle)
+    bicycle = load_bicycle(args.bicycle, rider=args.rider)
     runs = [read_run(source, args.layout) for source in sources]
     windows = read_windows(args.windows, runs) if args.windows is not None else None
     measurements = [m for run_ in runs for m in measure_run(run_, windows, options)]

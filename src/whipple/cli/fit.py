@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from whipple.atomic import refuse_input_overwrite, write_text_atomic
+from whipple.cli.arguments import add_rider_argument
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_reference_windows, bundled_runs
@@ -47,6 +48,7 @@ BUNDLED = "bundled"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
+    add_rider_argument(parser)
     parser.add_argument("runs", nargs="*", metavar="RUN",
                         help="run files (native CSV, a layout's format, or .gz of either)")
     parser.add_argument("--bundled", action="store_true",
@@ -90,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
     signals = tuple(name.strip() for name in args.signals.split(",") if name.strip())
     if not signals:
         raise InputError("--signals names no signal")
-    inputs = [*args.runs, *(f for f in (args.windows, args.compare, args.bicycle, args.layout)
+    inputs = [*args.runs, *(f for f in (args.windows, args.compare, args.bicycle, args.rider, args.layout)
                             if f and f != BUNDLED)]
     check_outputs({"--json": args.json, "--csv": args.csv}, inputs, {"--plot": args.plot})
 
@@ -114,7 +116,9 @@ def run(args: argparse.Namespace) -> int:
         reference, reference_name = windows_file(BUNDLED), BUNDLED
     if reference_name == BUNDLED:
         reference_name = "the hand-picked windows of the bundled runs"
-    bicycle = load_bicycle(args.bicycle) if args.bicycle else None
+    if args.rider and not args.bicycle:
+        raise InputError("--rider needs --bicycle (the bicycle the rider sits on)")
+    bicycle = load_bicycle(args.bicycle, rider=args.rider) if args.bicycle else None
 
     options = FitOptions(signals=signals, baseline=args.baseline, noise=args.noise, shape_signal=None)
     measured = [measure_run(run_, chosen, options) for run_ in runs]

@@ -17,7 +17,7 @@ import re
 from pathlib import Path
 
 from whipple.atomic import check_writable, refuse_input_overwrite
-from whipple.cli.arguments import speed_list
+from whipple.cli.arguments import add_rider_argument, speed_list
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
@@ -28,6 +28,7 @@ from whipple.simulation.simulator import simulate_run, write_run_csv
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
+    add_rider_argument(parser)
     parser.add_argument("--bicycle", required=True, metavar="PARAMS",
                         help="bicycle file (.toml or BicycleParameters *.txt) or built-in name")
     speeds = parser.add_mutually_exclusive_group(required=True)
@@ -72,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     if bad:
         raise InputError(f"speeds must be positive m/s, got {bad[0]:g}")
     output = Path(args.output)
-    refuse_input_overwrite(output, [args.bicycle])
+    refuse_input_overwrite(output, [args.bicycle, *([args.rider] if args.rider else [])])
     single_file = output.suffix.lower() == ".csv"
     if single_file and len(speeds) > 1:
         raise InputError(f"{len(speeds)} speeds need an output folder, not a .csv file",
@@ -81,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("output exists and is not a folder", args.output)
     check_writable(output, is_folder=not single_file)
 
-    bicycle = load_bicycle(args.bicycle)
+    bicycle = load_bicycle(args.bicycle, rider=args.rider)
     model = linear_model(bicycle)
     columns = ["roll_rate", "yaw_rate", "steer_angle",
                "speedometer" if args.speedometer else "speed"]
@@ -101,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     targets = [output if single_file else output / _file_name(name, args.setting, s.speed)
                for s in scenarios]
     for target in targets:
-        refuse_input_overwrite(target, [args.bicycle])
+        refuse_input_overwrite(target, [args.bicycle, *([args.rider] if args.rider else [])])
     # Simulate everything first: a bad speed (e.g. aliasing) must not leave half the files.
     if args.nonlinear:
         runs = [simulate_nonlinear_run(bicycle, scenario, name=target.stem)

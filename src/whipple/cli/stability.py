@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import speed_range
+from whipple.cli.arguments import add_rider_argument, speed_range
 from whipple.cli.outputs import check_outputs, figure_format, save_figure
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
@@ -30,6 +30,7 @@ MAX_POINTS = 100_000
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
+    add_rider_argument(parser)
     parser.add_argument("bicycle", metavar="PARAMS", help="bicycle file or built-in name")
     parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
                         help="speed interval, m/s (default 0:10)")
@@ -45,10 +46,10 @@ def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     if not 2 <= args.points <= MAX_POINTS:
         raise InputError(f"--points must be between 2 and {MAX_POINTS}, got {args.points}")
-    check_outputs({"--plot": args.plot, "--csv": args.csv}, [args.bicycle])
+    check_outputs({"--plot": args.plot, "--csv": args.csv}, [args.bicycle, *([args.rider] if args.rider else [])])
     if args.plot is not None:
         figure_format(args.plot)
-    bicycle = load_bicycle(args.bicycle)
+    bicycle = load_bicycle(args.bicycle, rider=args.rider)
     model = linear_model(bicycle)
     low, high = args.speeds
     result = eigen_analysis(model, np.linspace(low, high, args.points), vectors=False)

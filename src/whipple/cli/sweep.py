@@ -20,7 +20,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from whipple.atomic import atomic_path, refuse_input_overwrite
-from whipple.cli.arguments import speed_range
+from whipple.cli.arguments import add_rider_argument, speed_range
 from whipple.distributed import check_cluster_options, map_ordered
 from whipple.errors import InputError
 from whipple.model.parameters import load_bicycle
@@ -29,6 +29,7 @@ from whipple.stability.sweep import CHUNK_ROWS, SweepTask, analyse_chunk, header
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
+    add_rider_argument(parser)
     parser.add_argument("table", type=Path, metavar="SETS.csv", help="parameter sets, one per row")
     parser.add_argument("--output", "-o", type=Path, required=True, metavar="OUT.csv", help="results table")
     parser.add_argument("--bicycle", default="benchmark", metavar="PARAMS",
@@ -77,12 +78,12 @@ class _Progress:
 
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
-    refuse_input_overwrite(args.output, [args.table, args.bicycle])
+    refuse_input_overwrite(args.output, [args.table, args.bicycle, *([args.rider] if args.rider else [])])
     if args.chunk < 1:
         raise InputError(f"--chunk must be at least 1, got {args.chunk}")
     check_cluster_options(args.scheduler, args.workers)
     names, chunks = table_chunks(args.table, args.chunk)
-    base = load_bicycle(args.bicycle)
+    base = load_bicycle(args.bicycle, rider=args.rider)
     tasks: Iterator[SweepTask] = (SweepTask(chunk, base, args.speeds) for chunk in chunks)
     total = _count_rows(args.table) if not args.quiet else None
     rows = skipped = 0

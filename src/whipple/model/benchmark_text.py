@@ -49,7 +49,7 @@ _SPLIT = tuple(f"{f[0]}{part}{f[1:]}" for part in "GS" for f in _BODY_FIELDS)
 _FRONT = tuple(f"{f[0]}H{f[1:]}" for f in _BODY_FIELDS)
 _UNITS = {"m": "kg", "x": "m", "z": "m"}
 #: What BicycleParameters stores for a rider: a body to add to the rear frame.
-_RIDER_KEYS = frozenset({"mB", "xB", "yB", "zB", "IBxx", "IByy", "IBzz", "IBxz"})
+RIDER_KEYS = frozenset({"mB", "xB", "yB", "zB", "IBxx", "IByy", "IBzz", "IBxz"})
 _YEADON_ANGLES = frozenset({"somersault", "somersalt", "tilt", "twist"})
 
 
@@ -72,7 +72,7 @@ def read_benchmark_txt(path: str | os.PathLike[str]) -> Bicycle:
     other = _not_a_bicycle(text, Path(path).name)
     if other:
         raise BicycleFileError(other, source)
-    values, sigma, rounding = _parse(text, source)
+    values, sigma, rounding = parse_benchmark_text(text, source)
     _check_keys(values, source, Path(path).name)
     problems, notes = _check_redundant(values, sigma, rounding)
     if problems:
@@ -95,8 +95,11 @@ def _resolution(number: str) -> float:
     return 0.5 * 10.0 ** (int(exponent or 0) - decimals)
 
 
-def _parse(text: str, source: str) -> tuple[dict[str, float], dict[str, float], dict[str, float]]:
-    """Values, standard deviations and printed rounding of every line, by name."""
+def parse_benchmark_text(text: str, source: str) -> tuple[dict[str, float], dict[str, float], dict[str, float]]:
+    """Values, standard deviations and printed rounding of every ``name = value[+/-std]`` line, by name.
+
+    Raises BicycleFileError (naming `source`) for a line of another form or a name given twice.
+    """
     values: dict[str, float] = {}
     sigma: dict[str, float] = {}
     rounding: dict[str, float] = {}
@@ -139,13 +142,13 @@ def _check_keys(values: Mapping[str, float], source: str, file_name: str) -> Non
     """Unknown keys, rider files and missing keys, each one line naming the file."""
     allowed = (*PARAMETER_NAMES, *_WHEEL_ZZ, *_LATERAL, *_SPLIT)
     keys = set(values)
-    if keys and keys <= _RIDER_KEYS:
+    if keys and keys <= RIDER_KEYS:
         missing = [name for name in _REQUIRED if name not in values]
         mass = f" (mB = {values['mB']:g} kg)" if "mB" in values else ""
         raise BicycleFileError(
             f"a rider file: the rider's own mass, mass centre and inertia{mass}, which BicycleParameters "
             f"adds to a bicycle's rear frame, not a bicycle; missing the other {len(missing)} benchmark "
-            f"parameters ({', '.join(missing)})", source)
+            f"parameters ({', '.join(missing)}); give it with --rider (Python: load_bicycle(..., rider=...))", source)
     for key in values:
         if key not in allowed:
             close = difflib.get_close_matches(key, allowed, n=1)

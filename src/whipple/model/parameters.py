@@ -43,6 +43,7 @@ from whipple.model.parameter_set import (
     validate,
     validate_rows,
 )
+from whipple.model.rider import Rider, add_rider, read_rider_txt
 
 __all__ = [
     "CONTROLLER_STATES",
@@ -54,13 +55,16 @@ __all__ = [
     "Controller",
     "Extensions",
     "Payload",
+    "Rider",
     "TyreCompliance",
     "ValidationReport",
+    "add_rider",
     "builtin_names",
     "check_physical",
     "load_bicycle",
     "read_benchmark_txt",
     "read_bicycle_toml",
+    "read_rider_txt",
     "validate",
     "validate_rows",
     "write_bicycle_toml",
@@ -75,7 +79,7 @@ def builtin_names() -> tuple[str, ...]:
     return _BUILTIN
 
 
-def load_bicycle(spec: str | os.PathLike[str]) -> Bicycle:
+def load_bicycle(spec: str | os.PathLike[str], rider: str | os.PathLike[str] | None = None) -> Bicycle:
     """Load a built-in bicycle, a TOML file, or a BicycleParameters text file.
 
     Parameters
@@ -84,6 +88,9 @@ def load_bicycle(spec: str | os.PathLike[str]) -> Bicycle:
         A built-in name (see :func:`builtin_names`), or a path: ``*.txt`` is read as
         BicycleParameters text, anything else as TOML. A built-in name wins over a file of the
         same name in the working folder (write ``./benchmark`` for the file).
+    rider : str or path, optional
+        A BicycleParameters rider file (``<Rider><Bicycle>Benchmark.txt``) whose rigid rider is
+        joined to the rear frame (:func:`whipple.model.rider.add_rider`).
 
     Returns
     -------
@@ -97,7 +104,13 @@ def load_bicycle(spec: str | os.PathLike[str]) -> Bicycle:
     ParameterError
         Physically impossible values.
     """
-    text = os.fspath(spec)
+    bicycle = _load(os.fspath(spec))
+    if rider is None:
+        return bicycle
+    return add_rider(bicycle, read_rider_txt(rider))
+
+
+def _load(text: str) -> Bicycle:
     if text in _BUILTIN:
         # The package's own data folder (an installed package is files on disk); importlib's
         # resource readers would add ~7 ms to every command's start.

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.model.linear import second_order_model
+from whipple.stability.cubic import real_cubic_root
 from whipple.stability.polynomial import det_2x2, mixed_2x2
 
 #: Largest mismatch, relative to the size of the terms that make up each coefficient, between
@@ -53,23 +54,8 @@ def _largest_resolvent_root(p: NDArray[np.float64], q: NDArray[np.float64], r: N
     """Largest real root of Ferrari's resolvent ``m^3 + p m^2 + (p^2/4 - r) m - q^2/8``.
 
     The resolvent is -q^2 <= 0 at m = 0 and grows without bound, so this root is >= 0.
-    Cardano's formula (trigonometric form when all three roots are real), then Newton steps.
     """
-    c = p * p / 4.0 - r
-    d = -q * q / 8.0
-    P = c - p * p / 3.0
-    Q = (2.0 / 27.0) * p * p * p - p * c / 3.0 + d
-    disc = 0.25 * Q * Q + P * P * P / 27.0
-    root_disc = np.sqrt(np.maximum(disc, 0.0))
-    one = np.cbrt(root_disc - 0.5 * Q) - np.cbrt(root_disc + 0.5 * Q)
-    radius = np.sqrt(np.maximum(P / -3.0, 0.0))
-    # Rounding may put the cosine just outside [-1, 1] at a double root; arccos would give NaN.
-    cosine = np.minimum(np.maximum(-0.5 * Q / (radius * radius * radius), -1.0), 1.0)
-    three = 2.0 * radius * np.cos(np.arccos(cosine) / 3.0)
-    m = np.where(disc > 0, one, three) - p / 3.0
-    for _ in range(RESOLVENT_STEPS):
-        m = m - (((m + p) * m + c) * m + d) / ((3.0 * m + 2.0 * p) * m + c)
-    return np.maximum(m, 0.0)
+    return np.maximum(real_cubic_root(p, p * p / 4.0 - r, -q * q / 8.0, RESOLVENT_STEPS), 0.0)
 
 
 def quartic_roots(a: NDArray[np.float64]) -> NDArray[np.complex128]:

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from whipple.stability import modes
 from whipple.stability.crossing_modes import crossing_modes
+from whipple.stability.cubic import cubic_roots
 from whipple.stability.polynomial import (
     characteristic_at,
     det_2x2,
@@ -160,35 +161,6 @@ def _closed_form(kind: str, a: NDArray[np.float64]
         return lam, genuine
     lam[:, 1:] = cubic_roots(a[:, 1], a[:, 2], a[:, 3])
     return lam, np.ones(count, dtype=bool)
-
-
-def cubic_roots(b: NDArray[np.float64], c: NDArray[np.float64], d: NDArray[np.float64]
-                 ) -> NDArray[np.complex128]:
-    """Roots of ``s^3 + b s^2 + c s + d`` (closed form, batched; used for labels only).
-
-    One real root from Cardano's formula (trigonometric form when all three are real),
-    refined by two Newton steps, then the quadratic left after dividing it out.
-    """
-    p = c - b * b / 3.0
-    q = 2.0 * b**3 / 27.0 - b * c / 3.0 + d
-    disc = (q / 2.0) ** 2 + (p / 3.0) ** 3
-    root_disc = np.sqrt(np.maximum(disc, 0.0))
-    one = np.cbrt(-q / 2.0 + root_disc) + np.cbrt(-q / 2.0 - root_disc)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        radius = np.sqrt(np.maximum(-p / 3.0, 0.0))
-        angle = np.arccos(np.clip(-q / (2.0 * radius**3), -1.0, 1.0)) / 3.0
-    three = 2.0 * radius * np.cos(angle)
-    r = np.where(disc > 0, one, three) - b / 3.0
-    for _ in range(2):
-        value = ((r + b) * r + c) * r + d
-        slope = (3.0 * r + 2.0 * b) * r + c
-        with np.errstate(invalid="ignore", divide="ignore"):
-            step = np.where(slope != 0, value / slope, 0.0)
-        r = r - np.where(np.isfinite(step), step, 0.0)
-    # s^3 + b s^2 + c s + d = (s - r)(s^2 + e s + f).
-    e, f = b + r, c + r * (b + r)
-    root = np.sqrt((e * e - 4.0 * f).astype(complex))
-    return np.stack([r + 0j, 0.5 * (-e + root), 0.5 * (-e - root)], axis=-1)
 
 
 def _by_eig(kind: str, coefficients: NDArray[np.float64], speed: NDArray[np.float64],

@@ -33,8 +33,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.stability import modes
+from whipple.stability.cubic import cubic_roots
 from whipple.stability.polynomial import det_2x2, hurwitz_stable, is_second_order, mixed_2x2
-from whipple.stability.root_spectrum import cubic_roots, null_roll_share
+from whipple.stability.root_spectrum import null_roll_share
 
 #: Roots of a condition closer than this (relative, through the discriminant: ``|disc| <=
 #: DOUBLE_ROOT * b^2``, roots within about 1e-4 of each other) may be one double root, i.e. a

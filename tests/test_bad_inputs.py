@@ -119,7 +119,7 @@ CASES: dict[str, Builder] = {
     "check binary file": lambda d, t, r: _check({"b.toml": b"\xff\xfe\x00\x01"}, ["check", "{d}/b.toml"], "b.toml",
                                                 "not a UTF-8 text file"),
     "check folder": lambda d, t, r: _check({"sub/x.txt": "x"}, ["check", "{d}/sub"], "sub",
-                                           "no such file or built-in bicycle"),
+                                           "not a regular file"),
     "check text bad line": lambda d, t, r: _check({"BBenchmark.txt": BENCHMARK_TEXT + "w: 3\n"},
                                                   ["check", "{d}/BBenchmark.txt"], "BBenchmark.txt",
                                                   "expected 'name = value'"),
@@ -155,7 +155,7 @@ CASES: dict[str, Builder] = {
         ["check", "{d}/b.toml"], "b.toml", "'lag' in [controller] must be a number"),
     "check controller gain without gains": lambda d, t, r: _check(
         {"b.toml": t + "\n[controller]\ngain_scale = 2.0\n"},
-        ["check", "{d}/b.toml"], "b.toml", "gain_scale in [controller] act on the controller's torque"),
+        ["check", "{d}/b.toml"], "b.toml", "gain_scale in [controller] acts on the controller's torque"),
     # Critical speeds have no grid, so `check --speeds 0:1e9` is fine; the eigenvalue table and
     # plot of `stability` track modes on a grid, bounded at 1e6 m/s.
     "stability speeds too high": lambda d, t, r: _check(

@@ -64,10 +64,19 @@ def atomic_path(target: str | Path, suffix: str | None = None) -> Iterator[Path]
     target = Path(target)
     if target.is_dir():
         raise OutputError("is a folder, not a file", target)
-    folder = prepare_folder(target.parent if str(target.parent) else Path("."), target)
+    # A symbolic link stays a link: its target is what gets replaced, as with the shell's `>`.
+    real = Path(os.path.realpath(target))
+    if real.exists() and not real.is_file():
+        # A device or a pipe (/dev/null, /dev/stdout) cannot be replaced, only written to.
+        try:
+            yield real
+        except OSError as error:
+            raise OutputError(f"cannot write: {_problem(error)}", target) from None
+        return
+    folder = prepare_folder(real.parent, target)
     try:
         handle, name = tempfile.mkstemp(
-            prefix=f".{target.name}.", suffix=target.suffix if suffix is None else suffix, dir=folder
+            prefix=f".{real.name}.", suffix=target.suffix if suffix is None else suffix, dir=folder
         )
     except OSError as error:
         raise OutputError(f"cannot write: {_problem(error)}", target) from None
@@ -79,7 +88,7 @@ def atomic_path(target: str | Path, suffix: str | None = None) -> Iterator[Path]
     try:
         yield temporary
         os.chmod(temporary, 0o666 & ~umask)
-        os.replace(temporary, target)
+        os.replace(temporary, real)
     except OSError as error:
         raise OutputError(f"cannot write: {_problem(error)}", target) from None
     finally:
@@ -97,7 +106,13 @@ def check_writable(target: str | Path, is_folder: bool = False) -> None:
     target = Path(target)
     if not is_folder and target.is_dir():
         raise OutputError("is a folder, not a file", target)
-    folder = target if is_folder else (target.parent if str(target.parent) else Path("."))
+    real = Path(os.path.realpath(target))
+    if not is_folder and real.exists() and not real.is_file():
+        # A device or a pipe is written to directly (see atomic_path).
+        if not os.access(real, os.W_OK):
+            raise OutputError("cannot write: permission denied", target)
+        return
+    folder = real if is_folder else real.parent
     while not folder.exists() and folder != folder.parent:
         folder = folder.parent
     if not folder.is_dir():

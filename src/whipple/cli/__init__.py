@@ -16,6 +16,7 @@ import argparse
 import importlib
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 
 from whipple.errors import AnalysisError, InputError
@@ -65,6 +66,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``whipple`` console script."""
     arguments = list(sys.argv[1:] if argv is None else argv)
     args = build_parser(arguments).parse_args(arguments)
+    # numpy's RuntimeWarnings (overflow, invalid value) would print lines of library source
+    # before the one-line error that the checks of the results give.
+    warnings.simplefilter("ignore", RuntimeWarning)
     try:
         return int(args.run(args))
     except InputError as error:
@@ -72,6 +76,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     except AnalysisError as error:
         print(f"whipple {args.command}: analysis failed: {error}", file=sys.stderr)
+        return 1
+    except (ArithmeticError, ValueError) as error:
+        # numpy.linalg.LinAlgError (a ValueError) and overflow: matrices with infinite or NaN
+        # entries, from values far beyond any bicycle's that no check anticipated. Matched by
+        # name so that `whipple --help` need not import numpy.
+        if isinstance(error, ValueError) and type(error).__name__ != "LinAlgError":
+            raise
+        print(f"whipple {args.command}: analysis failed: the numbers overflow ({error}); a value far out of "
+              "range in the input?", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print(f"whipple {args.command}: interrupted", file=sys.stderr)

@@ -9,6 +9,8 @@ import math
 def speed_range(text: str) -> tuple[float, float]:
     """``LOW:HIGH`` in m/s, with 0 <= LOW < HIGH."""
     try:
+        if not text.isascii():  # float() reads other scripts' digits too
+            raise ValueError
         low_text, high_text = text.split(":")
         low, high = float(low_text), float(high_text)
     except ValueError:
@@ -20,12 +22,20 @@ def speed_range(text: str) -> tuple[float, float]:
 
 def speed_list(text: str) -> list[float]:
     """``V1,V2,...`` in m/s (at least one)."""
+    items = text.split(",")
+    if text.strip() and not all(item.strip() for item in items):
+        raise argparse.ArgumentTypeError(f"an empty item in {text!r}")
     try:
-        speeds = [float(item) for item in text.split(",") if item.strip()]
+        if not text.isascii():  # float() reads other scripts' digits too
+            raise ValueError
+        speeds = [float(item) for item in items if item.strip()]
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected speeds like 2,3.5,5 (m/s), got {text!r}") from None
     if not speeds:
         raise argparse.ArgumentTypeError("no speeds given")
+    twice = sorted({speed for speed in speeds if speeds.count(speed) > 1})
+    if twice:
+        raise argparse.ArgumentTypeError(f"speed {twice[0]:g} given twice")
     return speeds
 
 

@@ -69,8 +69,10 @@ def run(args: argparse.Namespace) -> int:
     if not sources:
         raise InputError("no run files given (name files, or use --bundled)")
     inputs = [s for s in sources if isinstance(s, Path)] + [args.bicycle, *([args.rider] if args.rider else [])]
-    if args.windows is not None:
-        inputs.append(args.windows)
+    inputs += [path for path in (args.windows, args.layout) if path is not None]
+    if args.save_model is not None and Path(args.save_model).suffix.lower() == ".txt":
+        raise InputError("--save-model writes TOML; a .txt file would be read back as BicycleParameters text "
+                         "(use .toml)", args.save_model)
     report_file = args.report / "report.md" if args.report is not None else None
     check_outputs({"--json": args.json, "--save-model": args.save_model, "--report's report.md": report_file},
                   inputs, {"--report": args.report})

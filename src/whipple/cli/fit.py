@@ -102,7 +102,8 @@ def run(args: argparse.Namespace) -> int:
     names = [r.name for r in runs]
     twice = sorted({name for name in names if names.count(name) > 1})
     if twice:
-        raise InputError(f"two runs are named {twice[0]} (windows and figures go by run name)")
+        files = " and ".join([str(r.source) for r in runs if r.name == twice[0]][:2])
+        raise InputError(f"two runs are named {twice[0]} ({files}; windows and figures go by run name)")
 
     def windows_file(value: str | None) -> tuple[Window, ...] | None:
         if value is None:
@@ -147,6 +148,10 @@ def _complex(value: complex | None) -> str:
     return "" if value is None else f"{value.real:+.2f}{value.imag:+.2f}i"
 
 
+def _time(seconds: float) -> str:  # a mistyped window file may hold any number
+    return f"{seconds:7.2f}" if abs(seconds) < 1e6 else f"{seconds:7.2g}"
+
+
 def _print_table(measured: list[RunMeasurement], models: dict[int, complex | None]) -> None:
     width = max(len("run"), *(len(r.run.name) for r in measured))
     for run_ in measured:
@@ -164,13 +169,14 @@ def _print_table(measured: list[RunMeasurement], models: dict[int, complex | Non
         w = m.window
         speed = f"{m.speed.low:.2f}-{m.speed.high:.2f}" if m.speed else ""
         model = _complex(models.get(id(m)))
-        head = f"{m.run.name:<{width}}  {m.number:>3}  {w.start:7.2f}  {w.stop:7.2f}  {speed:<11}  "
+        head = f"{m.run.name:<{width}}  {m.number:>3}  {_time(w.start)}  {_time(w.stop)}  {speed:<11}  "
         if m.fit is None:
             print(f"{head}{'skipped':<31}  {'':>5}  {model:<13}  {m.rejected}")
             continue
         d_std, w_std = m.fit.eigenvalue_std
         value = f"{m.fit.damping:+.2f}±{d_std:.2f} {m.fit.frequency:+.2f}±{w_std:.2f}i"
-        print(f"{head}{value:<31}  {m.fit.r_squared:5.3f}  {model:<13}  {m.notes}")
+        notes = f"not used: {m.quality}; {m.notes}" if m.quality else m.notes
+        print(f"{head}{value:<31}  {m.fit.r_squared:5.3f}  {model:<13}  {notes}")
 
 
 def _print_comparison(name: str, reference: tuple[Window, ...], measured: list[RunMeasurement],

@@ -39,10 +39,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.observations import nearest_eigen
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.weavefit import fit_weave
-from whipple.model.assembly import linear_model
 from whipple.model.parameters import Bicycle
 from whipple.simulation.nonlinear_bicycle import ForcedBicycle, coast
 
@@ -253,19 +253,14 @@ def check_amplitudes(bicycle: Bicycle, used: Sequence[WindowMeasurement],
     measured = np.array([f.eigenvalue for f in fits if f is not None])
     if speeds.size != len(used) or measured.size != len(used):
         raise InputError("every window checked needs a fit and a speed")
-    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(speeds))
-    lower = values.imag < 0
-    values = np.where(lower, np.conj(values), values)
-    vectors = np.where(lower[:, None, :], np.conj(vectors), vectors)
     targets = measured if linear is None else np.asarray(linear)
-    nearest = np.argmin(np.abs(values - targets[:, None]), axis=1)
+    nearest, vectors = nearest_eigen(bicycle, speeds, targets, np.arange(len(used)))
     # A given prediction is the linear eigenvalue itself (the report shows one number for it);
-    # eig only supplies its mode's full eigenvector, which starts the nonlinear model.
-    eigenvalues = values[np.arange(len(used)), nearest] if linear is None else targets
+    # the mode's full eigenvector starts the nonlinear model.
+    eigenvalues = nearest if linear is None else targets
     checks = []
     for n, measurement in enumerate(used):
-        checks.append(_check(forced, measurement, float(speeds[n]), complex(eigenvalues[n]),
-                             vectors[n, :, nearest[n]]))
+        checks.append(_check(forced, measurement, float(speeds[n]), complex(eigenvalues[n]), vectors[n]))
     return AmplitudeReport(tuple(checks), forced.estimated)
 
 

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.model.assembly import linear_model, second_order_matrices
@@ -128,7 +128,25 @@ def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArra
     nearest ``targets`` [1/s], and its eigenvector's ratio of two signals (MODE_SHAPE_STATES;
     NaN where ``signals`` is None).
     """
-    true_speeds = bicycle.model_speed(speeds)
+    rows = np.array([n for n, pair in enumerate(signals) if pair is not None], dtype=int)
+    chosen, vectors = nearest_eigen(bicycle, bicycle.model_speed(speeds), targets, rows)
+    shapes = np.full(len(chosen), np.nan, dtype=complex)
+    if len(rows):
+        numerator = [MODE_SHAPE_STATES[signals[n][0]] for n in rows]  # type: ignore[index]
+        denominator = [MODE_SHAPE_STATES[signals[n][1]] for n in rows]  # type: ignore[index]
+        shapes[rows] = vectors[np.arange(len(rows)), numerator] / vectors[np.arange(len(rows)), denominator]
+    return chosen, shapes
+
+
+def nearest_eigen(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: ArrayLike,
+                  rows: NDArray[np.intp]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Return the model's eigenvalue nearest each target and, for `rows`, its eigenvector.
+
+    At each true speed [m/s], of the bicycle's linear model (controller and extensions
+    included) the eigenvalue in the upper half plane nearest the target [1/s], and for the
+    speeds listed in `rows` its eigenvector over the model's states (``[q, q']`` first),
+    shape (len(rows), states).
+    """
     matrices = second_order_matrices(bicycle, true_speeds)
     if matrices is None:
         values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(true_speeds))
@@ -139,20 +157,14 @@ def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArra
     values = np.where(lower, np.conj(values), values)
     nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
     chosen = np.asarray(values[np.arange(len(nearest)), nearest], dtype=complex)
-    shapes = np.full(len(nearest), np.nan, dtype=complex)
-    rows = np.array([n for n, pair in enumerate(signals) if pair is not None], dtype=int)
-    if len(rows):
-        numerator = [MODE_SHAPE_STATES[signals[n][0]] for n in rows]  # type: ignore[index]
-        denominator = [MODE_SHAPE_STATES[signals[n][1]] for n in rows]  # type: ignore[index]
-        if matrices is None:
-            vector = vectors[rows, :, nearest[rows]]
-            # The eigenvector of the upper-half-plane eigenvalue: conjugated where eig gave the lower.
-            vector = np.where(lower[rows, nearest[rows]][:, None], np.conj(vector), vector)
-        else:
-            M, C, K = matrices
-            vector = second_order_eigenvectors(M, C[rows], K[rows], chosen[rows])
-        shapes[rows] = vector[np.arange(len(rows)), numerator] / vector[np.arange(len(rows)), denominator]
-    return chosen, shapes
+    if not len(rows):
+        return chosen, np.zeros((0, 4), dtype=complex)
+    if matrices is None:
+        vector = vectors[rows, :, nearest[rows]]
+        # The eigenvector of the upper-half-plane eigenvalue: conjugated where eig gave the lower.
+        return chosen, np.where(lower[rows, nearest[rows]][:, None], np.conj(vector), vector)
+    M, C, K = matrices
+    return chosen, second_order_eigenvectors(M, C[rows], K[rows], chosen[rows])
 
 
 def _has_shape(observation: Observation) -> bool:

@@ -224,7 +224,10 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     if len(used) < 2:
         reasons = Counter(m.skipped.split(" (")[0] for m in measurements if m.skipped)
         why = f" (most often skipped: {reasons.most_common(1)[0][0]})" if reasons else ""
-        raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue; need at least 2{why}")
+        files = sorted({str(m.run.source) for m in measurements})
+        where = (f" in {', '.join(files[:3])}{' ...' if len(files) > 3 else ''}" if files else "")
+        raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue{where}; need at "
+                         f"least 2{why}")
     observations = [observation(m) for m in used]
     causes = candidate_causes(bicycle, include_parameters)
     diagnosis = diagnose_observations(bicycle, observations, causes)

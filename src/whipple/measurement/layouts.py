@@ -35,11 +35,20 @@ is optional except ``[columns]``)::
     bicycle = "my-bicycle"
 
 Built-in layouts live in ``whipple/data/layouts/<name>.toml``.
+
+A layout is checked when it is loaded, so that a mistake in it is reported against the layout
+file rather than against the run read with it: two file columns mapped to one signal, a
+``[scale]`` key the layout does not map or a factor that is zero or not finite, and a sample
+rate, speed value, wheel radius or pulse count that is not a finite positive number are
+refused.
 """
 
 from __future__ import annotations
 
+import math
+import re
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -62,6 +71,26 @@ SPEC_COLUMNS = {
 }
 
 SPEED_SOURCES = ("column", "speedometer", "constant")
+
+#: Top-level keys of a layout file.
+_KEYS = frozenset({"name", "description", "delimiter", "header", "names", "comment", "sample_rate",
+                   "detect", "ignore", "columns", "scale", "extra", "speed", "metadata"})
+
+#: Keys of the ``[speed]`` table that hold a positive number.
+_SPEED_NUMBERS = ("value", "wheel_radius", "pulses_per_revolution")
+
+#: Metadata keys the reader turns into positive numbers (see ``runs._metadata_number``): checked
+#: in a layout's ``[metadata]`` so that a bad value there is blamed on the layout, not the run.
+_NUMERIC_METADATA = ("sample_rate", "wheel_radius", "pulses_per_revolution", "speed")
+
+#: A decimal number written in ASCII: what float() reads, less its Unicode digits ('١٢' and
+#: '１２' are 12.0 to float() and to numpy) and digit-group underscores ('1_0' is 10.0), which
+#: no logger writes as a number; a value holding them is a mistake, not data.
+_NUMBER = re.compile(r"[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf|infinity|nan)",
+                     re.ASCII | re.IGNORECASE)
+
+#: Builds the ``bad layout file: ...`` error of the layout being parsed.
+Failure = Callable[[str], RunFileError]
 
 
 @dataclass(frozen=True)
@@ -144,70 +173,56 @@ def load_layout(layout: str | Path) -> RunLayout:
         raise RunFileError(
             f"cannot read layout file ({error.strerror or error}); built-in layouts: {known}", path
         ) from None
+    except UnicodeDecodeError:
+        raise RunFileError("bad layout file: not a text file (invalid UTF-8)", path) from None
     return parse_layout(text, path.stem, path)
 
 
 def parse_layout(text: str, name: str, source: str | Path) -> RunLayout:
-    """Parse the TOML text of a layout; errors name `source`."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise RunFileError(f"bad layout file: {error}", source) from None
+    """Parse the TOML text of a layout; errors name `source`.
 
+    Raises
+    ------
+    RunFileError
+        ``bad layout file: ...`` for invalid TOML, unknown keys, and values of the wrong type
+        or out of range (see the module docstring for what each key takes).
+    """
     def fail(problem: str) -> RunFileError:
         return RunFileError(f"bad layout file: {problem}", source)
 
-    known = {"name", "description", "delimiter", "header", "names", "comment", "sample_rate",
-             "detect", "ignore", "columns", "scale", "extra", "speed", "metadata"}
-    unknown = sorted(set(data) - known)
+    data = _toml(text, fail)
+    unknown = sorted(set(data) - _KEYS)
     if unknown:
         raise fail(f"unknown key(s) {', '.join(unknown)}")
     columns = _string_table(data.get("columns", {}), "columns", fail)
-    if not columns:
-        raise fail("[columns] must map at least one file column")
-    for target in columns.values():
-        if target not in SPEC_COLUMNS:
-            raise fail(f"[columns] target '{target}' is not a run-file column "
-                       f"({', '.join(SPEC_COLUMNS)})")
-    if "roll_rate" not in columns.values():
-        raise fail("no column maps to roll_rate")
-    scale = data.get("scale", {})
-    if not isinstance(scale, dict) or not all(
-        isinstance(v, int | float) and not isinstance(v, bool) and v != 0 for v in scale.values()
-    ):
-        raise fail("[scale] must map column names to non-zero numbers")
+    extra = _string_table(data.get("extra", {}), "extra", fail)
+    _check_columns(columns, extra, fail)
     delimiter = data.get("delimiter", ",")
     if not isinstance(delimiter, str) or not (len(delimiter) == 1 or delimiter == "whitespace"):
         raise fail("delimiter must be one character or \"whitespace\"")
-    sample_rate = data.get("sample_rate")
-    if sample_rate is not None and (
-        not isinstance(sample_rate, int | float) or isinstance(sample_rate, bool) or sample_rate <= 0
-    ):
-        raise fail("sample_rate must be a positive number [Hz]")
     header = data.get("header", True)
-    names = data.get("names", [])
-    if not isinstance(header, bool) or not isinstance(names, list):
-        raise fail("header must be true/false and names a list of strings")
-    if not header and not names:
-        raise fail("a layout without header line needs names = [...]")
-    speed = data.get("speed", {})
-    if not isinstance(speed, dict) or speed.get("source", "column") not in SPEED_SOURCES:
-        raise fail(f"[speed] source must be one of {', '.join(SPEED_SOURCES)}")
+    if not isinstance(header, bool):
+        raise fail(f"header must be true or false, got {_shown(header)}")
+    names = _string_list(data.get("names", []), "names", fail)
+    _check_names(header, names, columns, extra, fail)
+    sample_rate = data.get("sample_rate")
+    if sample_rate is not None:
+        sample_rate = _positive(sample_rate, "sample_rate", "a positive number [Hz]", fail)
     return RunLayout(
-        name=str(data.get("name", name)),
+        name=_string(data, "name", name, fail),
         columns=columns,
-        scale={str(k): float(v) for k, v in scale.items()},
-        extra=_string_table(data.get("extra", {}), "extra", fail),
-        ignore=tuple(str(v) for v in data.get("ignore", [])),
+        scale=_scale(data.get("scale", {}), {*columns.values(), *extra.values()}, fail),
+        extra=extra,
+        ignore=tuple(_string_list(data.get("ignore", []), "ignore", fail)),
         delimiter=None if delimiter == "whitespace" else delimiter,
         header=header,
-        names=tuple(str(v) for v in names),
-        comment=str(data.get("comment", "#")),
-        sample_rate=None if sample_rate is None else float(sample_rate),
-        detect=str(data.get("detect", "")),
-        speed=dict(speed),
-        metadata={str(k): str(v) for k, v in _table(data.get("metadata", {}), "metadata", fail).items()},
-        description=str(data.get("description", "")),
+        names=tuple(names),
+        comment=_string(data, "comment", "#", fail),
+        sample_rate=sample_rate,
+        detect=_string(data, "detect", "", fail),
+        speed=_speed(data.get("speed", {}), fail),
+        metadata=_metadata(data.get("metadata", {}), fail),
+        description=_string(data, "description", "", fail),
     )
 
 
@@ -220,13 +235,187 @@ def detect_layout(first_line: str) -> RunLayout | None:
     return None
 
 
-def _table(value: Any, key: str, fail: Any) -> dict[str, Any]:
+def parse_number(text: str) -> float:
+    """Read a number written as ASCII decimal text (surrounding whitespace allowed).
+
+    Accepts what :func:`float` accepts (``1.5``, ``-2e3``, ``.5``, ``nan``, ``inf``) except
+    Unicode digits and underscores, which :func:`float` also reads.
+
+    Parameters
+    ----------
+    text : str
+        The text of a cell or a metadata value.
+
+    Raises
+    ------
+    ValueError
+        If `text` is not such a number.
+    """
+    stripped = text.strip()
+    if not _NUMBER.fullmatch(stripped):
+        raise ValueError(f"not a number: {text!r}")
+    return float(stripped)
+
+
+def _toml(text: str, fail: Failure) -> dict[str, Any]:
+    """Parse the TOML text of a layout."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise fail(str(error)) from None
+    except ValueError:
+        # An integer of more than 4300 digits, which Python refuses to convert: tomllib lets
+        # that ValueError through instead of a TOMLDecodeError.
+        raise fail("an integer with too many digits to read") from None
+
+
+def _shown(value: Any) -> str:
+    """Return `value` for a one-line message: its repr, shortened if long (a huge integer)."""
+    text = repr(value)
+    if len(text) <= 40:
+        return text
+    if isinstance(value, int):
+        return f"an integer of {len(text.lstrip('-'))} digits"
+    return f"{text[:20]}... ({len(text)} characters)"
+
+
+def _finite(value: Any) -> float | None:
+    """Return `value` as a float if it is a finite TOML number (not a boolean), else None."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return None
+    try:
+        number = float(value)
+    except OverflowError:  # an integer beyond the largest float
+        return None
+    return number if math.isfinite(number) else None
+
+
+def _positive(value: Any, key: str, rule: str, fail: Failure) -> float:
+    """Return `value` as a float if it is a finite positive number, else fail naming `key`."""
+    number = _finite(value)
+    if number is None or number <= 0:
+        raise fail(f"{key} must be {rule}, got {_shown(value)}")
+    return number
+
+
+def _check_columns(columns: dict[str, str], extra: dict[str, str], fail: Failure) -> None:
+    """Refuse a ``[columns]`` and ``[extra]`` mapping in which one signal would hide another."""
+    if not columns:
+        raise fail("[columns] must map at least one file column")
+    for target in columns.values():
+        if target not in SPEC_COLUMNS:
+            raise fail(f"[columns] target {target!r} is not a run-file column ({', '.join(SPEC_COLUMNS)})")
+    if "roll_rate" not in columns.values():
+        raise fail("no column maps to roll_rate")
+    # The reader keeps one array per signal name: a second file column mapped to the same name
+    # would silently replace the first.
+    seen: dict[str, str] = {}
+    for table, mapping in (("[columns]", columns), ("[extra]", extra)):
+        for column, target in mapping.items():
+            if target in seen:
+                raise fail(f"{table} maps file column {column!r} to {target!r}, which file column "
+                           f"{seen[target]!r} already gives")
+            seen[target] = column
+    both = sorted(set(columns) & set(extra))
+    if both:
+        raise fail(f"file column {both[0]!r} is in both [columns] and [extra]")
+
+
+def _check_names(header: bool, names: list[str], columns: dict[str, str], extra: dict[str, str],
+                 fail: Failure) -> None:
+    """Without a header line, `names` are the file's columns: they must hold every mapped one."""
+    if header:
+        return
+    if not names:
+        raise fail("a layout without header line needs names = [...]")
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if twice:
+        raise fail(f"names lists {twice[0]!r} twice")
+    for column in (*columns, *extra):
+        if column not in names:
+            raise fail(f"file column {column!r} of [columns]/[extra] is not in names")
+
+
+def _scale(value: Any, mapped: set[str], fail: Failure) -> dict[str, float]:
+    """Return the ``[scale]`` table: a finite non-zero factor for signals the layout maps."""
+    table = _table(value, "scale", fail)
+    scale = {}
+    for key, factor in table.items():
+        if key not in mapped:
+            raise fail(f"[scale] names {key!r}, which is no column this layout maps "
+                       f"({', '.join(sorted(mapped))})")
+        number = _finite(factor)
+        if number is None or number == 0:
+            raise fail(f"[scale] must map column names to finite non-zero numbers, got {key!r} = {_shown(factor)}")
+        scale[key] = number
+    return scale
+
+
+def _speed(value: Any, fail: Failure) -> dict[str, Any]:
+    """Return the ``[speed]`` table, its numbers checked (they become the run's metadata)."""
+    speed = _table(value, "speed", fail)
+    unknown = sorted(set(speed) - {"source", *_SPEED_NUMBERS})
+    if unknown:
+        raise fail(f"unknown key(s) in [speed]: {', '.join(unknown)}")
+    source = speed.get("source", "column")
+    if not isinstance(source, str) or source not in SPEED_SOURCES:
+        raise fail(f"[speed] source must be one of {', '.join(SPEED_SOURCES)}")
+    if source == "constant" and "value" not in speed:
+        raise fail("[speed] source = \"constant\" needs value")
+    for key in _SPEED_NUMBERS:
+        if key in speed:
+            _positive(speed[key], f"[speed] {key}", "a positive number", fail)
+    return dict(speed)
+
+
+def _metadata(value: Any, fail: Failure) -> dict[str, str]:
+    """Return the ``[metadata]`` table as strings, checking the values read as numbers."""
+    table = _table(value, "metadata", fail)
+    metadata = {}
+    for key, entry in table.items():
+        if isinstance(entry, dict | list):
+            raise fail(f"[metadata] {key!r} must be a string or a number")
+        metadata[key] = str(entry)
+    for key in _NUMERIC_METADATA:
+        if key in table:
+            entry = table[key]
+            number = _text_number(entry) if isinstance(entry, str) else _finite(entry)
+            if number is None or number <= 0:
+                raise fail(f"[metadata] {key} must be a positive number, got {_shown(entry)}")
+    return metadata
+
+
+def _text_number(text: str) -> float | None:
+    """Return `text` as a finite number, or None (see :func:`parse_number`)."""
+    try:
+        number = parse_number(text)
+    except ValueError:
+        return None
+    return number if math.isfinite(number) else None
+
+
+def _string(data: dict[str, Any], key: str, default: str, fail: Failure) -> str:
+    """Return ``data[key]`` (or `default`), which must be a string."""
+    value = data.get(key, default)
+    if not isinstance(value, str):
+        raise fail(f"{key} must be a string, got {_shown(value)}")
+    return value
+
+
+def _string_list(value: Any, key: str, fail: Failure) -> list[str]:
+    """Return a list of strings (a lone string is refused: ``ignore = "x"`` is no list)."""
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise fail(f"{key} must be a list of strings, got {_shown(value)}")
+    return list(value)
+
+
+def _table(value: Any, key: str, fail: Failure) -> dict[str, Any]:
     if not isinstance(value, dict):
         raise fail(f"[{key}] must be a table")
     return value
 
 
-def _string_table(value: Any, key: str, fail: Any) -> dict[str, str]:
+def _string_table(value: Any, key: str, fail: Failure) -> dict[str, str]:
     table = _table(value, key, fail)
     if not all(isinstance(v, str) for v in table.values()):
         raise fail(f"[{key}] values must be strings")

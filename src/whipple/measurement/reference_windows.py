@@ -9,6 +9,7 @@ comments.
 from __future__ import annotations
 
 import csv
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -17,6 +18,7 @@ import numpy as np
 
 from whipple.atomic import write_text_atomic
 from whipple.errors import RunFileError
+from whipple.measurement.layouts import parse_number
 from whipple.measurement.runs import Readable, Run, run_name
 from whipple.measurement.windows import Window
 
@@ -56,10 +58,10 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
             continue
         try:
             if by_rows:
-                first, last = int(row["start_row"]), int(row["stop_row"])
+                first, last = _row_number(row["start_row"]), _row_number(row["stop_row"])
             else:
-                begin, finish = float(row["start"]), float(row["stop"])
-        except (TypeError, ValueError):
+                begin, finish = parse_number(row["start"] or ""), parse_number(row["stop"] or "")
+        except ValueError:
             raise RunFileError(f"line {number}: bad start/stop value", source) from None
         if by_rows:
             if run is None:
@@ -77,6 +79,20 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
             stop = int(np.searchsorted(run.time, finish, side="right"))
         windows.append(Window(name, begin, finish, first, stop, "from windows file"))
     return tuple(windows)
+
+
+def _row_number(text: str | None) -> int:
+    """Read a data row number: ASCII digits (int() also reads Unicode digits and underscores).
+
+    Raises
+    ------
+    ValueError
+        If `text` is missing (a short line) or not an integer.
+    """
+    stripped = (text or "").strip()
+    if not re.fullmatch(r"[+-]?[0-9]+", stripped):
+        raise ValueError(f"not a row number: {text!r}")
+    return int(stripped)
 
 
 def write_windows(path: str | Path, windows: Sequence[Window]) -> None:

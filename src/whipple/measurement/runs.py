@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import RunFileError
-from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
+from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout, parse_number
 from whipple.measurement.speedometer import speedometer_speed
 from whipple.simulation.simulator import SimulatedRun
 
@@ -143,8 +143,9 @@ def read_run(
     RunFileError
         If the file cannot be read, misses roll_rate, time or speed information, holds text or
         infinite values in the time, roll_rate, speed or speedometer columns, has
-        non-increasing times or is too short. Empty and NaN cells are gaps (NaN), noted in the
-        run's warnings; text in other columns too.
+        non-increasing times or is too short, or gives a metadata key twice. Empty and NaN
+        cells are gaps (NaN), noted in the run's warnings; text in other columns too. Numbers
+        are ASCII decimal text (:func:`whipple.measurement.layouts.parse_number`).
     """
     source = str(path)
     lines = _read_lines(Path(path) if isinstance(path, str | Path) else path, source)
@@ -160,16 +161,8 @@ def read_run(
     native = chosen is None
     active = chosen or RunLayout(name="native", columns={name: name for name in SPEC_COLUMNS})
 
-    metadata = dict(active.metadata)
-    rows: list[tuple[int, str]] = []
-    for number, line in content:
-        stripped = line.strip()
-        if active.comment and stripped.startswith(active.comment):
-            key, colon, value = stripped[len(active.comment):].partition(":")
-            if colon and not rows:
-                metadata[key.strip()] = value.strip()
-            continue
-        rows.append((number, stripped))
+    own, rows = _split_comments(content, active.comment, source)
+    metadata = {**active.metadata, **own}
     if active.header:
         if not rows:
             raise RunFileError("no header line", source)
@@ -229,6 +222,35 @@ def read_run(
     )
 
 
+def _split_comments(
+    content: list[tuple[int, str]], comment: str, source: str
+) -> tuple[dict[str, str], list[tuple[int, str]]]:
+    """Split numbered lines into the metadata before the first row and the other rows.
+
+    A ``<comment> key: value`` line before the header (or first data row) is metadata; any
+    other comment line is skipped. A key given twice is refused: which of the two values is
+    meant cannot be told, and taking the last would silently change the run (a second
+    ``sample_rate`` rescales its time).
+    """
+    metadata: dict[str, str] = {}
+    lines: dict[str, int] = {}
+    rows: list[tuple[int, str]] = []
+    for number, line in content:
+        stripped = line.strip()
+        if comment and stripped.startswith(comment):
+            key, colon, value = stripped[len(comment):].partition(":")
+            key = key.strip()
+            if colon and not rows:
+                if key in lines:
+                    raise RunFileError(f"line {number}: metadata '{key}' given twice (first on line "
+                                       f"{lines[key]})", source)
+                lines[key] = number
+                metadata[key] = value.strip()
+            continue
+        rows.append((number, stripped))
+    return metadata, rows
+
+
 def _read_lines(path: Path | Readable, source: str) -> list[str]:
     try:
         data = path.read_bytes()
@@ -274,11 +296,7 @@ def _parse_columns(
     for column, target in wanted.items():
         j = names.index(column)
         cells = [fields[j] for fields in table]
-        try:
-            values = np.array(cells, dtype=float)
-            text = np.zeros(values.shape, dtype=bool)
-        except ValueError:
-            values, text = _lenient(cells)
+        values, text = _numbers(cells)
         if target in _NUMERIC and text.any():
             bad = int(np.argmax(text))
             raise RunFileError(
@@ -299,6 +317,19 @@ def _parse_columns(
     return signals, notes
 
 
+def _numbers(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Cells as floats, NaN where empty or not a number; and where they held text."""
+    joined = "".join(cells)
+    # numpy converts as float() does, which also reads Unicode digits ('١٢' is 12) and
+    # underscores ('1_0' is 10): a column holding any goes cell by cell through parse_number.
+    if joined.isascii() and "_" not in joined:
+        try:
+            return np.array(cells, dtype=float), np.zeros(len(cells), dtype=bool)
+        except ValueError:
+            pass
+    return _lenient(cells)
+
+
 def _lenient(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Cells as floats, NaN where empty or not a number; and where they held text."""
     values = np.full(len(cells), np.nan)
@@ -308,7 +339,7 @@ def _lenient(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         if not cell:
             continue
         try:
-            values[i] = float(cell)
+            values[i] = parse_number(cell)
         except ValueError:
             text[i] = True
     return values, text
@@ -372,7 +403,7 @@ def _metadata_number(metadata: dict[str, str], key: str, source: str) -> float:
     if key not in metadata:
         raise RunFileError(f"missing metadata '{key}'", source)
     try:
-        value = float(metadata[key])
+        value = parse_number(metadata[key])
     except ValueError:
         raise RunFileError(f"metadata '{key}' is not a number: '{metadata[key]}'", source) from None
     if not np.isfinite(value) or value <= 0:

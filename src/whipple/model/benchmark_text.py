@@ -37,7 +37,7 @@ from whipple.model.parameter_set import OPTIONAL_PARAMETERS, PARAMETER_NAMES, Bi
 
 # A decimal number as BicycleParameters writes it (optionally nan or inf); deliberately narrower
 # than float(), which would also accept "1_0" or "infinity".
-_NUMBER = r"[+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|nan|inf)"
+_NUMBER = r"[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf)"
 _TEXT_LINE = re.compile(rf"^\s*(\w+)\s*=\s*({_NUMBER})\s*(?:\+/-\s*({_NUMBER}))?\s*$")
 _REQUIRED = tuple(name for name in PARAMETER_NAMES if name not in OPTIONAL_PARAMETERS)
 #: Checks pass within this many standard deviations (plus the printed rounding).
@@ -92,7 +92,9 @@ def _resolution(number: str) -> float:
     if not any(ch.isdigit() for ch in mantissa):
         return 0.0
     decimals = len(mantissa.partition(".")[2])
-    return 0.5 * 10.0 ** (int(exponent or 0) - decimals)
+    power = int(exponent or 0) - decimals
+    # Beyond the float range the value itself is infinite or zero, and refused or exact as such.
+    return 0.5 * 10.0 ** power if abs(power) < 300 else 0.0
 
 
 def parse_benchmark_text(text: str, source: str) -> tuple[dict[str, float], dict[str, float], dict[str, float]]:
@@ -115,6 +117,8 @@ def parse_benchmark_text(text: str, source: str) -> tuple[dict[str, float], dict
         if name in values:
             raise BicycleFileError(f"line {number}: {name!r} given twice", source)
         values[name] = float(value)
+        if math.isinf(values[name]) and "inf" not in value.lower():
+            raise BicycleFileError(f"line {number}: {name} = {value[:12]}... is too large a number", source)
         sigma[name] = float(uncertainty) if uncertainty is not None else 0.0
         rounding[name] = _resolution(value)
     return values, sigma, rounding

@@ -106,18 +106,26 @@ class StrictTable:
         value = self.values[key]
         if not _is_number(value):
             raise self.error(f"{key!r} in {self.where} must be a number, got {_kind(value)}")
-        return float(value)
+        return self._float(key, value)
 
     def numbers(self, key: str) -> tuple[float, ...]:
         """Return a non-empty array of numbers under `key` (a single number is a one-element array)."""
         value = self.values[key]
         if _is_number(value):
-            return (float(value),)
+            return (self._float(key, value),)
         if not isinstance(value, list) or not value or not all(map(_is_number, value)):
             raise self.error(
                 f"{key!r} in {self.where} must be a non-empty array of numbers, got {_kind(value)}"
             )
-        return tuple(float(item) for item in value)
+        return tuple(self._float(key, item) for item in value)
+
+    def _float(self, key: str, value: float) -> float:
+        # TOML integers are unbounded; beyond about 1.8e308 they have no float.
+        try:
+            return float(value)
+        except OverflowError:
+            raise self.error(f"{key!r} in {self.where} is too large a number ({len(str(abs(int(value))))} "
+                             "digits)") from None
 
     def string(self, key: str, default: str = "") -> str:
         """Return the string under `key`, or `default` when absent."""
@@ -244,7 +252,8 @@ def _read_controller(table: StrictTable | None) -> Controller:
             gains[row] = {s: sub.numbers(s) for s in CONTROLLER_STATES if s in sub.values}
     scalars = {key: table.number(key) for key in _CONTROLLER_SCALARS if key in table.values}
     if scalars and not gains:
-        raise table.error(f"{', '.join(scalars)} in {table.where} act on the controller's torque: "
+        verb = "acts" if len(scalars) == 1 else "act"
+        raise table.error(f"{', '.join(scalars)} in {table.where} {verb} on the controller's torque: "
                           "give its gains in [controller.steer] or [controller.roll]")
     return Controller(**gains, gain_scale=scalars.get("gain_scale", 1.0), delay=scalars.get("delay", 0.0),
                       lag=scalars.get("lag", 0.0))

@@ -24,6 +24,7 @@ from whipple.errors import ParameterError
 from whipple.generated import whipple_numpy
 from whipple.model.parameter_table import BY_NAME, names
 from whipple.model.physical_checks import (
+    LIMITS,
     excess_std,
     magnitude_findings,
     principal_moments,
@@ -43,6 +44,8 @@ PARAMETER_DESCRIPTIONS: dict[str, str] = {name: BY_NAME[name].described for name
 
 #: States a controller may feed back, in the order of the Whipple state vector.
 CONTROLLER_STATES = ("roll", "steer", "roll_rate", "steer_rate")
+#: Largest magnitude of a controller gain coefficient (any unit): beyond it a typing error.
+CONTROLLER_GAIN_LIMIT = 1e6
 # Triangle inequality of principal moments, excess as a fraction of their sum: up to _EXACT is
 # floating-point rounding (an ideal thin disc sits exactly on the limit); up to _ROUNDING is
 # within the rounding of values published to three or four digits, so only a warning.
@@ -524,34 +527,40 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
     point = [name for name in ("rR", "rF") if bicycle.parameters.get(name) == 0]
     found.flag(ext.tyre_compliance is not None and bool(point),
                f"tyre compliance needs wheels of positive radius ({', '.join(point)} = 0)")
+    # (name, value, lowest, lowest allowed itself, largest magnitude of anything like a bicycle:
+    # beyond it a unit or typing error, and the model's arithmetic would overflow)
     checks = [
-        ("steer_damping", ext.steer_damping, -math.inf, False),
-        ("steer_inertia", ext.steer_inertia, 0.0, True),
-        ("reflected_steer_inertia", ext.reflected_steer_inertia, 0.0, True),
-        ("speed_scale", ext.speed_scale, 0.0, False),
+        ("steer_damping", ext.steer_damping, -math.inf, False, 1e4),
+        ("steer_inertia", ext.steer_inertia, 0.0, True, LIMITS["kg m^2"]),
+        ("reflected_steer_inertia", ext.reflected_steer_inertia, 0.0, True, LIMITS["kg m^2"]),
+        ("speed_scale", ext.speed_scale, 0.0, False, 100.0),
     ]
+    found.flag(0 < ext.speed_scale < 0.01, f"extension speed_scale = {ext.speed_scale:.6g} is below 0.01: "
+                                           "not a speed measurement (a typing error?)")
     for label, payload in (("payload", ext.payload), ("front_payload", ext.front_payload)):
         if payload is not None:
             checks += [
-                (f"{label} mass", payload.mass, 0.0, False),
-                (f"{label} x", payload.x, -math.inf, False),
-                (f"{label} z", payload.z, -math.inf, False),
+                (f"{label} mass", payload.mass, 0.0, False, LIMITS["kg"]),
+                (f"{label} x", payload.x, -math.inf, False, LIMITS["m"]),
+                (f"{label} z", payload.z, -math.inf, False, LIMITS["m"]),
             ]
     if ext.tyre_compliance is not None:
         tyre = ext.tyre_compliance
         checks += [
-            ("cornering_stiffness", tyre.cornering_stiffness, 0.0, False),
-            ("camber_stiffness", tyre.camber_stiffness, 0.0, True),
-            ("relaxation_length", tyre.relaxation_length, 0.0, False),
-            ("pneumatic_trail", tyre.pneumatic_trail, -math.inf, False),
+            ("cornering_stiffness", tyre.cornering_stiffness, 0.0, False, 1e6),
+            ("camber_stiffness", tyre.camber_stiffness, 0.0, True, 1e6),
+            ("relaxation_length", tyre.relaxation_length, 0.0, False, LIMITS["m"]),
+            ("pneumatic_trail", tyre.pneumatic_trail, -math.inf, False, LIMITS["m"]),
         ]
-    for name, value, low, inclusive in checks:
+    for name, value, low, inclusive, limit in checks:
         bound = "" if low == -math.inf else f" and {'>=' if inclusive else '>'} {low:g}"
         inside = value >= low if inclusive else value > low
         found.flag(
             not (math.isfinite(value) and inside),
             f"extension {name} = {value:.6g} must be finite{bound}",
         )
+        found.flag(math.isfinite(value) and abs(value) > limit,
+                   f"extension {name} = {value:.6g} is beyond {limit:g}: not a bicycle (a unit or typing error?)")
     for row, gains in (("steer", bicycle.controller.steer), ("roll", bicycle.controller.roll)):
         for state, coefficients in gains.items():
             found.flag(state not in CONTROLLER_STATES, f"controller.{row}: unknown state {state!r}")
@@ -559,10 +568,16 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
                 not all(map(math.isfinite, coefficients)),
                 f"controller.{row}.{state} has a coefficient that is not finite",
             )
+            found.flag(any(abs(c) > CONTROLLER_GAIN_LIMIT for c in coefficients if math.isfinite(c)),
+                       f"controller.{row}.{state} has a coefficient beyond {CONTROLLER_GAIN_LIMIT:g}: not a "
+                       "bicycle's controller (a unit or typing error?)")
     controller = bicycle.controller
-    for name, value in (("gain_scale", controller.gain_scale), ("delay", controller.delay), ("lag", controller.lag)):
+    for name, value, limit in (("gain_scale", controller.gain_scale, 1e3), ("delay", controller.delay, 10.0),
+                               ("lag", controller.lag, 10.0)):
         found.flag(not (math.isfinite(value) and value >= 0),
                    f"controller {name} = {value:.6g} must be finite and >= 0")
+        found.flag(math.isfinite(value) and value > limit,
+                   f"controller {name} = {value:.6g} is beyond {limit:g}: not a bicycle's controller")
 
 
 def check_physical(

@@ -117,6 +117,8 @@ def _load(text: str) -> Bicycle:
         resource = Path(whipple.data.__file__).parent / f"{text}.toml"
         return bicycle_from_toml(parse_toml(resource.read_text(encoding="utf-8"), text), text)
     path = Path(text)
+    if path.exists() and not path.is_file():
+        raise BicycleFileError("not a regular file (a folder, a device or a pipe?)", text)
     if not path.is_file():
         raise BicycleFileError(
             f"no such file or built-in bicycle (built-in: {', '.join(_BUILTIN)})", text

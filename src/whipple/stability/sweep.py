@@ -85,6 +85,8 @@ def _parse_cells(lines: list[tuple[int, str]], header: tuple[str, ...], path: Pa
             raise InputError(f"line {number}: {len(row)} cells, header has {len(header)}", path)
         for c, cell in enumerate(row):
             try:
+                if not cell.isascii():  # float() reads other scripts' digits too
+                    raise ValueError
                 number_value = float(cell)
             except ValueError:
                 raise InputError(f"line {number}, column {header[c]}: not a number: {cell.strip()!r}",
@@ -97,6 +99,8 @@ def _parse_cells(lines: list[tuple[int, str]], header: tuple[str, ...], path: Pa
 
 def _parse_block(lines: list[tuple[int, str]], header: tuple[str, ...], path: Path) -> NDArray[np.float64]:
     """Cells of `lines` with NumPy's parser; anything it refuses is read again cell by cell."""
+    if not all(line.isascii() for _, line in lines):
+        return _parse_cells(lines, header, path)
     try:
         values = np.loadtxt([line for _, line in lines], delimiter=",", dtype=float, ndmin=2,
                             comments=None, quotechar='"')
@@ -116,7 +120,7 @@ def _plain_block(lines: list[str], columns: int) -> NDArray[np.float64] | None:
     than NumPy's or Python's. A block that is not plain (or a cell ``float`` would take and it
     refuses, e.g. ``1_0``) is read by the general path, which also names a bad cell.
     """
-    if set(map(str.count, lines, itertools.repeat(","))) != {columns - 1}:
+    if set(map(str.count, lines, itertools.repeat(","))) != {columns - 1} or not all(map(str.isascii, lines)):
         return None
     values = fastnumbers.try_array(",".join(lines).split(","), dtype=float, on_fail=np.nan)
     if not np.all(np.isfinite(values)):
@@ -130,8 +134,9 @@ _READ_SIZE = 1 << 20
 
 def _open_text(path: Path) -> io.TextIOWrapper:
     try:
-        # Universal newlines: lines end in "\n" whatever the file's convention.
-        return path.open(encoding="utf-8")
+        # Universal newlines: lines end in "\n" whatever the file's convention; a byte-order
+        # mark (spreadsheets write one) is not part of the first column's name.
+        return path.open(encoding="utf-8-sig")
     except OSError as error:
         raise InputError(f"cannot read: {error.strerror}", path) from None
 
@@ -280,6 +285,19 @@ class SweepTask:
     speed_range: tuple[float, float]
 
 
+def _with_point_wheels(problems: tuple[str, ...], parameters: dict[str, float | NDArray[np.float64]]
+                       ) -> tuple[str, ...]:
+    """Add the problem of rows whose point wheels the base's tyre model cannot hold."""
+    zero = {name: np.broadcast_to(np.asarray(parameters[name]) == 0, (len(problems),)) for name in ("rR", "rF")}
+    result = list(problems)
+    for row in np.flatnonzero(zero["rR"] | zero["rF"]).tolist():
+        point = [name for name in ("rR", "rF") if zero[name][row]]
+        if point:
+            text = f"tyre compliance needs wheels of positive radius ({', '.join(point)} = 0)"
+            result[row] = f"{result[row]}; {text}" if result[row] else text
+    return tuple(result)
+
+
 def _valid_sets(chunk: TableChunk, base: Bicycle
                 ) -> tuple[tuple[str, ...], list[int], LinearModel | None]:
     """Validate every row of a chunk; return the problems, the valid rows and their models.
@@ -293,6 +311,8 @@ def _valid_sets(chunk: TableChunk, base: Bicycle
     parameters: dict[str, float | NDArray[np.float64]] = dict(base.parameters)
     parameters.update({name: chunk.values[:, c] for c, name in enumerate(chunk.names)})
     problems = validate_rows(parameters)
+    if base.extensions.tyre_compliance is not None:
+        problems = _with_point_wheels(problems, parameters)
     rows = [row for row, problem in enumerate(problems) if not problem]
     if not rows:
         return problems, rows, None

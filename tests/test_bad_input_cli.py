@@ -1,0 +1,151 @@
+"""Bad input found by fuzzing the command line: one line, a non-zero exit, inputs untouched."""
+
+import os
+import stat
+from pathlib import Path
+
+import pytest
+
+from whipple.cli import main
+
+DATA = Path(__file__).parent / "data" / "bicycleparameters" / "bicycles"
+BENCHMARK_TOML = Path(__file__).parents[1] / "src" / "whipple" / "data" / "benchmark.toml"
+
+
+def _one_line_error(capsys, code: int, rc: int, *words: str) -> str:
+    assert rc == code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert "Traceback" not in err[0]
+    for word in words:
+        assert word in err[0]
+    return err[0]
+
+
+def _bicycle_with(tmp_path: Path, extra: str) -> Path:
+    path = tmp_path / "bicycle.toml"
+    path.write_text(BENCHMARK_TOML.read_text(encoding="utf-8") + "\n" + extra + "\n", encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("extra, words", [
+    ("[extensions]\nsteer_damping = 1e150", "steer_damping = 1e+150 is beyond"),
+    ("[extensions]\nspeed_scale = 1e-300", "speed_scale = 1e-300 is below 0.01"),
+    ("[extensions.payload]\nmass = 1\nx = 1e300\nz = 0", "payload x = 1e+300 is beyond"),
+    ("[controller.steer]\nroll_rate = [1e300, 1e300]", "controller.steer.roll_rate has a coefficient beyond"),
+    ("[controller]\ndelay = 1e300\n[controller.steer]\nroll_rate = 1.0", "controller delay = 1e+300 is beyond"),
+])
+def test_extension_and_controller_values_beyond_any_bicycle(tmp_path, capsys, extra, words):
+    path = _bicycle_with(tmp_path, extra)
+    _one_line_error(capsys, 2, main(["check", str(path)]), str(path), words)
+
+
+def test_overflow_in_the_analysis_is_one_line(tmp_path, capsys):
+    # A positive delay this small passes the checks (fitted delays come out at 1e-14) but its
+    # Pade approximant overflows.
+    path = _bicycle_with(tmp_path, "[controller]\ndelay = 1e-300\n[controller.steer]\nroll_rate = 1.0")
+    _one_line_error(capsys, 1, main(["check", str(path)]), "analysis failed", "overflow")
+
+
+def test_numbers_too_large_for_a_float(tmp_path, capsys):
+    huge = "9" * 400
+    toml = tmp_path / "huge.toml"
+    toml.write_text(BENCHMARK_TOML.read_text(encoding="utf-8").replace("w = 1.02", f"w = {huge}", 1), encoding="utf-8")
+    _one_line_error(capsys, 2, main(["check", str(toml)]), str(toml), "'w' in [parameters] is too large a number")
+    silver = (DATA / "SilverBenchmark.txt").read_text(encoding="utf-8").splitlines()
+    cases = (("1e400", "too large a number"), (huge, "too large a number"), ("١٢", "expected 'name = value'"))
+    for value, words in cases:
+        lines = [f"c = {value}" if line.startswith("c =") else line for line in silver]
+        path = tmp_path / "OddBenchmark.txt"
+        path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+        _one_line_error(capsys, 2, main(["check", str(path)]), str(path), words)
+
+
+def test_speed_arguments(capsys):
+    # check has no speed grid: any finite range is solved exactly, without warnings.
+    assert main(["check", "benchmark", "--speeds", "0:1e300"]) == 0
+    assert "weave speed:   4.29238" in capsys.readouterr().out
+    for speeds, words in (("5,5", "given twice"), ("5,,6", "empty item"), ("٥", "expected speeds")):
+        with pytest.raises(SystemExit) as raised:
+            main(["simulate", "--bicycle", "benchmark", "--speeds", speeds, "--output", "unused"])
+        assert raised.value.code == 2
+        assert words in capsys.readouterr().err
+
+
+def test_a_folder_given_as_the_bicycle(tmp_path, capsys):
+    _one_line_error(capsys, 2, main(["check", str(tmp_path)]), "not a regular file")
+
+
+def test_outputs_follow_symbolic_links_and_write_into_devices(tmp_path, capsys):
+    target = tmp_path / "target.csv"
+    target.write_text("old\n", encoding="utf-8")
+    link = tmp_path / "link.csv"
+    link.symlink_to(target)
+    assert main(["stability", "benchmark", "--points", "5", "--csv", str(link)]) == 0
+    assert link.is_symlink() and target.read_text(encoding="utf-8").startswith("speed_m_per_s")
+    null = Path(os.devnull)
+    if not (null.exists() and stat.S_ISCHR(null.stat().st_mode) and os.access(null, os.W_OK)):
+        pytest.skip("no writable null device")
+    assert main(["stability", "benchmark", "--points", "5", "--csv", str(null)]) == 0
+    assert stat.S_ISCHR(null.stat().st_mode)
+    capsys.readouterr()
+
+
+def test_sweep_rows(tmp_path, capsys):
+    bom = tmp_path / "bom.csv"
+    bom.write_bytes("\ufeffc\n0.09\n".encode())
+    out = tmp_path / "out.csv"
+    assert main(["sweep", "--quiet", "-o", str(out), str(bom)]) == 0
+    assert out.read_text(encoding="utf-8").splitlines()[0].startswith("c,weave_speed")
+    other_digits = tmp_path / "digits.csv"
+    other_digits.write_text("c\n١\n", encoding="utf-8")
+    capsys.readouterr()
+    _one_line_error(capsys, 2, main(["sweep", "--quiet", "-o", str(out), str(other_digits)]), "not a number")
+    tyre = _bicycle_with(tmp_path, "[extensions.tyre_compliance]\ncornering_stiffness = 10\n"
+                                   "camber_stiffness = 0.5\nrelaxation_length = 0.1")
+    rows = tmp_path / "rows.csv"
+    rows.write_text("rF,IFyy\n0,0\n0.35,0.28\n", encoding="utf-8")
+    assert main(["sweep", "--quiet", "-o", str(out), "--bicycle", str(tyre), str(rows)]) == 0
+    lines = out.read_text(encoding="utf-8").splitlines()
+    assert lines[1].endswith("tyre compliance needs wheels of positive radius (rF = 0)")
+    assert lines[2].split(",")[2]  # the other row has a weave speed
+
+
+@pytest.fixture(scope="module")
+def run_file(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("run")
+    path = folder / "run5.csv"
+    assert main(["simulate", "--bicycle", "benchmark", "--speed", "5", "--seed", "1", "--output", str(path)]) == 0
+    return path
+
+
+def test_windows_reaching_beyond_the_run_and_poor_fits(run_file, tmp_path, capsys):
+    windows = tmp_path / "w.csv"
+    windows.write_text(f"run,start,stop\n{run_file.stem},0,1e300\n{run_file.stem},18.0,18.3\n", encoding="utf-8")
+    capsys.readouterr()
+    assert main(["fit", str(run_file), "--windows", str(windows)]) == 0
+    out = capsys.readouterr().out
+    assert "reaches beyond the run" in out
+    assert "not used: poor fit" in out
+
+
+def test_diagnose_never_writes_over_its_layout_and_saves_toml(run_file, tmp_path, capsys):
+    layout = tmp_path / "layout.toml"
+    layout.write_text('[columns]\nroll_rate = "roll_rate"\n', encoding="utf-8")
+    before = layout.read_bytes()
+    capsys.readouterr()
+    for option in ("--json", "--save-model"):
+        rc = main(["diagnose", str(run_file), "--bicycle", "benchmark", "--layout", str(layout), option, str(layout)])
+        _one_line_error(capsys, 2, rc, "refusing to write output over input file")
+        assert layout.read_bytes() == before
+    rc = main(["diagnose", str(run_file), "--bicycle", "benchmark", "--save-model", str(tmp_path / "m.txt")])
+    _one_line_error(capsys, 2, rc, "--save-model writes TOML")
+
+
+def test_two_runs_of_one_name_are_named_with_their_files(run_file, tmp_path, capsys):
+    other = tmp_path / "copy"
+    other.mkdir()
+    copy = other / run_file.name
+    copy.write_bytes(run_file.read_bytes())
+    capsys.readouterr()
+    _one_line_error(capsys, 2, main(["fit", str(run_file), str(copy)]), str(run_file), str(copy))

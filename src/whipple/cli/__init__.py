@@ -66,11 +66,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``whipple`` console script."""
     arguments = list(sys.argv[1:] if argv is None else argv)
     args = build_parser(arguments).parse_args(arguments)
-    # numpy's RuntimeWarnings (overflow, invalid value) would print lines of library source
-    # before the one-line error that the checks of the results give.
-    warnings.simplefilter("ignore", RuntimeWarning)
     try:
-        return int(args.run(args))
+        with warnings.catch_warnings():
+            # numpy's RuntimeWarnings (overflow, invalid value) would print lines of library
+            # source before the one-line error that the checks of the results give.
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return int(args.run(args))
     except InputError as error:
         print(f"whipple {args.command}: error: {error}", file=sys.stderr)
         return 2

@@ -39,6 +39,11 @@ def speed_list(text: str) -> list[float]:
     return speeds
 
 
+def bicycle_inputs(args: argparse.Namespace) -> list[str]:
+    """Return the bicycle file and the rider file a command reads (outputs must not replace them)."""
+    return [path for path in (args.bicycle, args.rider) if path]
+
+
 def add_rider_argument(parser: argparse.ArgumentParser) -> None:
     """``--rider FILE``: a rigid rider joined to the bicycle's rear frame."""
     parser.add_argument("--rider", metavar="FILE",

@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import add_rider_argument
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
@@ -68,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
     sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
     if not sources:
         raise InputError("no run files given (name files, or use --bundled)")
-    inputs = [s for s in sources if isinstance(s, Path)] + [args.bicycle, *([args.rider] if args.rider else [])]
+    inputs = [s for s in sources if isinstance(s, Path)] + bicycle_inputs(args)
     inputs += [path for path in (args.windows, args.layout) if path is not None]
     if args.save_model is not None and Path(args.save_model).suffix.lower() == ".txt":
         raise InputError("--save-model writes TOML; a .txt file would be read back as BicycleParameters text "

@@ -17,7 +17,7 @@ import re
 from pathlib import Path
 
 from whipple.atomic import check_writable, refuse_input_overwrite
-from whipple.cli.arguments import add_rider_argument, speed_list
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, speed_list
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     if bad:
         raise InputError(f"speeds must be positive m/s, got {bad[0]:g}")
     output = Path(args.output)
-    refuse_input_overwrite(output, [args.bicycle, *([args.rider] if args.rider else [])])
+    refuse_input_overwrite(output, bicycle_inputs(args))
     single_file = output.suffix.lower() == ".csv"
     if single_file and len(speeds) > 1:
         raise InputError(f"{len(speeds)} speeds need an output folder, not a .csv file",
@@ -102,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
     targets = [output if single_file else output / _file_name(name, args.setting, s.speed)
                for s in scenarios]
     for target in targets:
-        refuse_input_overwrite(target, [args.bicycle, *([args.rider] if args.rider else [])])
+        refuse_input_overwrite(target, bicycle_inputs(args))
     # Simulate everything first: a bad speed (e.g. aliasing) must not leave half the files.
     if args.nonlinear:
         runs = [simulate_nonlinear_run(bicycle, scenario, name=target.stem)

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import add_rider_argument, speed_range
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, speed_range
 from whipple.cli.outputs import check_outputs, figure_format, save_figure
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     if not 2 <= args.points <= MAX_POINTS:
         raise InputError(f"--points must be between 2 and {MAX_POINTS}, got {args.points}")
-    check_outputs({"--plot": args.plot, "--csv": args.csv}, [args.bicycle, *([args.rider] if args.rider else [])])
+    check_outputs({"--plot": args.plot, "--csv": args.csv}, bicycle_inputs(args))
     if args.plot is not None:
         figure_format(args.plot)
     bicycle = load_bicycle(args.bicycle, rider=args.rider)

@@ -20,7 +20,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from whipple.atomic import atomic_path, refuse_input_overwrite
-from whipple.cli.arguments import add_rider_argument, speed_range
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, speed_range
 from whipple.distributed import check_cluster_options, map_ordered
 from whipple.errors import InputError
 from whipple.model.parameters import load_bicycle
@@ -78,7 +78,7 @@ class _Progress:
 
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
-    refuse_input_overwrite(args.output, [args.table, args.bicycle, *([args.rider] if args.rider else [])])
+    refuse_input_overwrite(args.output, [args.table, *bicycle_inputs(args)])
     if args.chunk < 1:
         raise InputError(f"--chunk must be at least 1, got {args.chunk}")
     check_cluster_options(args.scheduler, args.workers)

@@ -285,7 +285,7 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
     first, last = float(run.time[0]), float(run.time[-1])
     if window.start >= last or window.stop <= first:
         return WindowMeasurement(run, window, None, None, f"window outside the run ({first:.2f}-{last:.2f} s)")
-    step = float(np.median(np.diff(run.time))) if run.time.size > 1 else 0.0
+    step = 1.0 / run.sample_rate
     if window.start < first - step or window.stop > last + step:
         # A hand-picked window reaching past the record is a typing error more likely than a
         # window meant to be cut to it.

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from numbers import Real
 from typing import Any
@@ -525,8 +525,7 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
         )
     ext = bicycle.extensions
     point = [name for name in ("rR", "rF") if bicycle.parameters.get(name) == 0]
-    found.flag(ext.tyre_compliance is not None and bool(point),
-               f"tyre compliance needs wheels of positive radius ({', '.join(point)} = 0)")
+    found.flag(ext.tyre_compliance is not None and bool(point), tyre_point_wheel_problem(point))
     # (name, value, lowest, lowest allowed itself, largest magnitude of anything like a bicycle:
     # beyond it a unit or typing error, and the model's arithmetic would overflow)
     checks = [
@@ -578,6 +577,11 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
                    f"controller {name} = {value:.6g} must be finite and >= 0")
         found.flag(math.isfinite(value) and value > limit,
                    f"controller {name} = {value:.6g} is beyond {limit:g}: not a bicycle's controller")
+
+
+def tyre_point_wheel_problem(point: Sequence[str]) -> str:
+    """Return the problem of point wheels (``rR``, ``rF`` of radius zero) under the tyre model."""
+    return f"tyre compliance needs wheels of positive radius ({', '.join(point)} = 0)"
 
 
 def check_physical(

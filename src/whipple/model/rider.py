@@ -119,6 +119,7 @@ def add_rider(bicycle: Bicycle, rider: Rider) -> Bicycle:
     sigmas = {(owner, key): (bicycle.uncertainty if owner == "bicycle" else rider.uncertainty).get(key, 0.0)
               for owner, key in inputs}
     joined = _joined(inputs)
+    stds = _propagated(inputs, sigmas)
     parameters = dict(bicycle.parameters)
     uncertainty = dict(bicycle.uncertainty)
     for key, value in joined.items():
@@ -127,7 +128,7 @@ def add_rider(bicycle: Bicycle, rider: Rider) -> Bicycle:
             uncertainty.pop(key, None)
             continue
         parameters[key] = value
-        std = _propagated(key, inputs, sigmas)
+        std = stds[key]
         if std > 0:
             uncertainty[key] = std
         else:
@@ -149,9 +150,9 @@ def _joined(inputs: dict[tuple[str, str], float]) -> dict[str, float]:
     return dict(zip(_BODY_KEYS, _fields(combine(frame, rider)), strict=True))
 
 
-def _propagated(key: str, inputs: dict[tuple[str, str], float], sigmas: dict[tuple[str, str], float]) -> float:
-    """First-order standard deviation of joined `key` (central differences, independent inputs)."""
-    variance = 0.0
+def _propagated(inputs: dict[tuple[str, str], float], sigmas: dict[tuple[str, str], float]) -> dict[str, float]:
+    """First-order standard deviation of each joined key (central differences, independent inputs)."""
+    variance = dict.fromkeys(_BODY_KEYS, 0.0)
     for name, sigma in sigmas.items():
         if sigma <= 0 or math.isnan(inputs[name]):
             continue
@@ -159,6 +160,7 @@ def _propagated(key: str, inputs: dict[tuple[str, str], float], sigmas: dict[tup
         up, down = dict(inputs), dict(inputs)
         up[name] += step
         down[name] -= step
-        slope = (_joined(up)[key] - _joined(down)[key]) / (2.0 * step)
-        variance += (slope * sigma) ** 2
-    return math.sqrt(variance) if math.isfinite(variance) else 0.0
+        above, below = _joined(up), _joined(down)
+        for key in _BODY_KEYS:
+            variance[key] += ((above[key] - below[key]) / (2.0 * step) * sigma) ** 2
+    return {key: math.sqrt(value) if math.isfinite(value) else 0.0 for key, value in variance.items()}

@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from whipple.errors import InputError
 from whipple.model.assembly import build_linear_model
 from whipple.model.linear import LinearModel
+from whipple.model.parameter_set import tyre_point_wheel_problem
 from whipple.model.parameters import PARAMETER_NAMES, Bicycle, validate_rows
 from whipple.stability.critical import CriticalSpeeds, critical_speed_table, critical_speeds_batch
 
@@ -291,10 +292,8 @@ def _with_point_wheels(problems: tuple[str, ...], parameters: dict[str, float | 
     zero = {name: np.broadcast_to(np.asarray(parameters[name]) == 0, (len(problems),)) for name in ("rR", "rF")}
     result = list(problems)
     for row in np.flatnonzero(zero["rR"] | zero["rF"]).tolist():
-        point = [name for name in ("rR", "rF") if zero[name][row]]
-        if point:
-            text = f"tyre compliance needs wheels of positive radius ({', '.join(point)} = 0)"
-            result[row] = f"{result[row]}; {text}" if result[row] else text
+        text = tyre_point_wheel_problem([name for name in ("rR", "rF") if zero[name][row]])
+        result[row] = f"{result[row]}; {text}" if result[row] else text
     return tuple(result)
 
 

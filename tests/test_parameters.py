@@ -410,6 +410,18 @@ _BAD_FILES = [
         r"uncertainty of c = -0.001 must be finite and >= 0",
     ),
     (
+        "huge-uncertainty",
+        "\n[uncertainty]\nc = 1e300\n",
+        ParameterError,
+        r"uncertainty of c = 1e\+300 m is beyond 100 m: not a bicycle's",
+    ),
+    (
+        "huge-angle-uncertainty",
+        "\n[uncertainty]\nlam = 4.0\n",
+        ParameterError,
+        r"uncertainty of lam = 4 rad is beyond 3.142 rad",
+    ),
+    (
         "zero-speed-scale",
         "\n[extensions]\nspeed_scale = 0.0\n",
         ParameterError,

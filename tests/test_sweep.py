@@ -16,9 +16,11 @@ import pytest
 from whipple import distributed
 from whipple.cli import main
 from whipple.model.parameters import load_bicycle, validate, validate_rows
+from whipple.stability.critical import CriticalSpeedTable
 from whipple.stability.sweep import (
     SweepTask,
     TableChunk,
+    _range_cells,
     analyse_chunk,
     analyse_sets,
     read_parameter_table,
@@ -114,6 +116,16 @@ def test_result_rows_equal_the_critical_speed_objects(tmp_path):
         assert len(ranges) == len(result.stable_speed_ranges)
         for mine, theirs in zip(ranges, result.stable_speed_ranges, strict=True):
             assert mine == pytest.approx(theirs, rel=1e-12, abs=0.0)
+
+
+def test_range_cells_join_a_models_ranges_in_order():
+    # Models 0 and 3 have several stable ranges, 1 and 4 none.
+    table = CriticalSpeedTable(np.full(5, np.nan), np.full(5, np.nan), np.array([0, 0, 2, 3, 3, 3]),
+                               np.array([0.5, 3.0, 4.25, 1.0, 2.0, 7.5]), np.array([1.5, 9.0, 6.0, 1.5, 5.0, 10.0]))
+    assert _range_cells(table, 5) == ["0.5:1.5;3.0:9.0", "", "4.25:6.0", "1.0:1.5;2.0:5.0;7.5:10.0", ""]
+    empty = CriticalSpeedTable(np.full(2, np.nan), np.full(2, np.nan), np.zeros(0, dtype=np.intp),
+                               np.zeros(0), np.zeros(0))
+    assert _range_cells(empty, 2) == ["", ""]
 
 
 def test_reader_parses_like_python_floats_and_names_bad_cells(tmp_path):

@@ -15,14 +15,16 @@ import pytest
 from test_critical import CAPSIZE_SPEED, WEAVE_SPEED, benchmark
 from test_critical_property import perturbed
 
-from whipple.model.assembly import build_linear_model
+from whipple.errors import InputError
+from whipple.model.assembly import build_linear_model, whipple_form_matrices
 from whipple.model.linear import LinearModel
-from whipple.model.parameters import Controller, Extensions, load_bicycle, validate_rows
+from whipple.model.parameters import Controller, Extensions, TyreCompliance, load_bicycle, validate_rows
 from whipple.stability.critical import (
     CHUNK_SIZE,
     CriticalSpeedTable,
     _general_table,
     critical_speed_table,
+    whipple_speed_table,
 )
 from whipple.stability.whipple_form import is_whipple_form, whipple_form_table
 
@@ -32,6 +34,12 @@ INTERVALS = ((0.0, 10.0), (0.0, 1e6), (2.5, 7.0), (0.0, 3.0))
 def random_models(seed: int, count: int, spread: float = 0.25) -> np.ndarray:
     """A's coefficients of `count` random bicycles, half with a rear or front payload and extra
     steer inertia (still of the Whipple form); `spread`: of the log-normal parameter factors."""
+    model = build_linear_model(random_parameters(seed, count, spread))
+    return model.A.reshape((-1,) + model.A.shape[-3:])
+
+
+def random_parameters(seed: int, count: int, spread: float = 0.25) -> dict[str, np.ndarray]:
+    """The parameters of :func:`random_models`."""
     rng = np.random.default_rng(seed)
     parameters = perturbed(rng, count, spread)
     parameters = {name: values[[not problem for problem in validate_rows(parameters)]]
@@ -45,8 +53,7 @@ def random_models(seed: int, count: int, spread: float = 0.25) -> np.ndarray:
     parameters["front_payload_x"] = rng.uniform(0.8, 1.2, count)
     parameters["front_payload_z"] = rng.uniform(-1.0, -0.5, count)
     parameters["steer_inertia"] = rng.uniform(0.0, 0.05, count)
-    model = build_linear_model(parameters)
-    return model.A.reshape((-1,) + model.A.shape[-3:])
+    return parameters
 
 
 def assert_tables_agree(closed: CriticalSpeedTable, general: CriticalSpeedTable) -> None:
@@ -77,6 +84,35 @@ def test_closed_form_equals_the_general_solver_on_random_bicycles(low: float, hi
     model = build_linear_model_from(coefficients)
     assert_tables_agree(critical_speed_table(model, low, high, chunk_size=700),
                         _general_table(coefficients, low, high, True, CHUNK_SIZE))
+
+
+@pytest.mark.parametrize("low,high", INTERVALS + ((-1.0, 5.0),))
+def test_table_from_the_matrices_is_the_table_of_the_models(low: float, high: float) -> None:
+    # A sweep solves Whipple-form models from their matrices without forming the first-order
+    # models: the same numbers, bit for bit.
+    parameters = random_parameters(31, 2000)
+    matrices = whipple_form_matrices(parameters)
+    assert matrices is not None
+    mine = whipple_speed_table(matrices.M, matrices.C1, matrices.K0, matrices.K2, low, high, chunk_size=700)
+    theirs = critical_speed_table(build_linear_model(parameters), low, high, chunk_size=700)
+    for name in CriticalSpeedTable.__dataclass_fields__:
+        np.testing.assert_array_equal(getattr(mine, name), getattr(theirs, name), err_msg=name)
+
+
+def test_models_of_other_forms_have_no_whipple_form_matrices() -> None:
+    bicycle = load_bicycle("benchmark")
+    assert whipple_form_matrices(bicycle.parameters, bicycle.extensions, bicycle.controller) is not None
+    assert whipple_form_matrices(bicycle.parameters, Extensions(steer_damping=0.5)) is None
+    assert whipple_form_matrices(bicycle.parameters, controller=Controller(steer={"roll_rate": [1.0]})) is None
+    assert whipple_form_matrices(bicycle.parameters, Extensions(tyre_compliance=TyreCompliance(15.0, 1.0, 0.1))) is None
+
+
+def test_bad_matrices_are_refused() -> None:
+    M = np.eye(2)
+    with pytest.raises(InputError, match="NaN or infinite"):
+        whipple_speed_table(M, M, np.full((2, 2), np.nan), M)
+    with pytest.raises(InputError, match="speed range"):
+        whipple_speed_table(M, M, M, M, 5.0, 1.0)
 
 
 def build_linear_model_from(coefficients: np.ndarray) -> LinearModel:

@@ -144,6 +144,21 @@ def _has_tyre_states(parameters: Mapping[str, ArrayLike], extensions: Extensions
     return (extensions is not None and extensions.tyre_compliance is not None) or "cornering_stiffness" in parameters
 
 
+def whipple_form_matrices(parameters: Mapping[str, ArrayLike], extensions: Extensions | None = None,
+                          controller: Controller | None = None) -> Matrices | None:
+    """Return the matrices of a model of the Whipple form; None for a model of another form.
+
+    The Whipple form is ``M q'' + v C1 q' + (K0 + v^2 K2) q = 0``: the Whipple model with
+    payloads and steer inertias, but no steer damping, tyre states or controller. For such
+    models the matrices are all the stability analysis needs
+    (:func:`whipple.stability.critical.whipple_speed_table`).
+    """
+    if (controller is not None and not controller.is_empty()) or _has_tyre_states(parameters, extensions):
+        return None
+    matrices = model_matrices(parameters, extensions)
+    return None if np.any(matrices.D) else matrices
+
+
 def build_linear_model(
     parameters: Mapping[str, ArrayLike],
     extensions: Extensions | None = None,

@@ -31,6 +31,7 @@ from whipple.model.physical_checks import (
     singular_mass_matrix,
     triangle_message,
     triangle_remedy,
+    uncertainty_findings,
 )
 
 #: The 26 benchmark parameters in the order of Meijaard et al. (2007), Table 1.
@@ -517,12 +518,8 @@ def _check_inertia(
 
 def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
     """Uncertainty, extensions and controller of a bicycle."""
-    for name, sigma in bicycle.uncertainty.items():
-        found.flag(name not in PARAMETER_NAMES, f"uncertainty of unknown parameter {name!r}")
-        found.flag(
-            not sigma >= 0 or math.isinf(sigma),
-            f"uncertainty of {name} = {sigma:.6g} must be finite and >= 0",
-        )
+    for bad, text in uncertainty_findings(bicycle.uncertainty, PARAMETER_UNITS):
+        found.flag(bad, text)
     ext = bicycle.extensions
     point = [name for name in ("rR", "rF") if bicycle.parameters.get(name) == 0]
     found.flag(ext.tyre_compliance is not None and bool(point), tyre_point_wheel_problem(point))

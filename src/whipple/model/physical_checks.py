@@ -67,6 +67,25 @@ def magnitude_findings(values: Mapping[str, Array], units: Mapping[str, str]
     return findings
 
 
+def uncertainty_findings(uncertainty: Mapping[str, float], units: Mapping[str, str]) -> list[tuple[bool, str]]:
+    """(bad, message) for standard deviations of unknown parameters, negative, or beyond :data:`LIMITS`.
+
+    An angle's standard deviation may not exceed pi; beyond the limits the propagated
+    uncertainty of a critical speed would overflow.
+    """
+    findings = []
+    for name, sigma in uncertainty.items():
+        unit = units.get(name)
+        findings.append((unit is None, f"uncertainty of unknown parameter {name!r}"))
+        findings.append((not sigma >= 0 or math.isinf(sigma), f"uncertainty of {name} = {sigma:.6g} must be finite "
+                                                               "and >= 0"))
+        limit = math.pi if unit == "rad" else LIMITS.get(unit or "")
+        if limit is not None and math.isfinite(sigma) and sigma > limit:
+            findings.append((True, f"uncertainty of {name} = {sigma:.6g} {unit} is beyond {limit:.4g} {unit}: "
+                                   "not a bicycle's (a unit or typing error?)"))
+    return findings
+
+
 def principal_moments(xx: Array, yy: Array, zz: Array, xz: Array) -> Array:
     """Principal moments [kg m^2], shape (3, ...): the two in the xz plane (larger first), then yy."""
     mean, radius = (xx + zz) / 2, np.hypot((xx - zz) / 2, xz)

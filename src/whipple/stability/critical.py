@@ -40,15 +40,20 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import InputError
-from whipple.model.linear import LinearModel, check_model
+from whipple.model.linear import LinearModel, check_model, second_order_model
 from whipple.stability import modes
 from whipple.stability.polynomial import characteristic_at, conditions, hurwitz_stable
 from whipple.stability.polyroots import real_roots
 from whipple.stability.root_spectrum import directions, merge, merge_touches, verify_roots
-from whipple.stability.whipple_form import is_whipple_form, whipple_form_table
+from whipple.stability.whipple_form import (
+    WhippleFormTable,
+    is_whipple_form,
+    whipple_form_table,
+    whipple_form_table_of_matrices,
+)
 
 #: Parameter sets of a 4-state model solved together (scaled by 16 / n^2 for n states).
 CHUNK_SIZE = 8192
@@ -402,17 +407,68 @@ def critical_speed_table(model: LinearModel, low: float = 0.0, high: float = 10.
     coefficients = _checked_coefficients(model, low, high)
     if not (polish and low >= 0 and coefficients.shape[0] and is_whipple_form(coefficients)):
         return _general_table(coefficients, low, high, polish, chunk_size)
-    closed = [whipple_form_table(coefficients[start:start + chunk_size], low, high)
-              for start in range(0, coefficients.shape[0], chunk_size)]
+    return _closed_form_first(lambda part: whipple_form_table(coefficients[part], low, high),
+                              lambda rows: coefficients[rows], coefficients.shape[0], low, high, chunk_size)
+
+
+def whipple_speed_table(M: ArrayLike, C1: ArrayLike, K0: ArrayLike, K2: ArrayLike, low: float = 0.0,
+                        high: float = 10.0, *, chunk_size: int = CHUNK_SIZE) -> CriticalSpeedTable:
+    """:func:`critical_speed_table` of models ``M q'' + v C1 q' + (K0 + v^2 K2) q = 0`` given by their matrices.
+
+    The same numbers as :func:`critical_speed_table` of their first-order models, which are
+    formed only for the few models the closed form leaves to the general solver: for sweeps,
+    where forming them all costs as much as solving them.
+
+    Parameters
+    ----------
+    M, C1, K0, K2 : array_like, shape (..., 2, 2)
+        Mass [kg m^2], velocity damping [kg m], stiffness with gravity [N m/rad] and
+        speed-squared stiffness [kg] matrices; the leading axes are a batch of models.
+    low, high : float
+        Speed interval [m/s].
+    chunk_size : int
+        As for :func:`critical_speeds_batch`.
+    """
+    _check_interval(low, high)
+    shape = np.broadcast_shapes(*(np.shape(X) for X in (M, C1, K0, K2)))
+    matrices = [np.broadcast_to(np.asarray(X, dtype=float), shape).reshape(-1, 2, 2) for X in (M, C1, K0, K2)]
+    if not all(np.all(np.isfinite(X)) for X in matrices):
+        raise InputError("the model's matrices have NaN or infinite entries")
+
+    def coefficients(rows: Any) -> NDArray[np.float64]:
+        model = second_order_model(*(X[rows] for X in matrices))
+        check_model(model)
+        return model.A
+
+    count = matrices[0].shape[0]
+    if low < 0 or not count:
+        return _general_table(coefficients(slice(None)), low, high, True, chunk_size)
+
+    def closed_form(part: slice) -> WhippleFormTable:
+        mass, velocity_damping, stiffness, speed_stiffness = (X[part] for X in matrices)
+        return whipple_form_table_of_matrices(mass, velocity_damping, stiffness, speed_stiffness, low, high)
+
+    return _closed_form_first(closed_form, coefficients, count, low, high, chunk_size)
+
+
+def _closed_form_first(closed_form: Callable[[slice], WhippleFormTable],
+                       coefficients: Callable[[NDArray[np.intp]], NDArray[np.float64]], count: int,
+                       low: float, high: float, chunk_size: int) -> CriticalSpeedTable:
+    """Return the table of `count` Whipple-form models, in closed form where that settles them.
+
+    `closed_form` solves a chunk (slice) of the models; the general solver those it did not
+    settle, given their first-order `coefficients`.
+    """
+    closed = [closed_form(slice(start, start + chunk_size)) for start in range(0, count, chunk_size)]
     settled = np.concatenate([part.settled for part in closed])
     # The few models the closed form leaves go to the general solver together: its cost is
     # mostly per call.
     rest = np.nonzero(~settled)[0]
-    general = _general_table(coefficients[rest], low, high, polish, chunk_size)
+    general = _general_table(coefficients(rest), low, high, True, chunk_size)
     weave = np.concatenate([part.weave_speed for part in closed])
     capsize = np.concatenate([part.capsize_speed for part in closed])
     weave[rest], capsize[rest] = general.weave_speed, general.capsize_speed
-    offsets = np.arange(0, coefficients.shape[0], chunk_size)
+    offsets = np.arange(0, count, chunk_size)
     range_model = np.concatenate([part.range_model + offset for part, offset in zip(closed, offsets, strict=True)]
                                  + [rest[general.range_model]])
     # Stable: the ranges of one model stay in increasing speed.

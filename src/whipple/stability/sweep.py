@@ -28,11 +28,17 @@ import orjson
 from numpy.typing import NDArray
 
 from whipple.errors import InputError
-from whipple.model.assembly import build_linear_model
+from whipple.model.assembly import build_linear_model, whipple_form_matrices
 from whipple.model.linear import LinearModel
 from whipple.model.parameter_set import tyre_point_wheel_problem
 from whipple.model.parameters import PARAMETER_NAMES, Bicycle, validate_rows
-from whipple.stability.critical import CriticalSpeeds, critical_speed_table, critical_speeds_batch
+from whipple.stability.critical import (
+    CriticalSpeeds,
+    CriticalSpeedTable,
+    critical_speed_table,
+    critical_speeds_batch,
+    whipple_speed_table,
+)
 
 #: Rows of a parameter table read and analysed together.
 CHUNK_ROWS = 10_000
@@ -298,11 +304,10 @@ def _with_point_wheels(problems: tuple[str, ...], parameters: dict[str, float | 
 
 
 def _valid_sets(chunk: TableChunk, base: Bicycle
-                ) -> tuple[tuple[str, ...], list[int], LinearModel | None]:
-    """Validate every row of a chunk; return the problems, the valid rows and their models.
+                ) -> tuple[tuple[str, ...], list[int], dict[str, float | NDArray[np.float64]] | None]:
+    """Validate every row of a chunk; return the problems, the valid rows and their parameters.
 
-    Absent columns take the base's values; the base's extensions and controller apply to
-    every row. The model is None when no row is valid.
+    Absent columns take the base's values. The parameters are None when no row is valid.
     """
     count = chunk.values.shape[0]
     # The base's values stay scalars (broadcast): a check of a column the table does not vary
@@ -312,6 +317,8 @@ def _valid_sets(chunk: TableChunk, base: Bicycle
     problems = validate_rows(parameters)
     if base.extensions.tyre_compliance is not None:
         problems = _with_point_wheels(problems, parameters)
+    if not any(problems):
+        return problems, list(range(count)), parameters
     rows = [row for row, problem in enumerate(problems) if not problem]
     if not rows:
         return problems, rows, None
@@ -319,8 +326,21 @@ def _valid_sets(chunk: TableChunk, base: Bicycle
         index = np.array(rows)
         parameters = {name: values[index] if isinstance(values, np.ndarray) else values
                       for name, values in parameters.items()}
-    model = build_linear_model(parameters, base.extensions, base.controller)
-    return problems, rows, model
+    return problems, rows, parameters
+
+
+def _model(parameters: dict[str, float | NDArray[np.float64]], base: Bicycle) -> LinearModel:
+    """Return the linear models of valid rows; the base's extensions and controller apply to every row."""
+    return build_linear_model(parameters, base.extensions, base.controller)
+
+
+def _speed_table(parameters: dict[str, float | NDArray[np.float64]], base: Bicycle,
+                 speed_range: tuple[float, float]) -> CriticalSpeedTable:
+    """Critical speeds of valid rows; models of the Whipple form from their matrices alone."""
+    matrices = whipple_form_matrices(parameters, base.extensions, base.controller)
+    if matrices is None:
+        return critical_speed_table(_model(parameters, base), *speed_range)
+    return whipple_speed_table(matrices.M, matrices.C1, matrices.K0, matrices.K2, *speed_range)
 
 
 def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, float],
@@ -339,10 +359,11 @@ def analyse_sets(chunk: TableChunk, base: Bicycle, speed_range: tuple[float, flo
     progress : callable, optional
         Passed on to :func:`~whipple.stability.critical.critical_speeds_batch`.
     """
-    problems, rows, model = _valid_sets(chunk, base)
+    problems, rows, parameters = _valid_sets(chunk, base)
     critical: list[CriticalSpeeds | None] = [None] * len(problems)
-    if model is not None:
-        for row, result in zip(rows, critical_speeds_batch(model, *speed_range, progress=progress),
+    if parameters is not None:
+        for row, result in zip(rows, critical_speeds_batch(_model(parameters, base), *speed_range,
+                                                           progress=progress),
                                strict=True):
             critical[row] = result
     return problems, critical
@@ -376,16 +397,13 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     come from :func:`~whipple.stability.critical.critical_speed_table` (the same solver as
     :func:`analyse_sets`, without a result object per row).
     """
-    problems, valid, model = _valid_sets(task.chunk, task.base)
+    problems, valid, parameters = _valid_sets(task.chunk, task.base)
     count = len(problems)
     weave_cells, capsize_cells, ranges = [""] * count, [""] * count, [""] * count
-    if model is not None:
-        table = critical_speed_table(model, *task.speed_range)
+    if parameters is not None:
+        table = _speed_table(parameters, task.base, task.speed_range)
         weave_cells, capsize_cells = float_cells(table.weave_speed), float_cells(table.capsize_speed)
-        ranges = [""] * len(valid)
-        pairs = map(":".join, zip(float_cells(table.range_low), float_cells(table.range_high), strict=True))
-        for index, pair in zip(table.range_model.tolist(), pairs, strict=True):
-            ranges[index] = f"{ranges[index]};{pair}" if ranges[index] else pair
+        ranges = _range_cells(table, len(valid))
         if len(valid) < count:  # rows not analysed have empty cells
             weave_cells, capsize_cells, ranges = (_scattered(cells, valid, count)
                                                   for cells in (weave_cells, capsize_cells, ranges))
@@ -397,6 +415,21 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     text = "".join([f"{inputs},{weave},{capsize},{pairs},{problem}\n" for inputs, weave, capsize, pairs, problem
                     in zip(rows, weave_cells, capsize_cells, ranges, problem_cells, strict=True)])
     return ChunkResult(text, count, count - len(valid))
+
+
+def _range_cells(table: CriticalSpeedTable, count: int) -> list[str]:
+    """Return the stable ranges of each of `count` models as ``low:high`` pairs separated by ``;``."""
+    pairs = np.array(list(map(":".join, zip(float_cells(table.range_low), float_cells(table.range_high),
+                                            strict=True))), dtype=object)
+    cells = np.full(count, "", dtype=object)
+    # Most models have one range: placed at once; a model's further ranges (in increasing
+    # speed, as the table lists them) are appended one by one.
+    further = np.zeros(pairs.size, dtype=bool)
+    further[1:] = table.range_model[1:] == table.range_model[:-1]
+    cells[table.range_model[~further]] = pairs[~further]
+    for model, pair in zip(table.range_model[further].tolist(), pairs[further].tolist(), strict=True):
+        cells[model] = f"{cells[model]};{pair}"
+    return cells.tolist()
 
 
 def _scattered(cells: list[str], rows: list[int], count: int) -> list[str]:

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.model.first_order import NUMPY_OPS
 from whipple.stability import modes
 from whipple.stability.cubic import cubic_roots
 from whipple.stability.polynomial import det_2x2, hurwitz_stable, is_second_order, mixed_2x2
@@ -47,6 +48,8 @@ COINCIDENT = 1e-4
 #: ``|w^2|`` [1/s^2] at a Hopf root below which the pair is too close to the real axis for the
 #: closed-form test (the general solver's threshold is ``w ~ 1e-6`` 1/s).
 WEAK_PAIR = 1e-8
+#: Hurwitz minors outside these magnitudes may have lost their sign to underflow or overflow.
+_TINY, _HUGE = 1e-250, 1e250
 
 
 @dataclass(frozen=True)
@@ -129,10 +132,23 @@ class _Invariants:
 
     @classmethod
     def of(cls, coefficients: NDArray[np.float64]) -> _Invariants:
+        """From A's coefficients (N, T, 4, 4)."""
         count = coefficients.shape[0]
         K0 = -coefficients[:, 0, 2:, :2]
         C1 = -coefficients[:, 1, 2:, 2:] if coefficients.shape[1] > 1 else np.zeros((count, 2, 2))
         K2 = -coefficients[:, 2, 2:, :2] if coefficients.shape[1] > 2 else np.zeros((count, 2, 2))
+        return cls.folded(C1, K0, K2)
+
+    @classmethod
+    def of_matrices(cls, M: NDArray[np.float64], C1: NDArray[np.float64], K0: NDArray[np.float64],
+                    K2: NDArray[np.float64]) -> _Invariants:
+        """From the second-order matrices (N, 2, 2), folded by M as the first-order model folds them."""
+        folded = NUMPY_OPS.solve(M, np.concatenate([C1, K0, K2], axis=-1))
+        return cls.folded(folded[..., :2], folded[..., 2:4], folded[..., 4:])
+
+    @classmethod
+    def folded(cls, C1: NDArray[np.float64], K0: NDArray[np.float64], K2: NDArray[np.float64]) -> _Invariants:
+        """From ``M^-1 C1, M^-1 K0, M^-1 K2`` (N, 2, 2)."""
         return cls(C1, K0, K2, C1[:, 0, 0] + C1[:, 1, 1], K0[:, 0, 0] + K0[:, 1, 1],
                    K2[:, 0, 0] + K2[:, 1, 1] + det_2x2(C1), mixed_2x2(C1, K0), mixed_2x2(C1, K2), det_2x2(K0),
                    mixed_2x2(K0, K2), det_2x2(K2))
@@ -140,12 +156,31 @@ class _Invariants:
     def select(self, rows: NDArray[np.intp]) -> _Invariants:
         return _Invariants(*(getattr(self, name)[rows] for name in self.__dataclass_fields__))
 
-    def characteristic(self, v: NDArray[np.float64], rows: NDArray[np.intp]) -> NDArray[np.float64]:
-        """``[1, a1, a2, a3, a4]`` (P, 5) of models `rows` at speeds v (P,) [m/s]."""
+    def characteristic(self, v: NDArray[np.float64], rows: NDArray[np.intp]
+                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """``a1, a2, a3, a4`` (P,) of models `rows` at speeds v (P,) [m/s]."""
         u = v * v
-        return np.stack([np.ones_like(v), v * self.c[rows], self.k0[rows] + u * self.e2[rows],
-                         v * (self.d1[rows] + u * self.d3[rows]),
-                         self.f0[rows] + u * (self.f2[rows] + u * self.f4[rows])], axis=-1)
+        return (v * self.c[rows], self.k0[rows] + u * self.e2[rows], v * (self.d1[rows] + u * self.d3[rows]),
+                self.f0[rows] + u * (self.f2[rows] + u * self.f4[rows]))
+
+    def stable_at(self, v: NDArray[np.float64], rows: NDArray[np.intp]) -> NDArray[np.bool_]:
+        """Whether models `rows` are asymptotically stable at speeds v (P,) [m/s] (Routh-Hurwitz).
+
+        :func:`~whipple.stability.polynomial.hurwitz_stable`'s test without its rescaling of the
+        polynomial, which changes no sign (a power of two) and matters only where a Hurwitz
+        minor overflows or underflows: only there is the scaled test used.
+        """
+        a1, a2, a3, a4 = self.characteristic(v, rows)
+        delta2 = a1 * a2 - a3
+        delta3 = delta2 * a3 - a1 * a1 * a4
+        stable = (a1 > 0) & (a4 > 0) & (delta2 > 0) & (delta3 > 0)
+        with np.errstate(invalid="ignore"):
+            doubtful = ~((np.abs(delta3) > _TINY) & (np.abs(delta3) < _HUGE) & (np.abs(delta2) > _TINY))
+        if np.any(doubtful):
+            a = np.stack([np.ones(int(np.count_nonzero(doubtful))), a1[doubtful], a2[doubtful], a3[doubtful],
+                          a4[doubtful]], axis=-1)
+            stable[doubtful] = hurwitz_stable(a)
+        return stable
 
 
 def _hopf_labels(p: _Invariants, v: NDArray[np.float64], w2: NDArray[np.float64]
@@ -268,8 +303,30 @@ def whipple_form_table(coefficients: NDArray[np.float64], low: float, high: floa
     -------
     WhippleFormTable
     """
-    count = coefficients.shape[0]
-    p = _Invariants.of(coefficients)
+    return _table(_Invariants.of(coefficients), low, high)
+
+
+def whipple_form_table_of_matrices(M: NDArray[np.float64], C1: NDArray[np.float64], K0: NDArray[np.float64],
+                                   K2: NDArray[np.float64], low: float, high: float) -> WhippleFormTable:
+    """:func:`whipple_form_table` of models ``M q'' + v C1 q' + (K0 + v^2 K2) q = 0``.
+
+    The same numbers (bit for bit) as from the models' first-order coefficients, without
+    forming them: a sweep's models need only these invariants.
+
+    Parameters
+    ----------
+    M, C1, K0, K2 : ndarray, shape (N, 2, 2)
+        Mass [kg m^2], velocity damping [kg m], stiffness with gravity [N m/rad] and
+        speed-squared stiffness [kg] matrices; M invertible.
+    low, high : float
+        Speed interval [m/s], ``0 <= low < high``.
+    """
+    return _table(_Invariants.of_matrices(M, C1, K0, K2), low, high)
+
+
+def _table(p: _Invariants, low: float, high: float) -> WhippleFormTable:
+    """:func:`whipple_form_table` of the models with invariants `p`."""
+    count = p.c.shape[0]
     c, k0, e2, d1, d3, f0, f2, f4 = p.c, p.k0, p.e2, p.d1, p.d3, p.f0, p.f2, p.f4
     # The Hopf condition divided by u, and the real condition.
     hopf_u, defer_hopf = _quadratic_roots(c * k0 * d1 - d1 * d1 - c * c * f0,
@@ -299,8 +356,7 @@ def whipple_form_table(coefficients: NDArray[np.float64], low: float, high: floa
     start, end = knots[:, :-1], knots[:, 1:]
     rows, columns = np.nonzero(np.isfinite(end))
     stable = np.zeros(start.shape, dtype=bool)
-    stable[rows, columns] = hurwitz_stable(
-        p.characteristic(0.5 * (start[rows, columns] + end[rows, columns]), rows))
+    stable[rows, columns] = p.stable_at(0.5 * (start[rows, columns] + end[rows, columns]), rows)
     # The main (longest) stable range, the first of equal ones; where a Hopf (real) crossing
     # bounds it from below (above), that is the weave (capsize) speed, else the first
     # crossing labelled so.

@@ -34,6 +34,29 @@ BICYCLEPARAMETERS_MATRICES = {
 }
 
 
+#: Rigid (its front frame given in two parts) with the rider Jason's file for it, by
+#: BicycleParameters 1.5.2 (``Bicycle('Rigid').add_rider('Jason')``, run once outside the test
+#: suite): canonical matrices (K0 without g); its eigenvalue sweep on a 0.001 m/s grid is
+#: stable from 5.837 to 9.973 m/s.
+RIGID_MATRICES = {
+    "M": [[131.18824613409137, 2.3247699570623443], [2.3247699570623443, 0.2224098842462465]],
+    "C1": [[0.0, 42.71441594725409], [-0.31500940197505306, 1.4280565239436263]],
+    "K0": [[-115.98421906435794, -2.4039424007706027], [-2.4039424007706027, -0.7504678251076073]],
+    "K2": [[0.0, 104.18968929280831], [0.0, 2.228586013983513]],
+}
+
+
+def test_rigid_with_its_rider_equals_bicycleparameters():
+    bicycle = load_bicycle(DATA / "bicycles" / "RigidBenchmark.txt",
+                           rider=DATA / "riders" / "JasonRigidBenchmark.txt")
+    matrices = whipple_matrices(bicycle.parameters)
+    for name, expected in RIGID_MATRICES.items():
+        ours = getattr(matrices, name) / (bicycle.parameters["g"] if name == "K0" else 1.0)
+        np.testing.assert_allclose(ours, expected, rtol=1e-8, atol=1e-8, err_msg=name)
+    found = critical_speeds(linear_model(bicycle))
+    assert 5.836 < found.weave_speed <= 5.837 and 9.973 <= found.capsize_speed < 9.974
+
+
 def test_browser_with_jason_equals_bicycleparameters():
     bicycle = load_bicycle(BROWSER, rider=JASON)
     assert bicycle.name == "Browser + JasonBrowser"

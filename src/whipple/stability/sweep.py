@@ -5,10 +5,11 @@ set per row. Columns that are absent take the value of a base bicycle (so a stud
 just a few parameters); the base's extensions and controller apply to every row.
 
 Tables of any length are read and analysed in chunks of rows (:data:`CHUNK_ROWS`), so memory
-is bounded by the chunk size: :func:`table_chunks` reads a chunk at a time (with NumPy's
-parser; a chunk it refuses is read again cell by cell for a one-line error naming the line and
+is bounded by the chunk size: :func:`table_chunks` reads a chunk at a time (plain blocks of
+numbers with fastnumbers' parser; anything else line by line, a bad cell named by its line and
 column), :func:`analyse_chunk` validates a chunk's sets together and analyses the valid ones
-with :func:`whipple.stability.critical.critical_speed_table`, and returns the chunk's rows of
+with :mod:`whipple.stability.critical` (from the matrices alone for models of the Whipple
+form), and returns the chunk's rows of
 the results table as text. A chunk is a self-contained task, so chunks can be analysed on
 other processes or machines (:mod:`whipple.distributed`) and written in order.
 """
@@ -336,7 +337,7 @@ def _model(parameters: dict[str, float | NDArray[np.float64]], base: Bicycle) ->
 
 def _speed_table(parameters: dict[str, float | NDArray[np.float64]], base: Bicycle,
                  speed_range: tuple[float, float]) -> CriticalSpeedTable:
-    """Critical speeds of valid rows; models of the Whipple form from their matrices alone."""
+    """Return the critical speeds of valid rows; models of the Whipple form from their matrices alone."""
     matrices = whipple_form_matrices(parameters, base.extensions, base.controller)
     if matrices is None:
         return critical_speed_table(_model(parameters, base), *speed_range)
@@ -395,7 +396,9 @@ def analyse_chunk(task: SweepTask) -> ChunkResult:
     exactly), then the weave and capsize speeds [m/s], the stable speed ranges as ``low:high``
     pairs [m/s] separated by ``;``, and the problem of a row that was not analysed. The speeds
     come from :func:`~whipple.stability.critical.critical_speed_table` (the same solver as
-    :func:`analyse_sets`, without a result object per row).
+    :func:`analyse_sets`, without a result object per row), or for models of the Whipple form
+    from :func:`~whipple.stability.critical.whipple_speed_table` (the same numbers from the
+    matrices alone).
     """
     problems, valid, parameters = _valid_sets(task.chunk, task.base)
     count = len(problems)

@@ -6,12 +6,13 @@ just a few parameters); the base's extensions and controller apply to every row.
 
 Tables of any length are read and analysed in chunks of rows (:data:`CHUNK_ROWS`), so memory
 is bounded by the chunk size: :func:`table_chunks` reads a chunk at a time (plain blocks of
-numbers with fastnumbers' parser; anything else line by line, a bad cell named by its line and
-column), :func:`analyse_chunk` validates a chunk's sets together and analyses the valid ones
-with :mod:`whipple.stability.critical` (from the matrices alone for models of the Whipple
-form), and returns the chunk's rows of
-the results table as text. A chunk is a self-contained task, so chunks can be analysed on
-other processes or machines (:mod:`whipple.distributed`) and written in order.
+numbers with fastnumbers' parser, others with NumPy's; a block a parser refuses is read again
+cell by cell for a one-line error naming the line and column), :func:`analyse_chunk`
+validates a chunk's sets together, analyses the valid ones with
+:mod:`whipple.stability.critical` (from the matrices alone for models of the Whipple form) and
+returns the chunk's rows of the results table as text. A chunk is a self-contained task, so
+chunks can be analysed on other processes or machines (:mod:`whipple.distributed`) and
+written in order.
 """
 
 from __future__ import annotations

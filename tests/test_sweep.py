@@ -128,12 +128,17 @@ def test_range_cells_join_a_models_ranges_in_order():
     assert _range_cells(empty, 2) == ["", ""]
 
 
-def test_reader_parses_like_python_floats_and_names_bad_cells(tmp_path):
+def test_reader_parses_decimal_numbers_and_names_bad_cells(tmp_path):
     sets = tmp_path / "sets.csv"
-    sets.write_text("# a comment\nc, mB\n\n0.08, 85\n 1_0e-2 ,\"90\"\n,\n0.1,1e1\n")
+    sets.write_text("# a comment\nc, mB\n\n0.08, 85\n 10e-2 ,\"90\"\n,\n0.1,1e1\n")
     table = read_parameter_table(sets)
     assert table.rows == 3 and table.columns["c"].tolist() == [0.08, 0.1, 0.1]
     assert table.columns["mB"].tolist() == [85.0, 90.0, 10.0]
+    # float() would read these as 0.1 and 12.0; no table means them as numbers.
+    for cell in ("1_0e-2", "\uff11\uff12"):
+        sets.write_text(f"c,mB\n0.08,85\n{cell},85\n")
+        with pytest.raises(ValueError, match=r"line 3, column c: not a number"):
+            read_parameter_table(sets)
     sets.write_text("c,mB\n" + "0.08,85\n" * 5 + "0.08,inf\n")
     names, chunks = table_chunks(sets, rows=2)
     assert names == ("c", "mB")
@@ -189,8 +194,8 @@ def test_fast_and_general_readers_agree_on_messy_tables(tmp_path, rows):
 
 def test_bad_cell_after_plain_chunks_is_named_by_its_line(tmp_path):
     sets = tmp_path / "sets.csv"
-    sets.write_text("c,mB\n# note\n" + "0.08,85\n" * 9 + "\n0.08,1_0\n")
-    assert read_parameter_table(sets).columns["mB"].tolist() == [85.0] * 9 + [10.0]  # as float() reads
+    sets.write_text("c,mB\n# note\n" + "0.08,85\n" * 9 + "\n0.08,1e1\n")
+    assert read_parameter_table(sets).columns["mB"].tolist() == [85.0] * 9 + [10.0]
     sets.write_text(sets.read_text() + "0.08,nan\n")
     for rows in (1, 3, 4, 100):
         with pytest.raises(ValueError, match=r"line 14, column mB: not finite: 'nan'"):

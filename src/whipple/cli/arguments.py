@@ -5,14 +5,30 @@ from __future__ import annotations
 import argparse
 import math
 
+from whipple.number_text import parse_integer, parse_number
+
+
+def number(text: str) -> float:
+    """Read a number written as ASCII decimal text (:func:`whipple.number_text.parse_number`)."""
+    try:
+        return parse_number(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+
+
+def integer(text: str) -> int:
+    """Read an integer written in ASCII digits."""
+    try:
+        return parse_integer(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+
 
 def speed_range(text: str) -> tuple[float, float]:
     """``LOW:HIGH`` in m/s, with 0 <= LOW < HIGH."""
     try:
-        if not text.isascii():  # float() reads other scripts' digits too
-            raise ValueError
         low_text, high_text = text.split(":")
-        low, high = float(low_text), float(high_text)
+        low, high = parse_number(low_text), parse_number(high_text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected LOW:HIGH in m/s, got {text!r}") from None
     if not (math.isfinite(low) and math.isfinite(high) and 0 <= low < high):
@@ -26,9 +42,7 @@ def speed_list(text: str) -> list[float]:
     if text.strip() and not all(item.strip() for item in items):
         raise argparse.ArgumentTypeError(f"an empty item in {text!r}")
     try:
-        if not text.isascii():  # float() reads other scripts' digits too
-            raise ValueError
-        speeds = [float(item) for item in items if item.strip()]
+        speeds = [parse_number(item) for item in items if item.strip()]
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected speeds like 2,3.5,5 (m/s), got {text!r}") from None
     if not speeds:

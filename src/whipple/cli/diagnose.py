@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import add_rider_argument, bicycle_inputs
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, number
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
@@ -50,12 +50,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--baseline", default="auto", choices=("auto", "constant", "linear", "quadratic"),
                         help="non-oscillating part of the window fits (default auto: quadratic, following the "
                              "capsize mode, in windows of two weave cycles or more; constant otherwise)")
-    parser.add_argument("--settle", type=float, default=0.0, metavar="SECONDS",
+    parser.add_argument("--settle", type=number, default=0.0, metavar="SECONDS",
                         help="leave the first SECONDS of every window out of the eigenvalue fits (default 0, as "
                              "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
                              "measured speeds (see docs/diagnosis.md)")
     cluster = parser.add_mutually_exclusive_group()
-    cluster.add_argument("--workers", type=int, metavar="N",
+    cluster.add_argument("--workers", type=integer, metavar="N",
                          help="diagnose the held-out speeds on a local Dask cluster of N processes")
     cluster.add_argument("--scheduler", metavar="ADDRESS",
                          help="diagnose the held-out speeds on an existing Dask cluster (e.g. tcp://host:8786)")

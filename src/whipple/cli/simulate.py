@@ -17,7 +17,7 @@ import re
 from pathlib import Path
 
 from whipple.atomic import check_writable, refuse_input_overwrite
-from whipple.cli.arguments import add_rider_argument, bicycle_inputs, speed_list
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, number, speed_list
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
@@ -32,27 +32,27 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--bicycle", required=True, metavar="PARAMS",
                         help="bicycle file (.toml or BicycleParameters *.txt) or built-in name")
     speeds = parser.add_mutually_exclusive_group(required=True)
-    speeds.add_argument("--speed", type=float, metavar="V", help="true forward speed, m/s")
+    speeds.add_argument("--speed", type=number, metavar="V", help="true forward speed, m/s")
     speeds.add_argument("--speeds", type=speed_list, metavar="V1,V2,...",
                         help="several speeds, m/s: one run file each")
-    parser.add_argument("--sample-rate", type=float, default=100.0, metavar="HZ",
+    parser.add_argument("--sample-rate", type=number, default=100.0, metavar="HZ",
                         help="sample rate, Hz (default 100)")
     parser.add_argument("--setting", choices=("treadmill", "ground"), default="treadmill",
                         help="constant belt speed, or a speed decaying while coasting "
                              "(default treadmill)")
-    parser.add_argument("--deceleration", type=float, default=0.05, metavar="A",
+    parser.add_argument("--deceleration", type=number, default=0.05, metavar="A",
                         help="speed decay on the ground, m/s^2 (default 0.05)")
-    parser.add_argument("--pushes", type=int, default=None, metavar="N",
+    parser.add_argument("--pushes", type=integer, default=None, metavar="N",
                         help="number of pushes (default 3, or as many as fit in --duration)")
-    parser.add_argument("--duration", type=float, default=None, metavar="S",
+    parser.add_argument("--duration", type=number, default=None, metavar="S",
                         help="length of each run, s (default: long enough for the pushes)")
     parser.add_argument("--speedometer", action="store_true",
                         help="write a raw magnet-ring speedometer signal instead of speed")
-    parser.add_argument("--noise", type=float, default=1.0, metavar="SCALE",
+    parser.add_argument("--noise", type=number, default=1.0, metavar="SCALE",
                         help="multiply every sensor's noise by SCALE (0: noise-free; default 1)")
-    parser.add_argument("--bias", type=float, default=1.0, metavar="SCALE",
+    parser.add_argument("--bias", type=number, default=1.0, metavar="SCALE",
                         help="multiply every sensor's bias by SCALE (default 1)")
-    parser.add_argument("--seed", type=int, default=0, metavar="N",
+    parser.add_argument("--seed", type=integer, default=0, metavar="N",
                         help="random seed of the first run; the k-th speed uses N + k "
                              "(default 0)")
     parser.add_argument("--nonlinear", action="store_true",

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import add_rider_argument, bicycle_inputs, speed_range
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, speed_range
 from whipple.cli.outputs import check_outputs, figure_format, save_figure
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
@@ -34,7 +34,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("bicycle", metavar="PARAMS", help="bicycle file or built-in name")
     parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
                         help="speed interval, m/s (default 0:10)")
-    parser.add_argument("--points", type=int, default=1001,
+    parser.add_argument("--points", type=integer, default=1001,
                         help=f"speeds in the table and figure (default 1001, at most {MAX_POINTS})")
     parser.add_argument("--plot", type=Path, metavar="FILE.png",
                         help="write the figure (format from the suffix: png, pdf, svg, ...; png without one)")

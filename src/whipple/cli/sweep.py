@@ -20,7 +20,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from whipple.atomic import atomic_path, refuse_input_overwrite
-from whipple.cli.arguments import add_rider_argument, bicycle_inputs, speed_range
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, speed_range
 from whipple.distributed import check_cluster_options, map_ordered
 from whipple.errors import InputError
 from whipple.model.parameters import load_bicycle
@@ -36,10 +36,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="bicycle supplying absent columns, extensions and controller (default benchmark)")
     parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
                         help="speed interval searched, m/s (default 0:10)")
-    parser.add_argument("--chunk", type=int, default=CHUNK_ROWS, metavar="ROWS",
+    parser.add_argument("--chunk", type=integer, default=CHUNK_ROWS, metavar="ROWS",
                         help=f"rows read and analysed together (default {CHUNK_ROWS})")
     cluster = parser.add_mutually_exclusive_group()
-    cluster.add_argument("--workers", type=int, metavar="N",
+    cluster.add_argument("--workers", type=integer, metavar="N",
                          help="analyse chunks on a local Dask cluster of N processes")
     cluster.add_argument("--scheduler", metavar="ADDRESS",
                          help="analyse chunks on an existing Dask cluster (e.g. tcp://host:8786)")

@@ -46,7 +46,6 @@ refused.
 from __future__ import annotations
 
 import math
-import re
 import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -55,6 +54,7 @@ from pathlib import Path
 from typing import Any
 
 from whipple.errors import RunFileError
+from whipple.number_text import parse_number
 
 #: Columns of the run-file spec, with their SI units.
 SPEC_COLUMNS = {
@@ -82,12 +82,6 @@ _SPEED_NUMBERS = ("value", "wheel_radius", "pulses_per_revolution")
 #: Metadata keys the reader turns into positive numbers (see ``runs._metadata_number``): checked
 #: in a layout's ``[metadata]`` so that a bad value there is blamed on the layout, not the run.
 _NUMERIC_METADATA = ("sample_rate", "wheel_radius", "pulses_per_revolution", "speed")
-
-#: A decimal number written in ASCII: what float() reads, less its Unicode digits ('١٢' and
-#: '１２' are 12.0 to float() and to numpy) and digit-group underscores ('1_0' is 10.0), which
-#: no logger writes as a number; a value holding them is a mistake, not data.
-_NUMBER = re.compile(r"[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|inf|infinity|nan)",
-                     re.ASCII | re.IGNORECASE)
 
 #: Builds the ``bad layout file: ...`` error of the layout being parsed.
 Failure = Callable[[str], RunFileError]
@@ -233,28 +227,6 @@ def detect_layout(first_line: str) -> RunLayout | None:
         if layout.detect and first_line.strip().startswith(layout.detect):
             return layout
     return None
-
-
-def parse_number(text: str) -> float:
-    """Read a number written as ASCII decimal text (surrounding whitespace allowed).
-
-    Accepts what :func:`float` accepts (``1.5``, ``-2e3``, ``.5``, ``nan``, ``inf``) except
-    Unicode digits and underscores, which :func:`float` also reads.
-
-    Parameters
-    ----------
-    text : str
-        The text of a cell or a metadata value.
-
-    Raises
-    ------
-    ValueError
-        If `text` is not such a number.
-    """
-    stripped = text.strip()
-    if not _NUMBER.fullmatch(stripped):
-        raise ValueError(f"not a number: {text!r}")
-    return float(stripped)
 
 
 def _toml(text: str, fail: Failure) -> dict[str, Any]:

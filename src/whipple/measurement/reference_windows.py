@@ -9,7 +9,6 @@ comments.
 from __future__ import annotations
 
 import csv
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,9 +17,9 @@ import numpy as np
 
 from whipple.atomic import write_text_atomic
 from whipple.errors import RunFileError
-from whipple.measurement.layouts import parse_number
 from whipple.measurement.runs import Readable, Run, run_name
 from whipple.measurement.windows import Window
+from whipple.number_text import parse_integer, parse_number
 
 
 def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None) -> tuple[Window, ...]:
@@ -89,10 +88,10 @@ def _row_number(text: str | None) -> int:
     ValueError
         If `text` is missing (a short line) or not an integer.
     """
-    stripped = (text or "").strip()
-    if not re.fullmatch(r"[+-]?[0-9]+", stripped):
-        raise ValueError(f"not a row number: {text!r}")
-    return int(stripped)
+    try:
+        return parse_integer(text or "")
+    except ValueError:
+        raise ValueError(f"not a row number: {text!r}") from None
 
 
 def write_windows(path: str | Path, windows: Sequence[Window]) -> None:

@@ -18,8 +18,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import RunFileError
-from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout, parse_number
+from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
 from whipple.measurement.speedometer import speedometer_speed
+from whipple.number_text import may_hold_other_numbers, parse_number
 from whipple.simulation.simulator import SimulatedRun
 
 #: Runs shorter than this [s] are refused: they cannot hold a perturbation and its decay.
@@ -145,7 +146,7 @@ def read_run(
         infinite values in the time, roll_rate, speed or speedometer columns, has
         non-increasing times or is too short, or gives a metadata key twice. Empty and NaN
         cells are gaps (NaN), noted in the run's warnings; text in other columns too. Numbers
-        are ASCII decimal text (:func:`whipple.measurement.layouts.parse_number`).
+        are ASCII decimal text (:func:`whipple.number_text.parse_number`).
     """
     source = str(path)
     lines = _read_lines(Path(path) if isinstance(path, str | Path) else path, source)
@@ -320,9 +321,9 @@ def _parse_columns(
 def _numbers(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Cells as floats, NaN where empty or not a number; and where they held text."""
     joined = "".join(cells)
-    # numpy converts as float() does, which also reads Unicode digits ('١٢' is 12) and
-    # underscores ('1_0' is 10): a column holding any goes cell by cell through parse_number.
-    if joined.isascii() and "_" not in joined:
+    # numpy converts as float() does, which also reads Unicode digits and underscores: a
+    # column that may hold any goes cell by cell through parse_number.
+    if not may_hold_other_numbers(joined):
         try:
             return np.array(cells, dtype=float), np.zeros(len(cells), dtype=bool)
         except ValueError:

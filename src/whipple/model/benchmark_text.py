@@ -34,10 +34,11 @@ from whipple.errors import BicycleFileError, ParameterError
 from whipple.model.bicycle_file import read_text
 from whipple.model.bodies import Body, combine, frame_body
 from whipple.model.parameter_set import OPTIONAL_PARAMETERS, PARAMETER_NAMES, Bicycle, check_physical
+from whipple.number_text import UNSIGNED_DECIMAL
 
-# A decimal number as BicycleParameters writes it (optionally nan or inf); deliberately narrower
-# than float(), which would also accept "1_0" or "infinity".
-_NUMBER = r"[+-]?(?:(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf)"
+# A decimal number as BicycleParameters writes it (optionally nan or inf; see
+# whipple.number_text), narrower than float(), which would also accept "1_0" or "infinity".
+_NUMBER = rf"[+-]?(?:{UNSIGNED_DECIMAL}|nan|inf)"
 _TEXT_LINE = re.compile(rf"^\s*(\w+)\s*=\s*({_NUMBER})\s*(?:\+/-\s*({_NUMBER}))?\s*$")
 _REQUIRED = tuple(name for name in PARAMETER_NAMES if name not in OPTIONAL_PARAMETERS)
 #: Checks pass within this many standard deviations (plus the printed rounding).

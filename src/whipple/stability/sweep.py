@@ -34,6 +34,7 @@ from whipple.model.assembly import build_linear_model, whipple_form_matrices
 from whipple.model.linear import LinearModel
 from whipple.model.parameter_set import tyre_point_wheel_problem
 from whipple.model.parameters import PARAMETER_NAMES, Bicycle, validate_rows
+from whipple.number_text import may_hold_other_numbers, parse_number
 from whipple.stability.critical import (
     CriticalSpeeds,
     CriticalSpeedTable,
@@ -94,9 +95,7 @@ def _parse_cells(lines: list[tuple[int, str]], header: tuple[str, ...], path: Pa
             raise InputError(f"line {number}: {len(row)} cells, header has {len(header)}", path)
         for c, cell in enumerate(row):
             try:
-                if not cell.isascii():  # float() reads other scripts' digits too
-                    raise ValueError
-                number_value = float(cell)
+                number_value = parse_number(cell)
             except ValueError:
                 raise InputError(f"line {number}, column {header[c]}: not a number: {cell.strip()!r}",
                                  path) from None
@@ -108,7 +107,7 @@ def _parse_cells(lines: list[tuple[int, str]], header: tuple[str, ...], path: Pa
 
 def _parse_block(lines: list[tuple[int, str]], header: tuple[str, ...], path: Path) -> NDArray[np.float64]:
     """Cells of `lines` with NumPy's parser; anything it refuses is read again cell by cell."""
-    if not all(line.isascii() for _, line in lines):
+    if any(may_hold_other_numbers(line) for _, line in lines):
         return _parse_cells(lines, header, path)
     try:
         values = np.loadtxt([line for _, line in lines], delimiter=",", dtype=float, ndmin=2,
@@ -126,8 +125,8 @@ def _plain_block(lines: list[str], columns: int) -> NDArray[np.float64] | None:
     Nearly every table is such a block (no comments, blank lines or quotes), and reading the
     numbers is most of the cost of a sweep's row: fastnumbers' parser (the fast_float algorithm,
     correctly rounded, so the values are those of ``float``) reads them several times faster
-    than NumPy's or Python's. A block that is not plain (or a cell ``float`` would take and it
-    refuses, e.g. ``1_0``) is read by the general path, which also names a bad cell.
+    than NumPy's or Python's. A block that is not plain (or a cell it refuses: quoted, ``1_0``)
+    is read by the general path, which also names a bad cell.
     """
     if set(map(str.count, lines, itertools.repeat(","))) != {columns - 1} or not all(map(str.isascii, lines)):
         return None

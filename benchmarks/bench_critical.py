@@ -10,6 +10,8 @@ K0, K2 scaled by a uniform factor within +/-5 %, M and K0 kept symmetric) and fo
 * ``new``: ``whipple.stability.critical.critical_speeds_batch`` (exact polynomial conditions,
   closed form, Newton, verification, directions, labels, Routh-Hurwitz stable ranges, result
   objects), on the LinearModel, and with the model's assembly from M, C1, K0, K2 included;
+  ``critical_speed_table`` (the same speeds as arrays) on the LinearModel, and
+  ``whipple_speed_table`` from M, C1, K0, K2 (the bare solve's own input; what a sweep runs);
 * ``old grid``: the replaced method (tests/grid_critical.py: conditions from eigenvalues on a
   0.01 m/s grid, sign changes, bisection; on a sub-batch);
 * ``grid + brentq``: a loop over bicycles, the largest real part on the 0.01 m/s grid and
@@ -40,6 +42,7 @@ from whipple.stability.critical import (  # noqa: E402
     critical_speed_table,
     critical_speeds,
     critical_speeds_batch,
+    whipple_speed_table,
 )
 
 
@@ -70,6 +73,8 @@ def main() -> None:
     rows.append(("new solver, batch, model assembly included", assembled))
     table = best_time(lambda: critical_speed_table(model)) / count
     rows.append(("new solver, batch, arrays (critical_speed_table)", table))
+    from_matrices = best_time(lambda: whipple_speed_table(*batch)) / count
+    rows.append(("new solver, batch, from the matrices (whipple_speed_table)", from_matrices))
     one = [X[:1] for X in batch]
     bare_one = best_time(lambda: bare_critical_roots(*one), 20)
     rows.append(("bare polynomial solve, one bicycle", bare_one))

@@ -46,12 +46,12 @@ def magnitude_findings(values: Mapping[str, Array], units: Mapping[str, str]
     findings = []
     for unit, limit in LIMITS.items():
         names = [name for name in values if units.get(name) == unit]
-        if not names:
+        # The usual case, all plausible, tested without broadcasting the scalars of a batch
+        # (NaN, reported elsewhere, is neither over nor unusual).
+        if not any(np.any(np.abs(values[name]) > PLAUSIBLE[unit]) for name in names):
             continue
         size = np.abs(np.stack(np.broadcast_arrays(*(values[name] for name in names))))
         over, unusual = size > limit, (size > PLAUSIBLE[unit]) & (size <= limit)
-        if not (over.any() or unusual.any()):  # the usual case: one test per unit
-            continue
         for k, name in enumerate(names):
             value = values[name]
             shown = f"{name} = {float(value):.6g} {unit}" if value.ndim == 0 else name

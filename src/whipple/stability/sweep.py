@@ -128,9 +128,12 @@ def _plain_block(lines: list[str], columns: int) -> NDArray[np.float64] | None:
     than NumPy's or Python's. A block that is not plain (or a cell it refuses: quoted, ``1_0``)
     is read by the general path, which also names a bad cell.
     """
-    if set(map(str.count, lines, itertools.repeat(","))) != {columns - 1} or not all(map(str.isascii, lines)):
+    if set(map(str.count, lines, itertools.repeat(","))) != {columns - 1}:
         return None
-    values = fastnumbers.try_array(",".join(lines).split(","), dtype=float, on_fail=np.nan)
+    joined = ",".join(lines)
+    if may_hold_other_numbers(joined):
+        return None
+    values = fastnumbers.try_array(joined.split(","), dtype=float, on_fail=np.nan)
     if not np.all(np.isfinite(values)):
         return None
     return values.reshape(len(lines), columns)

@@ -10,11 +10,11 @@ from dataclasses import replace
 
 import numpy as np
 
-from whipple.diagnosis.causes import cause_by_name, with_cause
+from whipple.diagnosis.causes import cause_by_name, payload_causes, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
-from whipple.diagnosis.families import combined_cause, common_family, describe_family
+from whipple.diagnosis.families import cause_pairs, combined_cause, common_family, describe_family, general_forms
 from whipple.diagnosis.fitting import fit_cause
-from whipple.diagnosis.gain import held_out_gain
+from whipple.diagnosis.gain import cause_gains, held_out_gain
 from whipple.diagnosis.observations import Observation, predicted_modes, speed_groups
 from whipple.model.parameters import load_bicycle
 
@@ -137,3 +137,57 @@ def test_held_out_folds_on_a_local_dask_cluster_give_the_serial_gain():
     parallel = held_out_gain(bicycle, observations, causes, workers=2)
     assert parallel == serial
     assert len(serial.speeds) == 5 and serial.speeds[0].cause == "steer_damping"
+
+
+def test_every_candidates_gain_is_its_own_refit_on_each_fold():
+    # No choice is made: each candidate's figures are exactly those of refitting it alone on
+    # every fold, and the hidden cause predicts the held-out speeds best.
+    bicycle = load_bicycle("benchmark")
+    causes = [cause_by_name(bicycle, name) for name in ("speed_scale", "steer_damping", "parameter:IFyy")]
+    observations = _observations(bicycle.with_extensions(steer_damping=0.6), 5)
+    gains = cause_gains(bicycle, observations, causes)
+    assert [g.cause for g in gains] == [c.name for c in causes]
+    for cause, result in zip(causes, gains, strict=True):
+        assert result.gain == held_out_gain(bicycle, observations, fixed=cause)
+        assert not result.gain.reselected and result.at_bound == 0
+    best = min(gains, key=lambda g: g.gain.extended_rms)
+    assert best.cause == "steer_damping" and best.gain.cut > 0.5
+
+
+def test_values_at_a_bound_other_than_no_effect_are_counted():
+    # A steer damping bounded below the truth sits at its upper bound in every fold; fitted to
+    # an undamped bicycle it sits at 0, its no-effect value, which is no stand-in.
+    bicycle = load_bicycle("benchmark")
+    damping = cause_by_name(bicycle, "steer_damping")
+    narrow = replace(damping, bounds=((0.0, 0.3),))
+    damped = _observations(bicycle.with_extensions(steer_damping=0.6), 6, std=0.0)
+    plain = _observations(bicycle, 6, std=0.0)
+    assert cause_gains(bicycle, damped, [narrow])[0].at_bound == 5
+    assert cause_gains(bicycle, plain, [damping])[0].at_bound == 0
+
+
+def test_a_choice_by_prediction_never_sees_the_held_out_speed():
+    # The nested choice (each candidate's refits predicting the fold's own training speeds)
+    # sees only the other speeds, like the choice by evidence.
+    bicycle = load_bicycle("benchmark")
+    causes = [cause_by_name(bicycle, name) for name in ("steer_damping", "speed_scale")]
+    observations = _observations(bicycle.with_extensions(steer_damping=0.6), 7)
+    held = speed_groups(observations)[0]
+    spoiled = [replace(o, eigenvalue=o.eigenvalue - 2.0j) if i in held else o for i, o in enumerate(observations)]
+    honest, leaked = (held_out_gain(bicycle, obs, causes, choose="prediction") for obs in (observations, spoiled))
+    assert all(s.cause == "steer_damping" and s.verdict == "chosen by prediction" for s in honest.speeds)
+    assert honest.speeds[0].values == leaked.speeds[0].values
+    assert honest.cut > 0.5
+
+
+def test_pairs_of_candidates_are_every_two_names_in_their_most_general_form():
+    bicycle = load_bicycle("benchmark")
+    causes = [cause_by_name(bicycle, name) for name in ("steer_damping", "speed_scale")]
+    forms = general_forms([*causes, *payload_causes(bicycle, "payload")])
+    assert [c.name for c in forms] == ["steer_damping", "speed_scale", "payload"]
+    assert len(forms[-1].parameters) == 3
+    pairs = cause_pairs(forms)
+    assert [p.name for p in pairs] == ["steer_damping + speed_scale", "steer_damping + payload",
+                                       "speed_scale + payload"]
+    assert len(pairs[-1].parameters) == 4
+

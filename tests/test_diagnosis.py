@@ -171,6 +171,7 @@ def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
     assert data["ranking"][0]["cause"] == "steer_damping"
     assert {"metric", "base", "extended", "held_out"} <= set(data["gain"])
     assert data["gain"]["extended"] < data["gain"]["base"]
+    assert data["cause_gains"] == [] and data["prediction_gain"] is None  # only with --gain-by-cause
     window = data["windows"][0]
     assert {"run", "start", "stop", "speed", "eigenvalue", "eigenvalue_std", "model_eigenvalue",
             "extended_eigenvalue"} <= set(window)
@@ -214,3 +215,33 @@ def test_diagnose_refuses_to_overwrite_a_run(damped_runs, capsys):
 def test_diagnose_without_runs_is_an_error(capsys):
     assert main(["diagnose", "--bicycle", "benchmark"]) == 2
     assert "no run files" in capsys.readouterr().err
+
+
+def test_diagnose_gives_every_candidates_held_out_gain_when_asked(damped_runs, tmp_path, capsys):
+    out, report = tmp_path / "d.json", tmp_path / "report"
+    args = ["diagnose", *map(str, damped_runs[:3]), "--bicycle", "benchmark", "--no-parameters", "--gain-by-cause",
+            "--json", str(out), "--report", str(report)]
+    assert main(args) == 0
+    printed = capsys.readouterr().out
+    data = json.loads(out.read_text())
+    gains = data["cause_gains"]
+    # One entry per physical candidate (payloads in their most general form), best first, the
+    # hidden steer damping predicting the held-out speeds best.
+    names = [g["cause"] for g in gains]
+    assert len(names) == len(set(names)) and "steer_damping" in names and "payload" in names
+    assert not any(name.startswith("parameter:") or " + " in name for name in names)
+    rms = [g["rms"]["extended"] for g in gains]
+    assert rms == sorted(rms) and names[0] == "steer_damping"
+    assert gains[0]["rms"]["cut"] > 0.3 and len(gains[0]["per_speed"]) == data["gain"]["folds"]
+    # Chosen by prediction among the same candidates on each fold's own speeds (that it finds
+    # the hidden cause is tested on synthetic windows in test_ambiguity_gain.py).
+    predicted = data["prediction_gain"]
+    assert predicted["folds"] == data["gain"]["folds"]
+    assert {s["verdict"] for s in predicted["per_speed"]} == {"chosen by prediction"}
+    assert {s["cause"] for s in predicted["per_speed"]} <= set(names) | {"none"}
+    assert "every candidate held out: the best of" in printed and "chosen by prediction instead" in printed
+    # The best predictor fitted to all windows, with its values and units.
+    assert data["prediction_model"]["cause"] == names[0]
+    assert data["prediction_model"]["values"]["steer_damping"]["unit"] == "N m s/rad"
+    assert "### Every candidate on the held-out speeds" in (report / "report.md").read_text()
+

@@ -56,7 +56,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "whipple.diagnosis.observations": ("Observation", "observations"),
     "whipple.diagnosis.causes": ("Cause", "candidate_causes"),
     "whipple.diagnosis.evidence": ("Diagnosis", "diagnose_observations"),
-    "whipple.diagnosis.gain": ("Gain", "held_out_gain"),
+    "whipple.diagnosis.gain": ("CauseGain", "Gain", "cause_gains", "held_out_gain"),
     "whipple.diagnosis.report": ("DiagnosisReport", "assemble", "report_json"),
 }
 _HOME = {name: module for module, names in _EXPORTS.items() for name in names}

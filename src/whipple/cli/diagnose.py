@@ -2,11 +2,12 @@
 
 Every free-coasting window of the runs is fitted; each candidate cause (steer damping, steer
 inertia rigid or reflected, speed scale, rear or front payload, tyre compliance, the
-controller's gain, delay or lag, a wrong parameter) is fitted to all windows
-jointly and compared by its evidence; the chosen cause's extended model is tested on held-out
-speeds. The bicycle file carries the controller, if any. --workers N runs the held-out
-speeds' diagnoses on a local Dask cluster of N processes, --scheduler ADDRESS on an existing
-one; the results are those of the serial run.
+controller's gain, delay or lag, a wrong parameter) is fitted to all windows jointly and
+compared by its evidence; the chosen cause's extended model is tested on held-out speeds
+(with --gain-by-cause, every candidate too, and a choice by prediction). The bicycle file
+carries the controller, if any. --workers N runs the held-out speeds' diagnoses on a local
+Dask cluster of N processes, --scheduler ADDRESS on an existing one; the results are those of
+the serial run.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, n
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
-from whipple.diagnosis.report import assemble, gain_sentences, report_json
+from whipple.diagnosis.report import assemble, cause_gain_sentences, gain_sentences, report_json
 from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
@@ -54,6 +55,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="leave the first SECONDS of every window out of the eigenvalue fits (default 0, as "
                              "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
                              "measured speeds (see docs/diagnosis.md)")
+    parser.add_argument("--gain-by-cause", nargs="?", const="singles", choices=("singles", "pairs"), default=None,
+                        help="also give every candidate's held-out gain, each refitted on every fold without a "
+                             "choice (pairs: also every pair of physical causes; slow, see docs/diagnosis.md)")
     cluster = parser.add_mutually_exclusive_group()
     cluster.add_argument("--workers", type=integer, metavar="N",
                          help="diagnose the held-out speeds on a local Dask cluster of N processes")
@@ -81,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
     windows = read_windows(args.windows, runs) if args.windows is not None else None
     measurements = [m for run_ in runs for m in measure_run(run_, windows, options)]
     report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters,
-                      scheduler=args.scheduler, workers=args.workers)
+                      scheduler=args.scheduler, workers=args.workers, gain_by_cause=args.gain_by_cause)
     data = report_json(report)
     diagnosis = report.diagnosis
     print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs)")
@@ -108,6 +112,9 @@ def run(args: argparse.Namespace) -> int:
             print(f"held-out gain: {sentence}")
         if g.time_base is not None:
             print(f"held-out time-domain error (relative rms): base {g.time_base:.3f}, extended {g.time_extended:.3f}")
+    for sentence in cause_gain_sentences(report.cause_gains, report.gain, report.prediction_gain,
+                                         report.prediction_fit):
+        print(f"every candidate held out: {sentence}")
     if args.json is not None:
         write_text_atomic(args.json, json.dumps(data, indent=2) + "\n")
         print(f"wrote {args.json}")

@@ -19,7 +19,8 @@ families
     Families of causes that change the same physics (named when the data cannot tell their
     members apart), and pairs of causes fitted jointly.
 gain
-    The extended model's error on speeds that its choice and fit never saw.
+    The extended model's error on speeds that its choice and fit never saw (the cause chosen
+    by evidence or by prediction), and every candidate's error there without a choice.
 amplitude
     The nonlinear model's weave at each window's measured amplitude against the linear one.
 report

@@ -138,3 +138,18 @@ def combined_cause(first: Cause, second: Cause) -> Cause:
     return Cause(first.name + COMBINATION + second.name, first.parameters + second.parameters,
                  first.units + second.units, first.start + second.start, first.bounds + second.bounds, apply,
                  prior=first.prior * second.prior, null=null)
+
+
+def general_forms(causes: Sequence[Cause]) -> list[Cause]:
+    """One form per cause name, the one with the most fitted values (e.g. a payload at any position)."""
+    chosen: dict[str, Cause] = {}
+    for cause in causes:
+        if cause.name not in chosen or len(cause.parameters) > len(chosen[cause.name].parameters):
+            chosen[cause.name] = cause
+    return list(chosen.values())
+
+
+def cause_pairs(causes: Sequence[Cause]) -> list[Cause]:
+    """Every pair of distinct causes (each in its most general form), fitted jointly."""
+    forms = general_forms(causes)
+    return [combined_cause(first, second) for k, first in enumerate(forms) for second in forms[k + 1:]]

@@ -7,7 +7,14 @@ beside it.
 from __future__ import annotations
 
 from whipple.diagnosis.amplitude import amplitude_markdown
-from whipple.diagnosis.report import EVIDENCE_DEFINITION, DiagnosisReport, gain_sentences, report_json
+from whipple.diagnosis.gain import Gain
+from whipple.diagnosis.report import (
+    EVIDENCE_DEFINITION,
+    DiagnosisReport,
+    cause_gain_sentences,
+    gain_sentences,
+    report_json,
+)
 from whipple.stability.critical import CriticalSpeeds
 
 
@@ -75,13 +82,7 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
         how = ("the cause is chosen again among all candidates and fitted on the other speeds only"
                if g.reselected else "the cause is refitted on the other speeds only")
         lines += [f"Each speed is left out in turn ({g.folds} folds): {how}, and the model so extended predicts "
-                  "the left-out speed. Error |measured - predicted| weave eigenvalue [1/s]:", "",
-                  "| held-out speed [m/s] | windows | cause chosen without it | base RMS | extended RMS | "
-                  "RMS cut | base median | extended median |", "|---|---|---|---|---|---|---|---|"]
-        lines += [f"| {s.speed:.2f} | {s.windows} | {s.cause} | {s.base_rms:.2f} | {s.extended_rms:.2f} | "
-                  f"{100 * s.cut:+.0f}% | {s.base_median:.2f} | {s.extended_median:.2f} |" for s in g.speeds]
-        lines += [f"| all | {sum(s.windows for s in g.speeds)} | | {g.base_rms:.2f} | {g.extended_rms:.2f} | "
-                  f"{100 * g.cut:+.0f}% | {g.base:.2f} | {g.extended:.2f} |", ""]
+                  "the left-out speed. Error |measured - predicted| weave eigenvalue [1/s]:", "", *_gain_table(g), ""]
         lines += [f"- {sentence[0].upper() + sentence[1:]}." for sentence in gain_sentences(g)]
         if "gain" in figures:
             lines += ["", f"![held-out gain]({figures['gain']})", ""]
@@ -90,6 +91,7 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
                          f"{g.time_base:.3f}, extended {g.time_extended:.3f}.")
     else:
         lines.append(report.gain_note or "No gain computed.")
+    lines += _cause_gains_markdown(report)
     if report.amplitude is not None:
         lines += ["", *amplitude_markdown(report.amplitude)]
     skipped = data["skipped_windows"]
@@ -97,3 +99,42 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
         lines += ["", "## Skipped windows", "", "| run | start [s] | stop [s] | reason |", "|---|---|---|---|"]
         lines += [f"| {s['run']} | {s['start']:.2f} | {s['stop']:.2f} | {s['reason']} |" for s in skipped]
     return "\n".join(lines) + "\n"
+
+
+#: Rows of the every-candidate table in the report (the JSON has all).
+CAUSE_GAIN_ROWS = 12
+
+
+def _cause_gains_markdown(report: DiagnosisReport) -> list[str]:
+    """Return the lines of every candidate's held-out gain without a choice (when computed), best first."""
+    gains = report.cause_gains
+    if not gains:
+        return []
+    speeds = [s.speed for s in gains[0].gain.speeds]
+    lines = ["", "### Every candidate on the held-out speeds", "",
+             "Each candidate (cause, or pair of causes) refitted on the other speeds of every fold, no choice "
+             f"made; RMS cut of |measured - predicted| weave eigenvalue per held-out speed and overall (the best "
+             f"{min(CAUSE_GAIN_ROWS, len(gains))} of {len(gains)}; all in the JSON, `cause_gains`):", "",
+             "| candidate | " + " | ".join(f"{v:.2f} m/s" for v in speeds) + " | all: RMS | cut | folds at a bound |",
+             "|---|" + "---|" * len(speeds) + "---|---|---|"]
+    for g in gains[:CAUSE_GAIN_ROWS]:
+        lines.append(f"| {g.cause} | " + " | ".join(f"{100 * s.cut:+.0f}%" for s in g.gain.speeds)
+                     + f" | {g.gain.base_rms:.2f} -> {g.gain.extended_rms:.2f} | {100 * g.gain.cut:+.0f}% | "
+                     f"{g.at_bound} |")
+    sentences = cause_gain_sentences(gains, report.gain, report.prediction_gain, report.prediction_fit)
+    lines += ["", *(f"- {sentence[0].upper() + sentence[1:]}." for sentence in sentences)]
+    if report.prediction_gain is not None:
+        lines += ["", "Chosen by prediction, per held-out speed (each fold's choice made on its training speeds "
+                  "alone, each left out in turn):", "", *_gain_table(report.prediction_gain)]
+    return lines
+
+
+def _gain_table(gain: Gain) -> list[str]:
+    """Return a Markdown table of a held-out gain: per held-out speed and over all."""
+    lines = ["| held-out speed [m/s] | windows | cause chosen without it | base RMS | extended RMS | "
+             "RMS cut | base median | extended median |", "|---|---|---|---|---|---|---|---|"]
+    lines += [f"| {s.speed:.2f} | {s.windows} | {s.cause} | {s.base_rms:.2f} | {s.extended_rms:.2f} | "
+              f"{100 * s.cut:+.0f}% | {s.base_median:.2f} | {s.extended_median:.2f} |" for s in gain.speeds]
+    lines.append(f"| all | {sum(s.windows for s in gain.speeds)} | | {gain.base_rms:.2f} | {gain.extended_rms:.2f} | "
+                 f"{100 * gain.cut:+.0f}% | {gain.base:.2f} | {gain.extended:.2f} |")
+    return lines

@@ -25,8 +25,9 @@ from whipple.diagnosis.evidence import (
     Diagnosis,
     diagnose_observations,
 )
-from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE
-from whipple.diagnosis.gain import HELPS, Gain, held_out_gain
+from whipple.diagnosis.families import cause_pairs, general_forms
+from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE, CauseFit, fit_cause
+from whipple.diagnosis.gain import HELPS, CauseGain, Gain, cause_gains, held_out_gain
 from whipple.diagnosis.observations import (
     Observation,
     Prediction,
@@ -106,6 +107,17 @@ class DiagnosisReport:
     amplitude : AmplitudeReport or None
         The nonlinear model's weave at each usable window's measured amplitude against the
         linear one (:mod:`whipple.diagnosis.amplitude`); None when not computed.
+    cause_gains : tuple of CauseGain
+        Every candidate's (and with pairs, every pair's) held-out gain, refitted on each fold
+        without a choice (:func:`whipple.diagnosis.gain.cause_gains`), best first; empty unless
+        asked for.
+    prediction_gain : Gain or None
+        With ``cause_gains``: the held-out gain when each fold chooses among those candidates
+        by prediction (:func:`whipple.diagnosis.gain.held_out_gain` with ``choose="prediction"``):
+        the honest figure for picking the best of ``cause_gains``.
+    prediction_fit : CauseFit or None
+        The first of ``cause_gains`` (the candidate whose refits best predicted the left-out
+        speeds) fitted to all windows; None unless it cuts the held-out RMS at all.
     """
 
     bicycle: Bicycle
@@ -125,6 +137,9 @@ class DiagnosisReport:
     caveats: tuple[str, ...]
     baseline: str
     amplitude: AmplitudeReport | None = None
+    cause_gains: tuple[CauseGain, ...] = ()
+    prediction_gain: Gain | None = None
+    prediction_fit: CauseFit | None = None
 
     @property
     def observations(self) -> tuple[Observation, ...]:
@@ -211,14 +226,18 @@ def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | 
 
 def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
              include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0),
-             amplitude: bool = True, scheduler: str | None = None, workers: int | None = None
-             ) -> DiagnosisReport:
+             amplitude: bool = True, scheduler: str | None = None, workers: int | None = None,
+             gain_by_cause: str | None = None) -> DiagnosisReport:
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain.
 
     With ``amplitude``, also compare the nonlinear model's weave at each window's measured
     amplitude with the linear one (:func:`whipple.diagnosis.amplitude.check_amplitudes`).
     ``scheduler`` or ``workers``: run the held-out gain's folds on a Dask cluster
     (:func:`whipple.diagnosis.gain.held_out_gain`); the results are the serial ones.
+    ``gain_by_cause``: "singles" also gives every candidate's held-out gain without a choice
+    (each refitted on every fold), "pairs" also every pair of physical causes (those that are
+    not ``parameter:<key>``), see :func:`held_out_candidates`, and the held-out gain of choosing among
+    them by prediction (a nested leave-one-speed-out: many times the cost of the table).
     """
     used = tuple(m for m in measurements if m.usable)
     if len(used) < 2:
@@ -249,11 +268,41 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     shape_summary = describe_mode_shapes(shapes.ratios, shapes.signals)
     if shape_summary is not None:
         summary += (shape_summary,)
+    every_cause: tuple[CauseGain, ...] = ()
+    prediction_gain, prediction_fit = None, None
+    if gain_by_cause is not None:
+        candidates = held_out_candidates(causes, gain_by_cause == "pairs")
+        series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
+        try:
+            every_cause = tuple(sorted(cause_gains(bicycle, observations, candidates, scheduler=scheduler,
+                                                   workers=workers),
+                                       key=lambda g: (g.gain.extended_rms, len(g.parameters))))
+            prediction_gain = held_out_gain(bicycle, observations, candidates, series, choose="prediction",
+                                            scheduler=scheduler, workers=workers)
+        except AnalysisError as error:
+            every_cause, prediction_gain = (), None
+            note = f"{note + '; ' if note else ''}every candidate's held-out gain: {error}"
+        if every_cause and every_cause[0].gain.cut > 0.0:
+            best = next(c for c in candidates if c.name == every_cause[0].cause)
+            prediction_fit = fit_cause(bicycle, best, observations)
     return DiagnosisReport(
         bicycle, tuple(measurements), used, diagnosis, extended, chosen, gain, note,
         critical_speeds(linear_model(bicycle), *speed_range), critical_speeds(linear_model(extended), *speed_range),
         base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes)), baseline,
-        check_amplitudes(bicycle, used, base_prediction.eigenvalues) if amplitude else None)
+        check_amplitudes(bicycle, used, base_prediction.eigenvalues) if amplitude else None, every_cause,
+        prediction_gain, prediction_fit)
+
+
+def held_out_candidates(causes: Sequence[Cause], pairs: bool = False) -> list[Cause]:
+    """Return the models compared on held-out speeds: each cause in its most general form, and pairs.
+
+    With ``pairs`` also every pair of the physical causes (not ``parameter:<key>``), fitted
+    jointly (45 pairs for a bicycle with a controller).
+    """
+    candidates = general_forms(causes)
+    if pairs:
+        candidates += cause_pairs([cause for cause in candidates if not cause.name.startswith("parameter:")])
+    return candidates
 
 
 #: Reduced chi-square of the best model above which the report warns that no candidate
@@ -311,6 +360,43 @@ def gain_json(gain: Gain) -> dict[str, Any]:
         "not_helped": [s.speed for s in gain.not_helped()],
         "time_domain": {"metric": "median over held-out windows of rms roll-rate residual / window rms",
                         "base": gain.time_base, "extended": gain.time_extended}}
+
+
+def cause_gains_json(gains: Sequence[CauseGain]) -> list[dict[str, Any]]:
+    """Return every candidate's held-out gain as JSON, best first."""
+    return [{"cause": g.cause, "parameters": list(g.parameters), "units": list(g.units),
+             "rms": {"base": g.gain.base_rms, "extended": g.gain.extended_rms, "cut": g.gain.cut},
+             "median": {"base": g.gain.base, "extended": g.gain.extended}, "folds_at_bound": g.at_bound,
+             "per_speed": [{"speed": s.speed, "values": list(s.values), "extended_rms": s.extended_rms,
+                            "rms_cut": s.cut} for s in g.gain.speeds]} for g in gains]
+
+
+def cause_gain_sentences(gains: Sequence[CauseGain], chosen: Gain | None, predicted: Gain | None = None,
+                         fit: CauseFit | None = None) -> list[str]:
+    """Say what the best candidates gain on held-out speeds, against the choices made per fold."""
+    if not gains:
+        return []
+    best = gains[0]
+    bound = f"; values at a bound in {best.at_bound} of {best.gain.folds} folds" if best.at_bound else ""
+    lines = [f"the best of {len(gains)} candidate models, each refitted on every fold without a choice, is "
+             f"{best.cause}: RMS {best.gain.base_rms:.2f} -> {best.gain.extended_rms:.2f} 1/s "
+             f"({100 * best.gain.cut:+.0f}% cut; per speed " + ", ".join(
+                 f"{100 * s.cut:+.0f}%" for s in best.gain.speeds) + f"){bound}"]
+    if chosen is not None:
+        lines.append(f"the diagnosis' own choice, made again on each fold, cuts it by {100 * chosen.cut:.0f}%; "
+                     "picking the best candidate by these figures has seen every speed, so its cut is an upper "
+                     "bound, not a held-out gain")
+    if predicted is not None:
+        lines.append(f"chosen by prediction instead (each fold picks the candidate whose refits best predict its own "
+                     f"training speeds left out in turn, a choice that never sees the held-out speed), RMS "
+                     f"{predicted.base_rms:.2f} -> {predicted.extended_rms:.2f} 1/s ({100 * predicted.cut:+.0f}% cut; "
+                     "per speed " + ", ".join(f"{s.speed:.2f} m/s {s.cause} {100 * s.cut:+.0f}%"
+                                             for s in predicted.speeds) + ")")
+    if fit is not None:
+        lines.append(f"fitted to all speeds, {fit.cause} takes " + ", ".join(
+            f"{name} = {value:.4g}{' ' + unit if unit else ''}"
+            for name, value, unit in zip(fit.parameters, fit.values, fit.units, strict=True)))
+    return lines
 
 
 def gain_sentences(gain: Gain) -> list[str]:
@@ -373,6 +459,9 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "ranking": [{"cause": cause, "evidence": evidence} for cause, evidence in diagnosis.ranking()],
         "gain": gain,
         "gain_note": report.gain_note,
+        "cause_gains": cause_gains_json(report.cause_gains),
+        "prediction_gain": gain_json(report.prediction_gain) if report.prediction_gain is not None else None,
+        "prediction_model": _fit_json(report.prediction_fit),
         "windows": windows,
         "skipped_windows": skipped,
         "summary": list(report.residual_summary),
@@ -395,6 +484,14 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         result["extended_model"]["matrices"] = {name: getattr(matrices, name).tolist()
                                                 for name in ("M", "C1", "D", "K0", "K2")}
     return result
+
+
+def _fit_json(fit: CauseFit | None) -> dict[str, Any] | None:
+    """Return a cause's values fitted to all windows (None without a fit)."""
+    if fit is None:
+        return None
+    return {"cause": fit.cause, "values": {name: {"value": value, "std": std, "unit": unit} for name, value, std, unit
+                                           in zip(fit.parameters, fit.values, fit.std, fit.units, strict=True)}}
 
 
 def _speed_dependence_json(diagnosis: Diagnosis) -> dict[str, Any] | None:

@@ -12,7 +12,10 @@ On the bundled treadmill runs (sbw2024 with its controller):
    predicts the two speeds in between, like the three speeds the bundled files leave out of
    the same experiment;
 4. for a controlled bicycle, each controller cause fitted on all speeds: how much of the
-   disagreement at each speed it can explain at best.
+   disagreement at each speed it can explain at best;
+5. why the evidence and the held-out prediction disagree: the evidence's leading pair and the
+   best predictors of ``--gain-by-cause`` (a payload with a controller delay), each fitted to all
+   windows, by kind of residual (robust chi-square at unit dispersion).
 
 ``--no-parameters`` restricts the candidates to the physical causes (no ``parameter:<key>``).
 Every number is an RMS or median of |measured - predicted| weave eigenvalue [1/s].
@@ -26,6 +29,7 @@ import numpy as np
 
 from whipple.diagnosis.causes import candidate_causes
 from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.families import combined_cause, general_forms
 from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
@@ -109,6 +113,16 @@ def main() -> None:
             print(f"   {cause.name} = {fit.values[0]:.4g}: RMS {np.sqrt(np.mean(base_all[low] ** 2)):.2f} -> "
                   f"{np.sqrt(np.mean(error ** 2)):.2f}, median {np.median(base_all[low]):.2f} -> "
                   f"{np.median(error):.2f}")
+
+        forms = {cause.name: cause for cause in general_forms(causes)}
+        print("5. fitted to all windows, robust chi-square by kind (eigenvalues, mode shapes):")
+        for first, second in (("speed_scale", "parameter:mF"), ("payload", "controller_delay"),
+                              ("front_payload", "controller_delay")):
+            if first in forms and second in forms:
+                pair = combined_cause(forms[first], forms[second])
+                fit = fit_cause(bicycle, pair, seen)
+                print(f"   {pair.name}: values {', '.join(f'{v:.4g}' for v in fit.values)}; chi-square "
+                      f"{fit.block_chi2[0]:.1f} (eigenvalues), {fit.block_chi2[1]:.1f} (mode shapes)")
 
 
 if __name__ == "__main__":

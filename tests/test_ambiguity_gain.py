@@ -9,29 +9,21 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+from synthetic_windows import STD, synthetic_observations
 
 from whipple.diagnosis.causes import cause_by_name, payload_causes, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, combined_cause, common_family, describe_family, general_forms
 from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.gain import cause_gains, held_out_gain
-from whipple.diagnosis.observations import Observation, predicted_modes, speed_groups
+from whipple.diagnosis.observations import speed_groups
 from whipple.model.parameters import load_bicycle
 
-STD, SHAPE_STD = 0.05, 0.004  # 1/s and s, of both parts
 SPEEDS = np.repeat([3.5, 4.5, 5.5, 6.5, 7.5], 4)
 
 
 def _observations(truth, seed, speeds=SPEEDS, std=STD):
-    """Observations of ``truth`` with noise ``std`` [1/s] and stated uncertainty STD."""
-    rng = np.random.default_rng(seed)
-    covariance, shape_covariance = np.eye(2) * STD**2, np.eye(2) * SHAPE_STD**2
-    guesses = [Observation("r", 0.0, 1.0, v, (v, v), complex(-1.0, 5.0), covariance, 0.0j, shape_covariance)
-               for v in speeds]
-    eigenvalues, shapes = predicted_modes(truth, guesses)
-    return [Observation("r", 0.0, 1.0, v, (v, v), lam + complex(*rng.normal(0.0, std, 2)), covariance,
-                        shape + complex(*rng.normal(0.0, SHAPE_STD * std / STD, 2)), shape_covariance)
-            for v, lam, shape in zip(speeds, eigenvalues, shapes, strict=True)]
+    return synthetic_observations(truth, seed, speeds, std)
 
 
 def test_family_words_and_combined_causes():

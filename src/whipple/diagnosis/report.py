@@ -383,7 +383,7 @@ def cause_gain_sentences(gains: Sequence[CauseGain], chosen: Gain | None, predic
              f"({100 * best.gain.cut:+.0f}% cut; per speed " + ", ".join(
                  f"{100 * s.cut:+.0f}%" for s in best.gain.speeds) + f"){bound}"]
     if chosen is not None:
-        lines.append(f"the diagnosis' own choice, made again on each fold, cuts it by {100 * chosen.cut:.0f}%; "
+        lines.append(f"the diagnosis' own choice, made again on each fold: RMS cut {100 * chosen.cut:+.0f}%; "
                      "picking the best candidate by these figures has seen every speed, so its cut is an upper "
                      "bound, not a held-out gain")
     if predicted is not None:
@@ -490,8 +490,10 @@ def _fit_json(fit: CauseFit | None) -> dict[str, Any] | None:
     """Return a cause's values fitted to all windows (None without a fit)."""
     if fit is None:
         return None
-    return {"cause": fit.cause, "values": {name: {"value": value, "std": std, "unit": unit} for name, value, std, unit
-                                           in zip(fit.parameters, fit.values, fit.std, fit.units, strict=True)}}
+    # No std: this fit is at unit dispersion, and its Jacobian's spread would understate the
+    # uncertainty of data that no candidate explains within their stated errors.
+    return {"cause": fit.cause, "values": {name: {"value": value, "unit": unit} for name, value, unit
+                                           in zip(fit.parameters, fit.values, fit.units, strict=True)}}
 
 
 def _speed_dependence_json(diagnosis: Diagnosis) -> dict[str, Any] | None:

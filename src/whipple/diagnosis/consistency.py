@@ -56,20 +56,32 @@ def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observa
     groups = speed_groups(observations)
     if len(groups) < 3:
         return np.zeros(len(values))
-    estimates = []
-    for group in groups:
-        kept = [o for i, o in enumerate(observations) if i not in group]
-        if len(kept) < 2:
-            continue
-        # A local refit from the values fitted to all windows: the jackknife measures how those
-        # values move when a speed is left out, not which other optimum a search could find.
-        estimates.append(fit_cause(bicycle, cause, kept, window_whitening(kept, bicycle, scales), [values],
-                                   grid=False).values)
+    estimates = refits_without(bicycle, cause, observations, values,
+                               [group for group in groups if len(observations) - len(group) >= 2], scales)
     if len(estimates) < 3:
         return np.zeros(len(values))
     estimates_array = np.array(estimates)
     g = len(estimates_array)
     return np.asarray(np.sqrt((g - 1) / g * np.sum((estimates_array - estimates_array.mean(axis=0)) ** 2, axis=0)))
+
+
+def without(observations: Sequence[Observation], group: Sequence[int]) -> list[Observation]:
+    """Return the observations whose indices are not in `group`."""
+    left_out = set(group)
+    return [o for i, o in enumerate(observations) if i not in left_out]
+
+
+def refits_without(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation], values: Sequence[float],
+                   groups: Sequence[Sequence[int]], scales: tuple[float, float] = (1.0, 1.0)
+                   ) -> list[tuple[float, ...]]:
+    """Return the cause's values refitted with each group of windows (indices) left out in turn.
+
+    A local refit from `values` (fitted to all windows): it measures how those values move when
+    a group is left out, not which other optimum a search could find. Each group must leave at
+    least 2 windows.
+    """
+    return [fit_cause(bicycle, cause, kept, window_whitening(kept, bicycle, scales), [values], grid=False).values
+            for kept in (without(observations, group) for group in groups)]
 
 
 def speed_group_sums(residuals: NDArray[np.float64], observations: Sequence[Observation],

@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
+from whipple.diagnosis.consistency import refits_without, without
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
@@ -140,15 +141,16 @@ def _predictive_choice(bicycle: Bicycle, training: Sequence[Observation], causes
     causes = candidate_causes(bicycle) if causes is None else causes
     groups = _speed_folds(training)
     measured = np.array([o.eigenvalue for o in training])
-    base_rms = _rms(np.abs(measured - predicted_weave(bicycle, training)))
+    # The base model on the same windows as the candidates: those of the groups left out.
+    predicted = np.concatenate(groups)
+    base_rms = _rms(np.abs(measured[predicted] - predicted_weave(bicycle, [training[i] for i in predicted])))
     best: tuple[float, int, Cause, tuple[float, ...]] | None = None
     for cause in causes:
         values = fit_cause(bicycle, cause, training).values
-        errors = []
-        for group in groups:
-            inner = fit_cause(bicycle, cause, _training(training, group), starts=[values], grid=False)
-            held = [training[i] for i in group]
-            errors.append(np.abs(measured[group] - predicted_weave(with_cause(bicycle, cause, inner.values), held)))
+        errors = [np.abs(measured[group] - predicted_weave(with_cause(bicycle, cause, inner),
+                                                           [training[i] for i in group]))
+                  for group, inner in zip(groups, refits_without(bicycle, cause, training, values, groups),
+                                          strict=True)]
         score = (_rms(np.concatenate(errors)), len(cause.parameters), cause, values)
         if best is None or score[:2] < best[:2]:
             best = score
@@ -173,11 +175,6 @@ def _speed_folds(observations: Sequence[Observation]) -> list[list[int]]:
     if not groups:
         raise AnalysisError("too few windows for a held-out comparison")
     return groups
-
-
-def _training(observations: Sequence[Observation], group: Sequence[int]) -> list[Observation]:
-    left_out = set(group)
-    return [o for i, o in enumerate(observations) if i not in left_out]
 
 
 def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause] | None = None,
@@ -216,7 +213,7 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
         raise ValueError(f"choose must be 'evidence' or 'prediction', got {choose!r}")
     observations = tuple(observations)
     groups = _speed_folds(observations)
-    tasks = ((bicycle, _training(observations, group), causes, fixed, choose) for group in groups)
+    tasks = ((bicycle, without(observations, group), causes, fixed, choose) for group in groups)
     with map_ordered(_fold_task, tasks, scheduler=scheduler, workers=workers) as folds:
         models = list(folds)
     return _scored(bicycle, observations, groups, models, series, reselected=fixed is None)
@@ -271,7 +268,7 @@ def cause_gains(bicycle: Bicycle, observations: Sequence[Observation], causes: S
     """
     observations = tuple(observations)
     groups = _speed_folds(observations)
-    tasks = ((bicycle, _training(observations, group), None, cause, "evidence")
+    tasks = ((bicycle, without(observations, group), None, cause, "evidence")
              for cause in causes for group in groups)
     with map_ordered(_fold_task, tasks, scheduler=scheduler, workers=workers) as folds:
         models = list(folds)

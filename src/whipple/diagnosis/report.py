@@ -253,8 +253,9 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     chosen = diagnosis.chosen
     extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle
     gain, note = None, ""
+    # The measured window behind each observation, for the held-out time-domain error.
+    series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
     if chosen is not None:
-        series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
         try:
             gain = held_out_gain(bicycle, observations, causes, series, scheduler=scheduler, workers=workers)
         except AnalysisError as error:
@@ -272,7 +273,6 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     prediction_gain, prediction_fit = None, None
     if gain_by_cause is not None:
         candidates = held_out_candidates(causes, gain_by_cause == "pairs")
-        series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
         try:
             every_cause = tuple(sorted(cause_gains(bicycle, observations, candidates, scheduler=scheduler,
                                                    workers=workers),

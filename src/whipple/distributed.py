@@ -54,8 +54,11 @@ def _connect(scheduler: str | None, workers: int | None, processes: bool) -> tup
     except ImportError:
         raise ClusterError("Dask is not installed: pip install 'whipple[distributed]'") from None
     if workers is not None:
+        # CRITICAL, not ERROR: a worker whose heartbeat races the scheduler's shutdown logs an
+        # ERROR with a traceback although every result is in (seen after a finished
+        # `diagnose --workers 2`); a task's own failure reaches the caller as its exception.
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+                               dashboard_address=None, silence_logs=logging.CRITICAL)
         return Client(cluster), cluster
     try:
         return Client(scheduler, timeout=CONNECT_TIMEOUT), None

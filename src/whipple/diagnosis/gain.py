@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
 from whipple.diagnosis.consistency import refits_without, without
 from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.families import cause_pairs, general_forms
 from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
 from whipple.distributed import map_ordered
@@ -315,3 +316,15 @@ def _scored(bicycle: Bicycle, observations: Sequence[Observation], groups: Seque
                 median("time_base"), median("time_extended"),
                 _rms(np.array(errors["base"])), _rms(np.array(errors["extended"])),
                 tuple(sorted(speeds, key=lambda s: s.speed)), reselected)
+
+
+def held_out_candidates(causes: Sequence[Cause], pairs: bool = False) -> list[Cause]:
+    """Return the models compared on held-out speeds: each cause in its most general form, and pairs.
+
+    With ``pairs`` also every pair of the physical causes (not ``parameter:<key>``), fitted
+    jointly (45 pairs for a bicycle with a controller).
+    """
+    candidates = general_forms(causes)
+    if pairs:
+        candidates += cause_pairs([cause for cause in candidates if not cause.name.startswith("parameter:")])
+    return candidates

@@ -25,9 +25,8 @@ from whipple.diagnosis.evidence import (
     Diagnosis,
     diagnose_observations,
 )
-from whipple.diagnosis.families import cause_pairs, general_forms
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE, CauseFit, fit_cause
-from whipple.diagnosis.gain import HELPS, CauseGain, Gain, cause_gains, held_out_gain
+from whipple.diagnosis.gain import HELPS, CauseGain, Gain, cause_gains, held_out_candidates, held_out_gain
 from whipple.diagnosis.observations import (
     Observation,
     Prediction,
@@ -291,18 +290,6 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
         base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes)), baseline,
         check_amplitudes(bicycle, used, base_prediction.eigenvalues) if amplitude else None, every_cause,
         prediction_gain, prediction_fit)
-
-
-def held_out_candidates(causes: Sequence[Cause], pairs: bool = False) -> list[Cause]:
-    """Return the models compared on held-out speeds: each cause in its most general form, and pairs.
-
-    With ``pairs`` also every pair of the physical causes (not ``parameter:<key>``), fitted
-    jointly (45 pairs for a bicycle with a controller).
-    """
-    candidates = general_forms(causes)
-    if pairs:
-        candidates += cause_pairs([cause for cause in candidates if not cause.name.startswith("parameter:")])
-    return candidates
 
 
 #: Reduced chi-square of the best model above which the report warns that no candidate

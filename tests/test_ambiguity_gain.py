@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 from synthetic_windows import STD, synthetic_observations
 
-from whipple.diagnosis.causes import cause_by_name, payload_causes, with_cause
+from whipple.diagnosis.causes import candidate_causes, cause_by_name, payload_causes, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, combined_cause, common_family, describe_family, general_forms
 from whipple.diagnosis.fitting import fit_cause
@@ -83,6 +83,26 @@ def test_two_hidden_effects_are_found_as_a_pair():
     assert diagnosis.scale < 1.5
     for value, true, std in zip(diagnosis.best.values, (0.5, truth.parameters["IBxx"]), diagnosis.best.std,
                                 strict=True):
+        assert abs(value - true) < 3 * std
+
+
+def test_a_payload_off_the_frame_with_a_controller_delay_is_found_as_a_pair():
+    # A rear load 10 kg well ahead of and below the rear frame's mass centre, with a 30 ms
+    # controller delay, on the controlled sbw2024: the payload's position does nothing at zero
+    # mass, so a screen linearised only at the base model cannot place it, and the leading
+    # single causes (stand-ins) did not hold the pair (this test failed so); the screen
+    # linearised away from the base model finds it (benchmarks/bench_prediction_choice.py
+    # measured the effect over seeds).
+    bicycle = load_bicycle("sbw2024")
+    forms = {cause.name: cause for cause in general_forms(candidate_causes(bicycle))}
+    pair = combined_cause(forms["payload"], forms["controller_delay"])
+    true_values = (10.0, 0.6, -0.35, 0.03)
+    truth = pair.apply(bicycle, true_values)
+    diagnosis = diagnose_observations(bicycle, _observations(truth, 0, np.repeat([1.5, 2.5, 3.5, 4.5, 5.5], 4)))
+    assert max(diagnosis.single_scales) > 2.0
+    assert diagnosis.verdict == "ambiguous" and diagnosis.cause == "payload + controller_delay"
+    assert diagnosis.best.parameters == pair.parameters
+    for value, true, std in zip(diagnosis.best.values, true_values, diagnosis.best.std, strict=True):
         assert abs(value - true) < 3 * std
 
 

@@ -30,6 +30,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
+from numpy.typing import NDArray
 
 from whipple.diagnosis.causes import Cause, candidate_causes
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
@@ -61,8 +62,13 @@ PAIR_CANDIDATES = 3
 #: :func:`speed_dependence`) above which a leading cause is not named: its form does not follow
 #: how the error changes with speed. The same odds as ``MARGIN`` (~7:1).
 SPEED_DEPENDENCE = MARGIN
-#: How many more pairs, the best by a linearised screen of all pairs, are tried.
+#: How many more pairs, the best by a screen of all pairs linearised at the base model, are tried.
 PAIR_SCREENED = 3
+#: How many more again, the best by a screen linearised away from the base model (at each
+#: cause's fitted values or an active point: a payload's position does nothing at zero mass).
+PAIR_SCREENED_AWAY = 3
+#: Fraction of a cause's bounds from its no-effect values to the screen's active point.
+SCREEN_ACTIVE = 0.1
 
 
 @dataclass(frozen=True)
@@ -173,7 +179,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         # No single cause explains the data: try the leading few in pairs, each pair started
         # from its members' fitted values.
         started = _leading_pairs(causes, _scored(causes, base, fits, n))
-        started += _screened_pairs(bicycle, causes, observations, whitening, {pair.name for pair, _ in started})
+        started += _screened_pairs(bicycle, causes, fits, observations, whitening, {pair.name for pair, _ in started})
         pairs = [pair for pair, _ in started]
         pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start] if quick else [start, list(pair.start)])
                      for pair, start in started]
@@ -340,45 +346,84 @@ def _leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[
             for i, j in itertools.combinations(leading[:PAIR_CANDIDATES], 2)]
 
 
-def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
-                    whitening: Whitening, tried: set[str]) -> list[tuple[Cause, list[float]]]:
-    """Return the ``PAIR_SCREENED`` pairs, not in ``tried``, that best explain the base model's residuals.
+def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
+                    observations: Sequence[Observation], whitening: Whitening,
+                    tried: set[str]) -> list[tuple[Cause, list[float]]]:
+    """Return the pairs, not in ``tried``, that best explain the residuals linearised.
 
-    Linearised at the base model (each cause's residual derivative by a step of 5% of its
-    bounds; for every pair the least-squares step of both together); each pair starts from its
-    linearised values within bounds. The true pair is often not among the leading singles
-    (docs/diagnosis.md, "Two causes together").
+    ``PAIR_SCREENED`` pairs linearised at the base model: both members at their no-effect
+    values, scored by the least-squares step of both from the base model's residuals. Then
+    ``PAIR_SCREENED_AWAY`` more, linearised away from it: each member at one of three points,
+    its no-effect values, its values fitted alone or an active point (``SCREEN_ACTIVE`` of its
+    bounds away from the no-effect values), not both at the no-effect values; the effects are
+    taken to add up (a pair's residuals are those of its members at their points, less the base
+    model's once), and a pair is scored by the best of these combinations. Some values do
+    nothing at the no-effect values (a payload's position at zero mass): only the second screen
+    can move them. Each pair starts from its step, within bounds. Residual derivatives are
+    steps of 5% of a cause's bounds (0.5% away from the no-effect values). The true pair is
+    often not among the leading singles (docs/diagnosis.md, "Two causes together").
     """
     residual = model_residuals(bicycle, observations, whitening)[0]
-    columns = []
-    for cause in causes:
-        origin = np.array(cause.start, dtype=float)
-        steps = []
-        for i, (low, high) in enumerate(cause.bounds):
-            x = origin.copy()
-            step = 0.05 * (high - low)
-            x[i] = origin[i] + step if origin[i] + step <= high else origin[i] - step
-            changed = model_residuals(cause.apply(bicycle, [float(v) for v in x]), observations, whitening)[0]
-            steps.append((changed - residual) / (x[i] - origin[i]))
-        columns.append(np.column_stack(steps))
-    ranked = []
+    points = []
+    for cause, fit in zip(causes, fits, strict=True):
+        lower, upper = cause.limits
+        active = np.clip(np.array(cause.start, dtype=float) + SCREEN_ACTIVE * (upper - lower), lower, upper)
+        active_residual = model_residuals(cause.apply(bicycle, [float(v) for v in active]), observations, whitening)[0]
+        points.append([
+            (np.array(cause.start, dtype=float), residual,
+             _residual_derivatives(bicycle, cause, observations, whitening, cause.start, residual, 0.05)),
+            (np.array(fit.values), fit.residuals,
+             _residual_derivatives(bicycle, cause, observations, whitening, fit.values, fit.residuals, 0.005)),
+            (active, active_residual,
+             _residual_derivatives(bicycle, cause, observations, whitening, active, active_residual, 0.005))])
+    at_base, away = [], []
     for i, j in itertools.combinations(range(len(causes)), 2):
         if causes[i].name == causes[j].name:
             continue
-        jacobian = np.hstack([columns[i], columns[j]])
-        step = np.linalg.lstsq(jacobian, -residual, rcond=None)[0]
         pair = combined_cause(causes[i], causes[j])
-        linear = np.clip(np.array(pair.start) + step, *pair.limits)
-        ranked.append((float(np.sum((residual + jacobian @ step) ** 2)), pair, [float(v) for v in linear]))
-    ranked.sort(key=lambda entry: entry[0])
+        linearised = []
+        for (origin_i, residual_i, columns_i), (origin_j, residual_j, columns_j) in itertools.product(points[i],
+                                                                                                    points[j]):
+            origin_residual = residual_i + residual_j - residual
+            jacobian = np.hstack([columns_i, columns_j])
+            step = np.linalg.lstsq(jacobian, -origin_residual, rcond=None)[0]
+            misfit = float(np.sum((origin_residual + jacobian @ step) ** 2))
+            linear = np.clip(np.concatenate([origin_i, origin_j]) + step, *pair.limits)
+            linearised.append((misfit, pair, [float(v) for v in linear]))
+        at_base.append(linearised[0])
+        away.append(min(linearised[1:], key=lambda entry: entry[0]))
     chosen: list[tuple[Cause, list[float]]] = []
-    for _, pair, start in ranked:
-        if len(chosen) == PAIR_SCREENED:
-            break
-        if pair.name not in tried:
-            chosen.append((pair, start))
-            tried = tried | {pair.name}
+    tried_members = {frozenset(components(name)) for name in tried}
+    for ranked, count in ((at_base, PAIR_SCREENED), (away, PAIR_SCREENED_AWAY)):
+        added = 0
+        for _, pair, start in sorted(ranked, key=lambda entry: entry[0]):
+            members = frozenset(components(pair.name))
+            if added == count:
+                break
+            if members not in tried_members:
+                chosen.append((pair, start))
+                tried_members.add(members)
+                added += 1
     return chosen
+
+
+def _residual_derivatives(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
+                          whitening: Whitening, values: Sequence[float] | NDArray[np.float64],
+                          residual: NDArray[np.float64],
+                          fraction: float) -> NDArray[np.float64]:
+    """Return the derivative of the residuals by each of a cause's values at ``values`` (a column each).
+
+    A forward step of ``fraction`` of the value's bounds (backward at the upper bound).
+    """
+    origin = np.array(values, dtype=float)
+    columns = []
+    for i, (low, high) in enumerate(cause.bounds):
+        x = origin.copy()
+        step = fraction * (high - low)
+        x[i] = origin[i] + step if origin[i] + step <= high else origin[i] - step
+        changed = model_residuals(cause.apply(bicycle, [float(v) for v in x]), observations, whitening)[0]
+        columns.append((changed - residual) / (x[i] - origin[i]))
+    return np.column_stack(columns)
 
 
 def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],

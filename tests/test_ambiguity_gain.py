@@ -14,7 +14,7 @@ from synthetic_windows import STD, synthetic_observations
 from whipple.diagnosis.causes import candidate_causes, cause_by_name, payload_causes, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, combined_cause, common_family, describe_family, general_forms
-from whipple.diagnosis.fitting import fit_cause
+from whipple.diagnosis.fitting import fit_cause, pinned_values
 from whipple.diagnosis.gain import cause_gains, held_out_gain
 from whipple.diagnosis.observations import speed_groups
 from whipple.model.parameters import load_bicycle
@@ -104,6 +104,34 @@ def test_a_payload_off_the_frame_with_a_controller_delay_is_found_as_a_pair():
     assert diagnosis.best.parameters == pair.parameters
     for value, true, std in zip(diagnosis.best.values, true_values, diagnosis.best.std, strict=True):
         assert abs(value - true) < 3 * std
+
+
+def test_a_cause_stretched_to_the_edge_of_its_physical_range_is_not_named():
+    # Steer damping with a 40% larger rear-frame roll inertia, seen at 4-8 m/s: the best single
+    # cause is a front payload of 0.7 kg ahead of the front wheel at the height of the ground
+    # (the bound of its heights), within a dispersion of 2 of the data, so no pairs are tried.
+    # A load cannot sit lower; the data ask for more than such a load can be: not a confident name.
+    bicycle = load_bicycle("benchmark")
+    truth = bicycle.with_extensions(steer_damping=0.8).with_parameters(IBxx=1.4 * bicycle.parameters["IBxx"])
+    diagnosis = diagnose_observations(bicycle, _observations(truth, 0, np.repeat([4.0, 5.0, 6.0, 7.0, 8.0], 4)))
+    assert diagnosis.cause == "front_payload" and diagnosis.best.pinned == (("front_payload_z", 0.0),)
+    assert diagnosis.verdict == "ambiguous"
+    # The edge of the range is the only reason given: without it the verdict would be "named".
+    assert len(diagnosis.reasons) == 1 and "edge of its physical range" in diagnosis.reasons[0]
+
+
+def test_only_bounds_other_than_the_no_effect_values_pin_a_fit():
+    bicycle = load_bicycle("benchmark")
+    load = next(form for form in payload_causes(bicycle, "front_payload") if len(form.parameters) == 3)
+    (_, heaviest), (nearest, farthest), (lowest, highest) = load.bounds
+    middle = 0.5 * (nearest + farthest)
+    assert pinned_values(load, [0.0, middle, -0.5]) == ()  # a mass of 0: no load, not a stretched one
+    assert pinned_values(load, [heaviest, farthest, highest]) == (
+        ("front_payload_mass", heaviest), ("front_payload_x", farthest), ("front_payload_z", highest))
+    assert pinned_values(load, [1.0, middle, lowest + 0.01]) == ()
+    assert pinned_values(load, [1.0, nearest, -0.5]) == (("front_payload_x", nearest),)
+    mass = cause_by_name(bicycle, "parameter:mB")
+    assert pinned_values(mass, [bicycle.parameters["mB"] / 3.0]) == (("mB", bicycle.parameters["mB"] / 3.0),)
 
 
 def test_held_out_gain_never_sees_the_held_out_speed():

@@ -220,7 +220,8 @@ def test_dask_cluster_gives_the_serial_output(tmp_path, capsys):
     serial, on_cluster = tmp_path / "serial.csv", tmp_path / "cluster.csv"
     assert main(["sweep", str(sets), "-o", str(serial), "--quiet", "--chunk", "3"]) == 0
     # Two threads in one worker process: tasks must not run in both at once (CasADi).
-    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None,
+                      scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster:
         assert main(["sweep", str(sets), "-o", str(on_cluster), "--quiet", "--chunk", "2",
                      "--scheduler", cluster.scheduler_address]) == 0
     assert serial.read_bytes() == on_cluster.read_bytes()

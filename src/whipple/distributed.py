@@ -57,8 +57,12 @@ def _connect(scheduler: str | None, workers: int | None, processes: bool) -> tup
         # CRITICAL, not ERROR: a worker whose heartbeat races the scheduler's shutdown logs an
         # ERROR with a traceback although every result is in (seen after a finished
         # `diagnose --workers 2`); a task's own failure reaches the caller as its exception.
+        # No dashboard; the scheduler's own HTTP server (health checks) still starts, on port 8787
+        # unless told otherwise: a second local cluster at once (two commands, a benchmark beside
+        # the tests) then warned that the port was in use. A free local port instead.
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
-                               dashboard_address=None, silence_logs=logging.CRITICAL)
+                               dashboard_address=None, scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+                               silence_logs=logging.CRITICAL)
         return Client(cluster), cluster
     try:
         return Client(scheduler, timeout=CONNECT_TIMEOUT), None

@@ -295,6 +295,7 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     is then all that ranks them); when the best is a pair of causes (no single candidate
     explained the data, and one effect outside the candidates fits two causes' freedom as
     well as two effects do: in the hidden-effect trials most named pairs stood in for one);
+    when the best fits only at the edge of its physical range (:func:`~whipple.diagnosis.fitting.pinned_values`);
     or when even the best model leaves a dispersion above ``HIGH_DISPERSION`` (no candidate
     explains the data: its name would be a guess).
     """
@@ -314,6 +315,10 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     if COMBINATION in best.cause:
         reasons.append(f"the best explanation is two causes together ({best.cause}); a single effect outside the "
                        "candidates that acts like them would fit as well")
+    if best.pinned:
+        at = ", ".join(f"{name} at its bound {bound:.4g}" for name, bound in best.pinned)
+        reasons.append(f"{best.cause} fits best only at the edge of its physical range ({at}): the data ask for "
+                       "more than it can be, so the truth may be another cause or none of the candidates")
     if max(scales) > HIGH_DISPERSION:
         reasons.append(f"even the best model leaves the typical window {np.sqrt(scales[0]):.1f} (eigenvalue) and "
                        f"{np.sqrt(scales[1]):.1f} (mode shape) times its stated uncertainty off (median dispersion "
@@ -454,5 +459,5 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
         supported = max(forms, key=lambda other: other.evidence)
         merged[fit.cause] = CauseFit(general.cause, general.parameters, general.units, general.values,
                                      general.std, general.chi2, evidence, general.predicted,
-                                     residuals=supported.residuals)
+                                     residuals=supported.residuals, pinned=supported.pinned)
     return sorted(merged.values(), key=lambda fit: -fit.evidence)

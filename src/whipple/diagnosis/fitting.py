@@ -29,6 +29,10 @@ ROBUST_SCALE = 3.0
 #: makes the verdict ambiguous (a prior or a fitted value more is then all that ranks them).
 
 
+#: A value within this fraction of its range from a bound is at the bound.
+AT_BOUND = 1e-3
+
+
 def robust_chi2(residuals: NDArray[np.float64]) -> float:
     """Soft-L1 sum of squares: ~ sum r^2 for |r| << ROBUST_SCALE, ~ linear beyond."""
     c2 = ROBUST_SCALE**2
@@ -51,6 +55,9 @@ class CauseFit:
     #: Whitened residuals, each kind divided by its dispersion: the difference of two fits'
     #: residuals is the difference of their predictions in units of the observations' noise.
     residuals: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0), repr=False)
+    #: The values fitted at a bound of the cause's range that is not their no-effect value,
+    #: as (name, bound) (:func:`pinned_values`).
+    pinned: tuple[tuple[str, float], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -210,4 +217,24 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     final, predicted, block_chi2 = model_residuals(cause.apply(bicycle, values), observations, whitening)
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
                     tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2,
-                    residuals=final)
+                    residuals=final, pinned=pinned_values(cause, values))
+
+
+def pinned_values(cause: Cause, values: Sequence[float] | NDArray[np.float64]) -> tuple[tuple[str, float], ...]:
+    """Return the values (as name, bound) at a bound of the cause's range other than their no-effect value.
+
+    Such a fit is the cause stretched as far as it physically goes (a load at the ground, a
+    parameter doubled): the data ask for more than the cause can be, and the evidence, an
+    expansion about an optimum inside the bounds, no longer measures its support. A value at
+    its no-effect bound (a mass of 0) only says that the cause is not needed.
+    """
+    lower, upper = cause.limits
+    start = np.array(cause.start, dtype=float)
+    pinned = []
+    for name, value, low, high, null in zip(cause.parameters, values, lower, upper, start, strict=True):
+        tolerance = AT_BOUND * (high - low)
+        for bound in (low, high):
+            if abs(value - bound) <= tolerance and abs(null - bound) > tolerance:
+                pinned.append((name, float(bound)))
+                break
+    return tuple(pinned)

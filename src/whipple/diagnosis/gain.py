@@ -24,7 +24,7 @@ from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
 from whipple.diagnosis.consistency import refits_without, without
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, general_forms
-from whipple.diagnosis.fitting import fit_cause
+from whipple.diagnosis.fitting import fit_cause, pinned_values
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
 from whipple.distributed import map_ordered
 from whipple.errors import AnalysisError
@@ -245,16 +245,7 @@ class CauseGain:
 
 
 def _folds_at_bound(cause: Cause, gain: Gain) -> int:
-    lower, upper = cause.limits
-    tolerance = 1e-6 * (upper - lower)
-    null = np.full(len(lower), np.nan) if cause.null is None else np.array(cause.null, dtype=float)
-    count = 0
-    for speed in gain.speeds:
-        values = np.array(speed.values, dtype=float)
-        at = ((np.abs(values - lower) <= tolerance) | (np.abs(values - upper) <= tolerance)) & ~(
-            np.abs(values - null) <= tolerance)
-        count += bool(np.any(at))
-    return count
+    return sum(bool(pinned_values(cause, speed.values)) for speed in gain.speeds)
 
 
 def cause_gains(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause], *,

@@ -169,6 +169,7 @@ def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
     estimate = data["estimate"]["steer_damping"]
     assert estimate["unit"] == "N m s/rad" and abs(estimate["value"] - 0.8) < 0.2
     assert data["ranking"][0]["cause"] == "steer_damping"
+    assert data["estimate_open"] is None  # one value: nothing left open
     assert {"metric", "base", "extended", "held_out"} <= set(data["gain"])
     assert data["gain"]["extended"] < data["gain"]["base"]
     assert data["cause_gains"] == [] and data["prediction_gain"] is None  # only with --gain-by-cause

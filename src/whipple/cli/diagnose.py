@@ -97,6 +97,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"  why not a confident name: {reason}")
     for name, estimate in data["estimate"].items():
         print(f"  {name} = {estimate['value']:.6g} +/- {estimate['std']:.3g} {estimate['unit']}")
+    if report.open_values is not None:
+        print(f"  the data leave open: {report.open_values.sentence()}")
     print("ranking: " + ", ".join(f"{cause} {evidence:.1f}" for cause, evidence in diagnosis.ranking()[:5]))
     for note in report.caveats:
         print(f"caveat: {note}")

@@ -459,5 +459,6 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
         supported = max(forms, key=lambda other: other.evidence)
         merged[fit.cause] = CauseFit(general.cause, general.parameters, general.units, general.values,
                                      general.std, general.chi2, evidence, general.predicted,
-                                     residuals=supported.residuals, pinned=supported.pinned)
+                                     residuals=supported.residuals, pinned=supported.pinned,
+                                     covariance=general.covariance)
     return sorted(merged.values(), key=lambda fit: -fit.evidence)

@@ -58,6 +58,8 @@ class CauseFit:
     #: The values fitted at a bound of the cause's range that is not their no-effect value,
     #: as (name, bound) (:func:`pinned_values`).
     pinned: tuple[tuple[str, float], ...] = ()
+    #: Covariance of the values from the least-squares fit (before any widening of ``std``).
+    covariance: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 0)), repr=False, compare=False)
 
 
 @dataclass(frozen=True)
@@ -213,11 +215,12 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
         covariance = np.linalg.pinv(jacobian.T @ jacobian)
         std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     except np.linalg.LinAlgError:
+        covariance = np.full((len(values), len(values)), np.inf)
         std = np.full(len(values), np.inf)
     final, predicted, block_chi2 = model_residuals(cause.apply(bicycle, values), observations, whitening)
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
                     tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2,
-                    residuals=final, pinned=pinned_values(cause, values))
+                    residuals=final, pinned=pinned_values(cause, values), covariance=covariance)
 
 
 def pinned_values(cause: Cause, values: Sequence[float] | NDArray[np.float64]) -> tuple[tuple[str, float], ...]:

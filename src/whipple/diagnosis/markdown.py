@@ -63,6 +63,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
         lines += ["| parameter | value | std | unit |", "|---|---|---|---|"]
         lines += [f"| {name} | {e['value']:.6g} | {e['std']:.3g} | {e['unit']} |"
                   for name, e in data["estimate"].items()]
+        if report.open_values is not None:
+            lines += ["", f"The data leave open: {report.open_values.sentence()}."]
         lines += ["", f"- base model: {_speeds(report.base_critical)}",
                   f"- extended model: {_speeds(report.extended_critical)}"]
         if "matrices" in data["extended_model"]:

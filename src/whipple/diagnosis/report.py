@@ -27,6 +27,7 @@ from whipple.diagnosis.evidence import (
 )
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE, CauseFit, fit_cause
 from whipple.diagnosis.gain import HELPS, CauseGain, Gain, cause_gains, held_out_candidates, held_out_gain
+from whipple.diagnosis.identifiability import OpenValues, open_values
 from whipple.diagnosis.observations import (
     Observation,
     Prediction,
@@ -117,6 +118,10 @@ class DiagnosisReport:
     prediction_fit : CauseFit or None
         The first of ``cause_gains`` (the candidate whose refits best predicted the left-out
         speeds) fitted to all windows; None unless it cuts the held-out RMS at all.
+    open_values : OpenValues or None
+        The leading cause's values that the data leave open, and for a load what they
+        determine (:func:`whipple.diagnosis.identifiability.open_values`); None when every
+        value is determined or no cause leads.
     """
 
     bicycle: Bicycle
@@ -139,6 +144,7 @@ class DiagnosisReport:
     cause_gains: tuple[CauseGain, ...] = ()
     prediction_gain: Gain | None = None
     prediction_fit: CauseFit | None = None
+    open_values: OpenValues | None = None
 
     @property
     def observations(self) -> tuple[Observation, ...]:
@@ -289,7 +295,8 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
         critical_speeds(linear_model(bicycle), *speed_range), critical_speeds(linear_model(extended), *speed_range),
         base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes)), baseline,
         check_amplitudes(bicycle, used, base_prediction.eigenvalues) if amplitude else None, every_cause,
-        prediction_gain, prediction_fit)
+        prediction_gain, prediction_fit,
+        open_values(chosen, diagnosis.best) if chosen is not None and diagnosis.best is not None else None)
 
 
 #: Reduced chi-square of the best model above which the report warns that no candidate
@@ -443,6 +450,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "combinations_tried": list(diagnosis.combinations),
         "speed_dependence": _speed_dependence_json(diagnosis),
         "estimate": estimate,
+        "estimate_open": report.open_values.to_dict() if report.open_values is not None else None,
         "ranking": [{"cause": cause, "evidence": evidence} for cause, evidence in diagnosis.ranking()],
         "gain": gain,
         "gain_note": report.gain_note,

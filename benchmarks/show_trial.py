@@ -1,0 +1,50 @@
+"""Diagnose hidden-effect trials one by one and print what the diagnosis says of each.
+
+For each trial given as ``BICYCLE:FAMILY:SEED`` (as in the rates' logs, e.g.
+``browser:rack:3``): the true values, the verdict, the leading cause's values and standard
+deviations, the reasons for a verdict that is not a confident name, and the values the data
+leave open (:func:`whipple.diagnosis.identifiability.open_values`). Used to attribute the
+trials whose outcome changes between two versions (run it with each version on the path).
+
+Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+
+from hidden_effects import run_trial  # noqa: E402
+
+from whipple.diagnosis.identifiability import open_values  # noqa: E402
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("trials", nargs="+", metavar="BICYCLE:FAMILY:SEED")
+    args = parser.parse_args()
+    for trial_name in args.trials:
+        try:
+            bicycle, family, seed = trial_name.split(":")
+            trial = run_trial(family, int(seed), bicycle)
+        except ValueError as error:
+            parser.error(f"{trial_name}: {error}")
+        diagnosis = trial.diagnosis
+        print(f"{trial_name}: truth {trial.truth}; verdict {diagnosis.verdict} ({diagnosis.cause}); "
+              f"outcome {trial.outcome}")
+        best = diagnosis.best
+        if best is not None:
+            print("  " + ", ".join(f"{name} = {value:.4g} +/- {std:.2g}"
+                                   for name, value, std in zip(best.parameters, best.values, best.std, strict=True)))
+        for reason in diagnosis.reasons:
+            print(f"  why not named: {reason}")
+        family_left = open_values(diagnosis.chosen, best) if diagnosis.chosen is not None and best else None
+        if family_left is not None:
+            print(f"  the data leave open: {family_left.sentence()}")
+
+
+if __name__ == "__main__":
+    main()

@@ -65,6 +65,7 @@ def test_a_single_value_or_a_determined_fit_leaves_nothing_open():
     fit = fit_cause(bicycle, load, observed)
     tiny = replace(fit, covariance=np.eye(3) * 1e-12, std=(1e-6, 1e-6, 1e-6))
     assert open_values(load, tiny) is None
+    assert open_values(load, replace(fit, std=(np.nan, 1.0, 1.0))) is None  # a failed spread: nothing to say
 
 
 def test_the_family_stops_at_the_bounds_and_stays_on_its_line():

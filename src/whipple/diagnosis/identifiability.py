@@ -99,6 +99,8 @@ def open_values(cause: Cause, fit: CauseFit) -> OpenValues | None:
     std = np.asarray(fit.std, dtype=float)
     widen = np.where(own > 0.0, std / np.where(own > 0.0, own, 1.0), 1.0)
     scaled = (widen[:, None] * covariance * widen[None, :]) / np.outer(span, span)
+    if not np.all(np.isfinite(scaled)):  # a standard deviation that is not finite: no direction to give
+        return None
     variances, directions = np.linalg.eigh(scaled)
     if not np.isfinite(variances[-1]) or variances[-1] <= 0.0:
         return None

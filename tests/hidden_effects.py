@@ -262,6 +262,12 @@ def bicycle_source(name: str) -> str:
     return BICYCLES.get(name, name)
 
 
+def trial_rng(cause: str, seed: int) -> np.random.Generator:
+    """The random generator of a trial: its first draws are the hidden effect's (:func:`hidden_bicycle`)."""
+    families = (*CAUSES, *PHYSICAL, "motor", *CONTROLLER, "parameter")
+    return np.random.default_rng([seed, families.index(cause) if cause in families else 99])
+
+
 def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None):
     """Return ``(base, truth, runs)``: the base bicycle, the hidden effect's true values, and
     the simulated runs (one per speed) of a trial.
@@ -269,8 +275,7 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None)
     ``base_name`` is a key of :data:`BICYCLES`, the controlled bicycle, or any bicycle
     ``load_bicycle`` reads.
     """
-    families = (*CAUSES, *PHYSICAL, "motor", *CONTROLLER, "parameter")
-    rng = np.random.default_rng([seed, families.index(cause) if cause in families else 99])
+    rng = trial_rng(cause, seed)
     base = load_bicycle(bicycle_source(base_name))
     if speeds is None:
         speeds = SPEEDS if base.controller.is_empty() else CONTROLLED_SPEEDS

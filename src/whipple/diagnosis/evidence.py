@@ -43,6 +43,8 @@ from whipple.model.parameters import Bicycle
 
 NAMED_THRESHOLD = 3.0  # evidence (log Bayes factor) a cause needs over the base model: ~20:1
 MARGIN = 2.0  # evidence by which the best must beat the runner-up: ~7:1
+#: A runner-up within this much evidence whose predictions are within SEPARATION of the best's
+#: makes the verdict ambiguous (a prior or a fitted value more is then all that ranks them).
 CLOSE_EVIDENCE = 5.0
 #: Half the summed squared whitened difference of two fits' predictions below which the data
 #: could not single out one of them even if it were true (odds below e^2, about 7:1).

@@ -25,11 +25,7 @@ from whipple.model.parameters import Bicycle
 #: (soft L1 loss): a few windows at very unstable speeds are fitted far worse than their stated
 #: uncertainty (the seed paper reports the same spread below 3 m/s) and must not decide alone.
 ROBUST_SCALE = 3.0
-#: A runner-up within this much evidence whose predictions are within SEPARATION of the best's
-#: makes the verdict ambiguous (a prior or a fitted value more is then all that ranks them).
-
-
-#: A value within this fraction of its range from a bound is at the bound.
+#: A value within this fraction of its range from a bound is at the bound (:func:`pinned_values`).
 AT_BOUND = 1e-3
 
 

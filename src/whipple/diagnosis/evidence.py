@@ -448,8 +448,10 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
     """One entry per cause, by decreasing evidence.
 
     A cause with several forms (payload: mass alone, or mass and position) is supported as
-    well as its best form; its estimate is that of its most general form, so that the interval
-    also carries the uncertainty of what the simpler form holds fixed.
+    well as its best form; its estimate (values, std, covariance) is that of its most general
+    form, so that the interval also carries the uncertainty of what the simpler form holds
+    fixed; its residuals and values at a bound are those of the best-supported form (the claim
+    the evidence makes).
     """
     merged: dict[str, CauseFit] = {}
     for fit in scored:

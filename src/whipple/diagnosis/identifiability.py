@@ -90,7 +90,7 @@ def open_values(cause: Cause, fit: CauseFit) -> OpenValues | None:
     """
     k = len(fit.values)
     covariance = np.asarray(fit.covariance, dtype=float)
-    if k < 2 or covariance.shape != (k, k) or not np.all(np.isfinite(covariance)):
+    if k < 2 or covariance.shape != (k, k):
         return None
     lower, upper = cause.limits
     span = upper - lower
@@ -99,10 +99,10 @@ def open_values(cause: Cause, fit: CauseFit) -> OpenValues | None:
     std = np.asarray(fit.std, dtype=float)
     widen = np.where(own > 0.0, std / np.where(own > 0.0, own, 1.0), 1.0)
     scaled = (widen[:, None] * covariance * widen[None, :]) / np.outer(span, span)
-    if not np.all(np.isfinite(scaled)):  # a standard deviation that is not finite: no direction to give
+    if not np.all(np.isfinite(scaled)):  # a covariance or std that is not finite: no direction to give
         return None
     variances, directions = np.linalg.eigh(scaled)
-    if not np.isfinite(variances[-1]) or variances[-1] <= 0.0:
+    if variances[-1] <= 0.0:
         return None
     step = directions[:, -1] * np.sqrt(variances[-1]) * span
     if np.max(np.abs(2.0 * FAMILY_SIGMAS * step) / span) < OPEN_FRACTION:

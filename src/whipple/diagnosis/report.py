@@ -119,8 +119,8 @@ class DiagnosisReport:
         The first of ``cause_gains`` (the candidate whose refits best predicted the left-out
         speeds) fitted to all windows; None unless it cuts the held-out RMS at all.
     open_values : OpenValues or None
-        The leading cause's values that the data leave open, and for a load what they
-        determine (:func:`whipple.diagnosis.identifiability.open_values`); None when every
+        The leading cause's values that the data leave open, and how well the rest is
+        determined (:func:`whipple.diagnosis.identifiability.open_values`); None when every
         value is determined or no cause leads.
     """
 

@@ -13,7 +13,9 @@ Two kinds of trial family:
   rigid-body composition, so the truth has its own inertia and the candidate point-mass
   payload is close but not exact), ``basket`` (a box of 1-8 kg ahead of and above the front
   axle, composed into the front frame), ``roll_damping`` (a viscous roll torque, e.g. a
-  rider's passive sway or air; no candidate has this form), and with the ``causes`` branch's
+  rider's passive sway or air) and ``steer_spring`` (a steering stabiliser's centring spring):
+  no physical candidate has these forms (a model term does, :mod:`whipple.diagnosis.model_terms`,
+  and leads to the verdict ``ambiguous``); and with the ``causes`` branch's
   model support ``motor`` (a geared steer motor's reflected inertia) and the controller
   families of a controlled bicycle.
 
@@ -45,8 +47,8 @@ from whipple.simulation.simulator import simulate_run
 #: The candidate causes' own families, and "none" (no effect).
 CAUSES = ("none", "steer_damping", "steer_inertia", "speed_scale", "payload", "tyre_compliance", "parameter:c",
           "parameter:IBxx", "parameter:IFyy")
-#: Families built like real hardware, and one outside every candidate's form.
-PHYSICAL = ("rack", "basket", "roll_damping")
+#: Families built like real hardware, and two outside every physical candidate's form.
+PHYSICAL = ("rack", "basket", "roll_damping", "steer_spring")
 #: Families of the controlled bicycle's controller (need the ``causes`` branch's Controller fields).
 CONTROLLER = ("controller_gain", "controller_delay", "controller_lag")
 #: Keys of the ``parameter`` family's wrong parameter (drawn per seed): trail and the inertias
@@ -59,6 +61,7 @@ EXPECTED: dict[str, str | None] = {
     "rack": "payload",
     "basket": "front_payload",
     "roll_damping": None,
+    "steer_spring": None,
     "motor": "reflected_steer_inertia",
     "controller_gain": "controller_gain",
     "controller_delay": "controller_delay",
@@ -236,6 +239,13 @@ def hidden_bicycle(base: Bicycle, cause: str,
         gains = np.zeros((2, 4))
         gains[0, 2] = -value
         return base, {"roll_damping": value}, with_feedback(linear_model(base), gains)
+    if cause == "steer_spring":
+        # A steering stabiliser: a centring spring of 0.5-3 N m/rad between the frames (a
+        # product for cargo bicycles; cable tension acts alike). No physical candidate has it.
+        value = rng.uniform(0.5, 3.0)
+        gains = np.zeros((2, 4))
+        gains[1, 1] = -value
+        return base, {"steer_spring": value}, with_feedback(linear_model(base), gains)
     if cause == "motor":
         # A geared steer motor: its rotor's inertia J times the gear ratio N squared acts on
         # the steer equation alone (N^2 J of 0.02-0.3 kg m^2, e.g. N = 10-20, J = 2e-4-8e-4).
@@ -264,7 +274,8 @@ def bicycle_source(name: str) -> str:
 
 def trial_rng(cause: str, seed: int) -> np.random.Generator:
     """The random generator of a trial: its first draws are the hidden effect's (:func:`hidden_bicycle`)."""
-    families = (*CAUSES, *PHYSICAL, "motor", *CONTROLLER, "parameter")
+    # Families added later go last, so that the earlier ones keep their random streams.
+    families = (*CAUSES, *PHYSICAL[:3], "motor", *CONTROLLER, "parameter", *PHYSICAL[3:])
     return np.random.default_rng([seed, families.index(cause) if cause in families else 99])
 
 

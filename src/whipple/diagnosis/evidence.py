@@ -36,6 +36,7 @@ from whipple.diagnosis.causes import Cause, candidate_causes
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, combined_cause, components, describe_family
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2, window_whitening
+from whipple.diagnosis.model_terms import is_term, term_causes, term_words
 from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
@@ -168,7 +169,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     observations = tuple(observations)
     if len(observations) < 2:
         raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
-    causes = list(candidate_causes(bicycle)) if causes is None else list(causes)
+    causes = [*candidate_causes(bicycle), *term_causes(bicycle)] if causes is None else list(causes)
     whitening = window_whitening(observations, bicycle)
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
     n = sum(counts)
@@ -314,6 +315,10 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
              and separation(best, fit) < SEPARATION]
     if alike:
         reasons.append(f"{', '.join(alike)} predict(s) the observations within the noise of {best.cause}")
+    if is_term(best.cause):
+        value = f"{best.values[0]:+.3g} {best.units[0]}" if best.values else ""
+        reasons.append(f"the error has the form of {term_words(best.cause)} {value}, which none of the physical "
+                       "candidate causes has: the truth is likely none of them")
     if COMBINATION in best.cause:
         reasons.append(f"the best explanation is two causes together ({best.cause}); a single effect outside the "
                        "candidates that acts like them would fit as well")
@@ -347,7 +352,8 @@ def _leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[
     order = sorted(range(len(causes)), key=lambda i: -scored[i].evidence)
     leading: list[int] = []
     for i in order:
-        if causes[i].name not in {causes[j].name for j in leading} and scored[i].evidence > 0.0:
+        if (causes[i].name not in {causes[j].name for j in leading} and scored[i].evidence > 0.0
+                and not is_term(causes[i].name)):
             leading.append(i)
     return [(combined_cause(causes[i], causes[j]), [*scored[i].values, *scored[j].values])
             for i, j in itertools.combinations(leading[:PAIR_CANDIDATES], 2)]
@@ -373,6 +379,9 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[Ca
     residual = model_residuals(bicycle, observations, whitening)[0]
     points = []
     for cause, fit in zip(causes, fits, strict=True):
+        if is_term(cause.name):
+            points.append([])
+            continue
         lower, upper = cause.limits
         active = np.clip(np.array(cause.start, dtype=float) + SCREEN_ACTIVE * (upper - lower), lower, upper)
         active_residual = model_residuals(cause.apply(bicycle, [float(v) for v in active]), observations, whitening)[0]
@@ -385,7 +394,7 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[Ca
              _residual_derivatives(bicycle, cause, observations, whitening, active, active_residual, 0.005))])
     at_base, away = [], []
     for i, j in itertools.combinations(range(len(causes)), 2):
-        if causes[i].name == causes[j].name:
+        if causes[i].name == causes[j].name or is_term(causes[i].name) or is_term(causes[j].name):
             continue
         pair = combined_cause(causes[i], causes[j])
         linearised = []

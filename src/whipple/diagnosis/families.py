@@ -18,6 +18,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.model_terms import is_term, term_words
 from whipple.model.parameters import Bicycle
 
 #: Separator of the two causes in a combination's name, e.g. ``"steer_damping + speed_scale"``.
@@ -119,7 +120,7 @@ def describe_cause(name: str) -> str:
     parts = []
     for single in components(name):
         found = families_of(single)
-        parts.append(found[0].words if found else single)
+        parts.append(found[0].words if found else term_words(single) if is_term(single) else single)
     return " together with ".join(parts)
 
 

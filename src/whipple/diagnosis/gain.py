@@ -25,6 +25,7 @@ from whipple.diagnosis.consistency import refits_without, without
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, general_forms
 from whipple.diagnosis.fitting import fit_cause, pinned_values
+from whipple.diagnosis.model_terms import is_term
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
 from whipple.distributed import map_ordered
 from whipple.errors import AnalysisError
@@ -317,5 +318,6 @@ def held_out_candidates(causes: Sequence[Cause], pairs: bool = False) -> list[Ca
     """
     candidates = general_forms(causes)
     if pairs:
-        candidates += cause_pairs([cause for cause in candidates if not cause.name.startswith("parameter:")])
+        candidates += cause_pairs([cause for cause in candidates
+                                   if not cause.name.startswith("parameter:") and not is_term(cause.name)])
     return candidates

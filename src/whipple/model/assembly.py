@@ -20,6 +20,7 @@ from whipple.generated import whipple_extended_numpy, whipple_numpy
 from whipple.model.actuator import with_actuator
 from whipple.model.bodies import fold_point_wheels
 from whipple.model.linear import LinearModel, second_order_model
+from whipple.model.linear_terms import TERM_MATRICES
 from whipple.model.parameters import Bicycle, Controller, Extensions
 from whipple.model.tyre import tyre_linear_model
 
@@ -116,7 +117,15 @@ def extended_matrices(
     merged.update(parameters)
     M, C1, D, K0, K2 = _evaluate(whipple_extended_numpy.matrices,
                                  _gather(merged, EXTENDED_PARAMETERS))
-    return Matrices(M, C1, K0, K2, D)
+    return _with_terms(Matrices(M, C1, K0, K2, D), extensions)
+
+
+def _with_terms(matrices: Matrices, extensions: Extensions | None) -> Matrices:
+    """Add the extensions' linear terms (:mod:`whipple.model.linear_terms`) to the matrices."""
+    terms = extensions.linear_terms if extensions is not None else None
+    if terms is None:
+        return matrices
+    return matrices._replace(**{name: getattr(matrices, name) + terms.matrix(name) for name in TERM_MATRICES})
 
 
 #: Extension values that change the matrices on their own (a payload's position matters only
@@ -136,7 +145,7 @@ def model_matrices(parameters: Mapping[str, ArrayLike], extensions: Extensions |
     values.update({name: parameters[name] for name in EXTENSION_EFFECTS if name in parameters})
     if any(np.any(np.asarray(values.get(name, 0.0)) != 0) for name in EXTENSION_EFFECTS):
         return extended_matrices(parameters, extensions)
-    return whipple_matrices(parameters)
+    return _with_terms(whipple_matrices(parameters), extensions)
 
 
 def _has_tyre_states(parameters: Mapping[str, ArrayLike], extensions: Extensions | None) -> bool:

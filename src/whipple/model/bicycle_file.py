@@ -24,6 +24,7 @@ import tomli_w
 from whipple import __version__
 from whipple.atomic import refuse_input_overwrite, write_text_atomic
 from whipple.errors import BicycleFileError
+from whipple.model.linear_terms import TERM_NAMES, LinearTerms
 from whipple.model.parameter_set import (
     CONTROLLER_STATES,
     OPTIONAL_PARAMETERS,
@@ -224,7 +225,7 @@ def _numbers(
 def _read_extensions(table: StrictTable | None) -> Extensions:
     if table is None:
         return Extensions()
-    table.check_keys((*_EXTENSION_SCALARS, *_PAYLOADS, "tyre_compliance"))
+    table.check_keys((*_EXTENSION_SCALARS, *_PAYLOADS, "tyre_compliance", "linear_terms"))
     scalars = {key: table.number(key) for key in _EXTENSION_SCALARS if key in table.values}
     payloads = {}
     for key in _PAYLOADS:
@@ -236,8 +237,10 @@ def _read_extensions(table: StrictTable | None) -> Extensions:
     if tyre_table is not None:
         names = tuple(f.name for f in dataclasses.fields(TyreCompliance))
         tyre = TyreCompliance(**_numbers(tyre_table, names, names[:3]))
+    terms_table = table.table("linear_terms")
+    terms = LinearTerms.from_mapping(_numbers(terms_table, TERM_NAMES)) if terms_table is not None else None
     return Extensions(**scalars, payload=payloads.get("payload"), front_payload=payloads.get("front_payload"),
-                      tyre_compliance=tyre)
+                      tyre_compliance=tyre, linear_terms=terms)
 
 
 def _read_controller(table: StrictTable | None) -> Controller:
@@ -289,6 +292,8 @@ def write_bicycle_toml(bicycle: Bicycle, path: str | os.PathLike[str]) -> None:
             value = getattr(bicycle.extensions, f.name)
             if isinstance(value, Payload | TyreCompliance):
                 extensions[f.name] = dataclasses.asdict(value)
+            elif isinstance(value, LinearTerms):
+                extensions[f.name] = value.as_dict()
             elif value != f.default and value is not None:
                 extensions[f.name] = value
         document["extensions"] = extensions

@@ -27,6 +27,7 @@ from whipple.model.first_order import (
     second_order_coefficients,
 )
 from whipple.model.linear import LinearModel
+from whipple.model.linear_terms import added_feedback
 from whipple.model.parameters import Bicycle
 from whipple.model.tyre import TYRE_PARAMETERS, tyre_values
 
@@ -113,7 +114,11 @@ def casadi_state_function(bicycle: Bicycle, keys: Sequence[str] = ()
     controller = bicycle.controller
     dynamic = controller.has_dynamics()
     # With actuator dynamics the loop is closed afterwards, through the actuator's states.
-    gains = [] if dynamic else [casadi.DM(gain) for gain in controller.feedback_coefficients()]
+    feedback = [] if dynamic else controller.feedback_coefficients()
+    if bicycle.extensions.linear_terms is not None:
+        # The added terms belong to the plant: they act with or without actuator dynamics.
+        feedback = added_feedback(feedback, bicycle.extensions.linear_terms.feedback_coefficients())
+    gains = [casadi.DM(gain) for gain in feedback]
     if bicycle.extensions.tyre_compliance is not None:
         values = tyre_values({k: x for k, x in bicycle.parameters.items() if k in TYRE_PARAMETERS},
                              bicycle.extensions)

@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import ParameterError
 from whipple.generated import whipple_numpy
+from whipple.model.linear_terms import LinearTerms, term_findings
 from whipple.model.parameter_table import BY_NAME, names
 from whipple.model.physical_checks import (
     LIMITS,
@@ -126,6 +127,8 @@ class Extensions:
     reflected_steer_inertia : float
         Inertia of a rotor geared to the steer angle, reflected to the steer axis,
         ``N^2 J_rotor`` [kg m^2] (a steer motor); it enters the steer equation alone.
+    linear_terms : LinearTerms or None
+        Entries added to the linear model's matrices (:mod:`whipple.model.linear_terms`).
     """
 
     steer_damping: float = 0.0
@@ -135,6 +138,7 @@ class Extensions:
     tyre_compliance: TyreCompliance | None = None
     front_payload: Payload | None = None
     reflected_steer_inertia: float = 0.0
+    linear_terms: LinearTerms | None = None
 
     def is_base(self) -> bool:
         """Return True when the extensions change nothing in the Whipple model."""
@@ -518,9 +522,9 @@ def _check_inertia(
 
 def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
     """Uncertainty, extensions and controller of a bicycle."""
-    for bad, text in uncertainty_findings(bicycle.uncertainty, PARAMETER_UNITS):
-        found.flag(bad, text)
     ext = bicycle.extensions
+    for bad, text in uncertainty_findings(bicycle.uncertainty, PARAMETER_UNITS) + term_findings(ext.linear_terms):
+        found.flag(bad, text)
     point = [name for name in ("rR", "rF") if bicycle.parameters.get(name) == 0]
     found.flag(ext.tyre_compliance is not None and bool(point), tyre_point_wheel_problem(point))
     # (name, value, lowest, lowest allowed itself, largest magnitude of anything like a bicycle:

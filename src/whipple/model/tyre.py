@@ -23,6 +23,7 @@ from whipple.generated import tyre_numpy
 from whipple.model.actuator import with_actuator
 from whipple.model.first_order import descriptor_coefficients
 from whipple.model.linear import WHIPPLE_INPUT_UNITS, WHIPPLE_INPUTS, LinearModel
+from whipple.model.linear_terms import added_feedback
 from whipple.model.parameters import Controller, Extensions
 
 TYRE_PARAMETERS: tuple[str, ...] = tuple(tyre_numpy.PARAMETERS)
@@ -73,6 +74,8 @@ def tyre_linear_model(
     arrays = np.broadcast_arrays(*(np.asarray(values[name], dtype=float) for name in TYRE_PARAMETERS))
     outputs = dict(zip(tyre_numpy.OUTPUTS, tyre_numpy.matrices(*arrays), strict=True))
     gains = controller.feedback_coefficients() if controller is not None else []
+    if extensions is not None and extensions.linear_terms is not None:
+        gains = added_feedback(gains, extensions.linear_terms.feedback_coefficients())
     coefficients, inputs = descriptor_coefficients(outputs["E"], [outputs[name] for name in _POWERS],
                                                    outputs["B"], gains)
     A, B = np.stack(coefficients, axis=-3), inputs[..., None, :, :]

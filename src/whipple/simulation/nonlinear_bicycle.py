@@ -56,7 +56,8 @@ def nonlinear_parameters(bicycle: Bicycle) -> tuple[dict[str, float], tuple[str,
     ------
     InputError
         If the bicycle has an extension the nonlinear model does not hold (payloads, extra or
-        reflected steer inertia, tyre compliance) or a controller with a delay or lag; one line
+        reflected steer inertia, tyre compliance,
+        linear terms) or a controller with a delay or lag; one line
         naming the bicycle's file.
     """
     extensions, controller = bicycle.extensions, bicycle.controller
@@ -64,7 +65,8 @@ def nonlinear_parameters(bicycle: Bicycle) -> tuple[dict[str, float], tuple[str,
                                           ("front_payload", extensions.front_payload is not None),
                                           ("steer_inertia", extensions.steer_inertia != 0.0),
                                           ("reflected_steer_inertia", extensions.reflected_steer_inertia != 0.0),
-                                          ("tyre_compliance", extensions.tyre_compliance is not None))
+                                          ("tyre_compliance", extensions.tyre_compliance is not None),
+                                          ("linear_terms", extensions.linear_terms is not None))
                if present]
     source = bicycle.source or bicycle.name or None
     if missing:

@@ -147,6 +147,12 @@ CASES: dict[str, Builder] = {
     "check reflected inertia": lambda d, t, r: _check(
         {"b.toml": t + "\n[extensions]\nreflected_steer_inertia = -0.1\n"},
         ["check", "{d}/b.toml"], "b.toml", "extension reflected_steer_inertia = -0.1 must be finite and >= 0"),
+    "check linear term unknown": lambda d, t, r: _check(
+        {"b.toml": t + "\n[extensions.linear_terms]\nK1_steer_steer = 1.0\n"},
+        ["check", "{d}/b.toml"], "b.toml", "unknown key 'K1_steer_steer' in [extensions.linear_terms]"),
+    "check linear term NaN": lambda d, t, r: _check(
+        {"b.toml": t + "\n[extensions.linear_terms]\nK0_steer_steer = nan\n"},
+        ["check", "{d}/b.toml"], "b.toml", "linear term K0_steer_steer = nan is not a finite number"),
     "check controller delay": lambda d, t, r: _check(
         {"b.toml": t + "\n[controller]\ndelay = -0.05\n[controller.steer]\nroll_rate = [13.0, -2.0]\n"},
         ["check", "{d}/b.toml"], "b.toml", "controller delay = -0.05 must be finite and >= 0"),

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hidden_effects import BICYCLES, CONTROLLED, box, families, hidden_bicycle, run_trial, with_body
+from hidden_effects import BICYCLES, CONTROLLED, EXPECTED, box, families, hidden_bicycle, run_trial, with_body
 
 from whipple.model.assembly import linear_model
 from whipple.model.bodies import combine, frame_body
@@ -23,10 +23,9 @@ from whipple.model.parameters import load_bicycle
 #: One seed of a few cases, fixed in advance (not chosen for passing).
 FAST_CASES = [("benchmark", "steer_damping"), ("kooijman2008", "speed_scale"), ("browser", "payload"),
               ("benchmark", "parameter"), ("kooijman2008", "motor"),
-              # On the Browser a front payload explains a hidden roll damping to the noise; only
-              # its values' drift with speed keeps it from being named (not in every seed: see
-              # the rates in docs/diagnosis.md).
-              ("browser", "roll_damping")]
+              # On the Browser a front payload explains a hidden roll damping nearly as well as
+              # the truth; the model term D[roll, roll] explains it better (docs/diagnosis.md).
+              ("browser", "roll_damping"), ("benchmark", "steer_spring")]
 
 
 @pytest.mark.parametrize(("bicycle", "family"), FAST_CASES)
@@ -88,6 +87,6 @@ def test_hidden_effect_rates():
               for seed in range(n)]
     wrong = sum(trial.outcome == "wrong" for trial in trials)
     assert wrong <= 0.05 * len(trials), f"wrong confident names in {wrong} of {len(trials)}"
-    for family in {trial.cause for trial in trials} - {"none", "roll_damping"}:
+    for family in {trial.cause for trial in trials if EXPECTED[trial.cause] is not None} - {"none"}:
         right = [trial.outcome == "right" for trial in trials if trial.cause == family]
         assert sum(right) >= 0.9 * len(right), f"{family}: right in {sum(right)} of {len(right)}"

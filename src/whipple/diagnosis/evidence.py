@@ -20,7 +20,9 @@ within ``SEPARATION`` of the best (:func:`separation`), or when even the best mo
 typical window far off (:func:`typical_dispersion` above ``HIGH_DISPERSION``); otherwise
 ``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
 (:mod:`whipple.diagnosis.families`) and kept only when they beat every single cause by
-``margin``; a leading pair is reported, never named outright.
+``margin``; a leading pair is reported, never named outright. Model terms (entries added to the
+linear equations, :mod:`whipple.diagnosis.model_terms`) compete like causes but are never paired;
+a leading term is never named either: it says what form the error has when no physical cause has it.
 """
 
 from __future__ import annotations
@@ -298,6 +300,7 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     is then all that ranks them); when the best is a pair of causes (no single candidate
     explained the data, and one effect outside the candidates fits two causes' freedom as
     well as two effects do: in the hidden-effect trials most named pairs stood in for one);
+    when the best is a model term (the error's form, no physical cause);
     when the best fits only at the edge of its physical range (:func:`~whipple.diagnosis.fitting.pinned_values`);
     or when even the best model leaves a dispersion above ``HIGH_DISPERSION`` (no candidate
     explains the data: its name would be a guess).
@@ -377,7 +380,8 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[Ca
     often not among the leading singles (docs/diagnosis.md, "Two causes together").
     """
     residual = model_residuals(bicycle, observations, whitening)[0]
-    points = []
+    # Per cause, the points it is linearised at: (values, residuals, derivatives); none for a term.
+    points: list[list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]]] = []
     for cause, fit in zip(causes, fits, strict=True):
         if is_term(cause.name):
             points.append([])

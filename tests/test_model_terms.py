@@ -1,0 +1,50 @@
+"""Model terms as candidates: a truth outside the physical causes is reported as its form.
+
+Synthetic observations are the model's own weave eigenvalues and mode shapes plus noise
+(tests/synthetic_windows.py). The true effects are given as state feedback (the controller's
+path), not as terms, so that the candidate and the truth are built independently.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from synthetic_windows import synthetic_observations
+
+from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.families import describe_cause
+from whipple.diagnosis.model_terms import PHYSICAL_TERMS, is_term, term_causes
+from whipple.model.linear_terms import TERM_NAMES
+from whipple.model.parameters import Controller, load_bicycle
+
+SPEEDS = np.repeat([3.0, 4.0, 5.0, 6.0, 7.0], 4)
+
+
+def test_a_steer_spring_is_reported_as_its_form_and_not_named():
+    bicycle = load_bicycle("benchmark")
+    spring = 1.5  # N m/rad, a steering stabiliser
+    truth = bicycle.with_controller(Controller(steer={"steer": (-spring,)}))
+    diagnosis = diagnose_observations(bicycle, synthetic_observations(truth, 0, SPEEDS))
+    assert diagnosis.verdict == "ambiguous"
+    assert diagnosis.cause == "term:K0_steer_steer"
+    assert abs(diagnosis.best.values[0] - spring) < 3.0 * diagnosis.best.std[0]
+    assert any("steer spring" in reason and "none of the physical" in reason for reason in diagnosis.reasons)
+
+
+def test_a_physical_cause_is_still_named_with_the_terms_competing():
+    # Steer damping is D[steer, steer]: that term is the candidate itself, not a rival.
+    bicycle = load_bicycle("benchmark")
+    diagnosis = diagnose_observations(bicycle, synthetic_observations(
+        bicycle.with_extensions(steer_damping=0.8), 0, SPEEDS))
+    assert (diagnosis.verdict, diagnosis.cause) == ("named", "steer_damping")
+
+
+def test_the_terms_share_one_prior_have_symmetric_bounds_and_words():
+    bicycle = load_bicycle("kooijman2008")
+    causes = term_causes(bicycle)
+    assert {cause.name.removeprefix("term:") for cause in causes} == set(TERM_NAMES) - set(PHYSICAL_TERMS)
+    assert np.isclose(sum(cause.prior for cause in causes), 1.0)
+    for cause in causes:
+        (low, high), = cause.bounds
+        assert is_term(cause.name) and high > 0 and low == -high and np.isfinite(high)
+        assert cause.apply(bicycle, [0.0]).extensions.linear_terms.entries == ()
+        assert describe_cause(cause.name) != cause.name

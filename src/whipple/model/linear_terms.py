@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 #: The matrices a term may enter, with the power of the speed that multiplies them.
 TERM_MATRICES = {"C1": 1, "D": 0, "K0": 0, "K2": 2}
 #: Units of a term of each matrix (roll and steer are both angles).
-TERM_UNITS = {"C1": "N m s^2/rad", "D": "N m s/rad", "K0": "N m/rad", "K2": "N m s^2/(m^2 rad)"}
+TERM_UNITS = {"C1": "N s^2/rad", "D": "N m s/rad", "K0": "N m/rad", "K2": "N s^2/(m rad)"}
 COORDINATES = ("roll", "steer")
 TERM_NAMES = tuple(f"{matrix}_{row}_{column}" for matrix in TERM_MATRICES for row in COORDINATES
                    for column in COORDINATES)

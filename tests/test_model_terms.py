@@ -7,14 +7,20 @@ path), not as terms, so that the candidate and the truth are built independently
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
+import pytest
 from synthetic_windows import synthetic_observations
 
+from whipple.cli import main
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import describe_cause
 from whipple.diagnosis.model_terms import PHYSICAL_TERMS, is_term, term_causes
 from whipple.model.linear_terms import TERM_NAMES
 from whipple.model.parameters import Controller, load_bicycle
+from whipple.simulation.scenario import RunScenario
+from whipple.simulation.simulator import simulate_run, write_run_csv
 
 SPEEDS = np.repeat([3.0, 4.0, 5.0, 6.0, 7.0], 4)
 
@@ -48,3 +54,22 @@ def test_the_terms_share_one_prior_have_symmetric_bounds_and_words():
         assert is_term(cause.name) and high > 0 and low == -high and np.isfinite(high)
         assert cause.apply(bicycle, [0.0]).extensions.linear_terms.entries == ()
         assert describe_cause(cause.name) != cause.name
+
+
+def test_the_command_reports_the_form_and_saves_it(tmp_path, capsys):
+    # Simulated runs of the benchmark with a steer spring (as state feedback), diagnosed blind.
+    truth = load_bicycle("benchmark").with_controller(Controller(steer={"steer": (-1.5,)}))
+    runs = [str(write_run_csv(simulate_run(truth, RunScenario(speed=speed, seed=20 + k), name=f"run{k}"),
+                              tmp_path / f"run{k}.csv"))
+            for k, speed in enumerate((3.0, 4.0, 5.0, 6.0, 7.0))]
+    out, model = tmp_path / "d.json", tmp_path / "extended.toml"
+    assert main(["diagnose", *runs, "--bicycle", "benchmark", "--json", str(out), "--save-model", str(model)]) == 0
+    printed = capsys.readouterr().out
+    assert "verdict: ambiguous (term:K0_steer_steer)" in printed and "form of a steer spring" in printed
+    data = json.loads(out.read_text())
+    assert data["verdict"] == "ambiguous" and data["cause"] == "term:K0_steer_steer"
+    assert abs(data["estimate"]["K0_steer_steer"]["value"] - 1.5) < 0.3
+    # The extended model carries the term, and every command accepts it.
+    saved = load_bicycle(str(model)).extensions.linear_terms.as_dict()
+    assert saved["K0_steer_steer"] == pytest.approx(data["estimate"]["K0_steer_steer"]["value"])
+    assert main(["check", str(model)]) == 0

@@ -6,9 +6,10 @@ Each term is one entry added to C1, D, K0 or K2 of the linear equations
 for the evidence: when the truth is none of the physical candidates, one of them often fits
 nearly as well as the truth (in 150 hidden-effect trials of a steer spring, a physical cause
 was named with confidence in 102, a front-frame load in 81), while the term of the truth's
-form mostly fits better still (8 wrong names remained; docs/diagnosis.md, "Model terms"). A leading term therefore turns a confident wrong name into the statement
-"the error has the form of a steer spring, which no candidate cause has" (verdict
-``ambiguous``, :mod:`whipple.diagnosis.evidence`).
+form mostly fits better still (8 wrong names remained; docs/diagnosis.md, "Model terms"). A
+leading term therefore turns a confident wrong name into the statement "the error has the form
+of a steer spring, which no candidate cause has" (verdict ``ambiguous``,
+:mod:`whipple.diagnosis.evidence`).
 
 Left out: ``D_steer_steer``, which is the candidate ``steer_damping`` itself, and the mass
 matrix, whose changes are bodies (the payload and inertia causes).

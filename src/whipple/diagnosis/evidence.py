@@ -34,11 +34,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.causes import Cause, candidate_causes
+from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, combined_cause, components, describe_family
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2, window_whitening
-from whipple.diagnosis.model_terms import is_term, term_causes, term_words
+from whipple.diagnosis.model_terms import candidates_with_terms, is_term, term_words
 from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
@@ -171,7 +171,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     observations = tuple(observations)
     if len(observations) < 2:
         raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
-    causes = [*candidate_causes(bicycle), *term_causes(bicycle)] if causes is None else list(causes)
+    causes = candidates_with_terms(bicycle) if causes is None else list(causes)
     whitening = window_whitening(observations, bicycle)
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
     n = sum(counts)
@@ -182,9 +182,12 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     pairs: list[Cause] = []
     if max(single_scales) > COMBINE_DISPERSION:
         # No single cause explains the data: try the leading few in pairs, each pair started
-        # from its members' fitted values.
-        started = _leading_pairs(causes, _scored(causes, base, fits, n))
-        started += _screened_pairs(bicycle, causes, fits, observations, whitening, {pair.name for pair, _ in started})
+        # from its members' fitted values. Model terms are never paired.
+        pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name)]
+        members, member_fits = [causes[k] for k in pairable], [fits[k] for k in pairable]
+        started = _leading_pairs(members, _scored(members, base, member_fits, n))
+        started += _screened_pairs(bicycle, members, member_fits, observations, whitening,
+                                   {pair.name for pair, _ in started})
         pairs = [pair for pair, _ in started]
         pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start] if quick else [start, list(pair.start)])
                      for pair, start in started]
@@ -355,8 +358,7 @@ def _leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[
     order = sorted(range(len(causes)), key=lambda i: -scored[i].evidence)
     leading: list[int] = []
     for i in order:
-        if (causes[i].name not in {causes[j].name for j in leading} and scored[i].evidence > 0.0
-                and not is_term(causes[i].name)):
+        if causes[i].name not in {causes[j].name for j in leading} and scored[i].evidence > 0.0:
             leading.append(i)
     return [(combined_cause(causes[i], causes[j]), [*scored[i].values, *scored[j].values])
             for i, j in itertools.combinations(leading[:PAIR_CANDIDATES], 2)]
@@ -380,12 +382,8 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[Ca
     often not among the leading singles (docs/diagnosis.md, "Two causes together").
     """
     residual = model_residuals(bicycle, observations, whitening)[0]
-    # Per cause, the points it is linearised at: (values, residuals, derivatives); none for a term.
-    points: list[list[tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]]] = []
+    points = []
     for cause, fit in zip(causes, fits, strict=True):
-        if is_term(cause.name):
-            points.append([])
-            continue
         lower, upper = cause.limits
         active = np.clip(np.array(cause.start, dtype=float) + SCREEN_ACTIVE * (upper - lower), lower, upper)
         active_residual = model_residuals(cause.apply(bicycle, [float(v) for v in active]), observations, whitening)[0]
@@ -398,7 +396,7 @@ def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[Ca
              _residual_derivatives(bicycle, cause, observations, whitening, active, active_residual, 0.005))])
     at_base, away = [], []
     for i, j in itertools.combinations(range(len(causes)), 2):
-        if causes[i].name == causes[j].name or is_term(causes[i].name) or is_term(causes[j].name):
+        if causes[i].name == causes[j].name:
             continue
         pair = combined_cause(causes[i], causes[j])
         linearised = []

@@ -17,11 +17,11 @@ matrix, whose changes are bodies (the payload and inertia causes).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.causes import Cause, candidate_causes
 from whipple.model.assembly import model_matrices
 from whipple.model.linear_terms import COORDINATES, TERM_MATRICES, TERM_NAMES, TERM_UNITS, LinearTerms
 from whipple.model.parameters import Bicycle
@@ -84,7 +84,12 @@ def term_causes(bicycle: Bicycle) -> list[Cause]:
     return causes
 
 
-def _adder(name: str):
+def candidates_with_terms(bicycle: Bicycle, include_parameters: bool = True) -> list[Cause]:
+    """Return the bicycle's candidate causes (:func:`~whipple.diagnosis.causes.candidate_causes`) and the terms."""
+    return [*candidate_causes(bicycle, include_parameters), *term_causes(bicycle)]
+
+
+def _adder(name: str) -> Callable[[Bicycle, Sequence[float]], Bicycle]:
     def apply(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
         terms = bicycle.extensions.linear_terms or LinearTerms()
         total = terms.as_dict()

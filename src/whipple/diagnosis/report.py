@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
-from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
+from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.evidence import (
     CLOSE_EVIDENCE,
     HIGH_DISPERSION,
@@ -28,7 +28,7 @@ from whipple.diagnosis.evidence import (
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE, CauseFit, fit_cause
 from whipple.diagnosis.gain import HELPS, CauseGain, Gain, cause_gains, held_out_candidates, held_out_gain
 from whipple.diagnosis.identifiability import OpenValues, open_values
-from whipple.diagnosis.model_terms import term_causes
+from whipple.diagnosis.model_terms import candidates_with_terms
 from whipple.diagnosis.observations import (
     Observation,
     Prediction,
@@ -254,7 +254,7 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
         raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue{where}; need at "
                          f"least 2{why}")
     observations = [observation(m) for m in used]
-    causes = [*candidate_causes(bicycle, include_parameters), *term_causes(bicycle)]
+    causes = candidates_with_terms(bicycle, include_parameters)
     diagnosis = diagnose_observations(bicycle, observations, causes)
     chosen = diagnosis.chosen
     extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle

@@ -1,5 +1,6 @@
 """Bad input found by fuzzing the command line: one line, a non-zero exit, inputs untouched."""
 
+import gzip
 import os
 import stat
 from pathlib import Path
@@ -149,3 +150,35 @@ def test_two_runs_of_one_name_are_named_with_their_files(run_file, tmp_path, cap
     copy.write_bytes(run_file.read_bytes())
     capsys.readouterr()
     _one_line_error(capsys, 2, main(["fit", str(run_file), str(copy)]), str(run_file), str(copy))
+
+
+def test_corrupt_gzip_low_sample_rates_empty_speed_and_huge_cells(run_file, tmp_path, capsys):
+    # Found by fuzzing the command line (2026-11-27): each was a traceback.
+    packed = bytearray(gzip.compress(run_file.read_bytes()))
+    packed[len(packed) // 2] ^= 0xFF  # a flipped byte inside the compressed data
+    cases = {"bitflip.csv.gz": bytes(packed), "garbage.csv.gz": b"\x1f\x8b\x08\x00" + bytes(range(256)) * 8}
+    lines = run_file.read_text(encoding="utf-8").splitlines()
+    header = next(k for k, line in enumerate(lines) if not line.startswith("#"))
+    names = lines[header].split(",")
+    rows = [line.split(",") for line in lines[header + 1:]]
+    scaled = [[f"{float(row[0]) * 1e6:.6g}", *row[1:]] for row in rows]  # time in microseconds
+    cases["microseconds.csv"] = "\n".join([*lines[:header + 1], *(",".join(row) for row in scaled)]).encode()
+    speed = names.index("speed")
+    empty = [[*row[:speed], "", *row[speed + 1:]] for row in rows]
+    cases["no_speed.csv"] = "\n".join([*lines[:header + 1], *(",".join(row) for row in empty)]).encode()
+    words = {"bitflip.csv.gz": "corrupt gzip data", "garbage.csv.gz": "corrupt gzip data",
+             "microseconds.csv": "too slow to resolve the weave", "no_speed.csv": "column speed has no values"}
+    for name, data in cases.items():
+        path = tmp_path / name
+        path.write_bytes(data)
+        capsys.readouterr()
+        _one_line_error(capsys, 2, main(["fit", str(path), "--json", str(tmp_path / "o.json")]), str(path), words[name])
+        assert path.read_bytes() == data
+    windows = tmp_path / "w.csv"
+    windows.write_text(f"run,start,stop\n{run_file.stem},1,{'9' * 140000}\n", encoding="utf-8")
+    _one_line_error(capsys, 2, main(["fit", str(run_file), "--windows", str(windows)]), str(windows),
+                    "not a readable CSV table")
+    table = tmp_path / "sets.csv"
+    table.write_text("w,c" + "x" * 140000 + "\n1.02,0.08\n", encoding="utf-8")
+    _one_line_error(capsys, 2, main(["sweep", str(table), "-o", str(tmp_path / "out.csv")]), str(table),
+                    "not a readable CSV table")

@@ -41,8 +41,12 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
         text = readable.read_bytes().decode("utf-8-sig")
     except (OSError, UnicodeDecodeError) as error:
         raise RunFileError(f"cannot read windows file ({error})", source) from None
-    reader = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
-    fields = set(reader.fieldnames or ())
+    try:
+        reader = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+        fields = set(reader.fieldnames or ())
+        rows = list(reader)
+    except csv.Error as error:
+        raise RunFileError(f"not a readable CSV table ({error})", source) from None
     key = "run" if "run" in fields else "file" if "file" in fields else None
     by_rows = {"start_row", "stop_row"} <= fields
     if key is None or not (by_rows or {"start", "stop"} <= fields):
@@ -50,7 +54,7 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
                            "start_row,stop_row columns", source)
     known = {run.name: run for run in runs or ()}
     windows = []
-    for number, row in enumerate(reader, 2):
+    for number, row in enumerate(rows, 2):
         name = run_name(row[key] or "")
         run = known.get(name)
         if runs is not None and run is None:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import gzip
 import re
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol
@@ -196,8 +197,9 @@ def read_run(
         keep = ~np.isnan(signals["time"])
         signals = {name: values[keep] for name, values in signals.items()}
         warnings.append(f"{int((~keep).sum())} row(s) without a time value dropped")
-    if "roll_rate" in signals and np.isnan(signals["roll_rate"]).all():
-        raise RunFileError("column roll_rate has no values", source)
+    for name in ("roll_rate", "speed", "speedometer"):
+        if name in signals and np.isnan(signals[name]).all():
+            raise RunFileError(f"column {name} has no values (every cell empty or NaN)", source)
     time, sample_rate = _time_base(signals, metadata, active, len(signals["roll_rate"]), source)
     if time[-1] - time[0] < min_duration:
         raise RunFileError(
@@ -260,7 +262,7 @@ def _read_lines(path: Path | Readable, source: str) -> list[str]:
     if data[:2] == b"\x1f\x8b":
         try:
             data = gzip.decompress(data)
-        except (OSError, EOFError) as error:
+        except (OSError, EOFError, zlib.error) as error:
             raise RunFileError(f"corrupt gzip data ({error})", source) from None
     try:
         return data.decode("utf-8-sig").splitlines()
@@ -361,14 +363,29 @@ def _time_base(
             raise RunFileError(
                 f"time is not strictly increasing at data row {bad} (t = {time[bad]:g} s)", source
             )
-        return time, float(1.0 / np.median(steps)) if steps.size else 0.0
+        if "sample_rate" in metadata:
+            _metadata_number(metadata, "sample_rate", source)  # the time column rules; a bad value is still an error
+        rate = float(1.0 / np.median(steps)) if steps.size else 0.0
+        _check_sample_rate(rate, "from the time column; in ms or us instead of s?", source)
+        return time, rate
     if "sample_rate" in metadata:
         rate = _metadata_number(metadata, "sample_rate", source)
     elif layout.sample_rate is not None:
         rate = layout.sample_rate
     else:
         raise RunFileError("no time column and no sample_rate", source)
+    _check_sample_rate(rate, "from sample_rate", source)
     return np.arange(n) / rate, rate
+
+
+#: Lowest sample rate [Hz] of a run: a weave of 0.5-3 Hz needs several samples per period.
+MIN_SAMPLE_RATE = 10.0
+
+
+def _check_sample_rate(rate: float, origin: str, source: str) -> None:
+    if not rate >= MIN_SAMPLE_RATE:
+        raise RunFileError(f"sample rate {rate:.3g} Hz ({origin}) is below {MIN_SAMPLE_RATE:g} Hz: too slow to "
+                           "resolve the weave", source)
 
 
 def _check_speed_source(

@@ -86,10 +86,18 @@ def _data_lines(handle: Iterable[str], first: int) -> Iterator[tuple[int, str]]:
             yield number, line
 
 
+def _csv_rows(lines: list[str], path: Path) -> list[list[str]]:
+    """Return the cells of CSV lines; a line the csv module cannot split (a cell too long) is an InputError."""
+    try:
+        return list(csv.reader(lines))
+    except csv.Error as error:
+        raise InputError(f"not a readable CSV table ({error})", path) from None
+
+
 def _parse_cells(lines: list[tuple[int, str]], header: tuple[str, ...], path: Path) -> NDArray[np.float64]:
     """Cells of `lines` one by one: the values, or an InputError naming the first bad cell."""
     values = np.empty((len(lines), len(header)))
-    rows = csv.reader(line for _, line in lines)
+    rows = _csv_rows([line for _, line in lines], path)
     for r, ((number, _), row) in enumerate(zip(lines, rows, strict=True)):
         if len(row) != len(header):
             raise InputError(f"line {number}: {len(row)} cells, header has {len(header)}", path)
@@ -178,7 +186,7 @@ def _header(handle: Iterable[str], path: Path) -> tuple[tuple[str, ...], int]:
     first = next(_data_lines(handle, 1), None)
     if first is None:
         raise InputError("empty parameter table", path)
-    header = tuple(cell.strip() for cell in next(csv.reader([first[1]])))
+    header = tuple(cell.strip() for cell in _csv_rows([first[1]], path)[0])
     unknown = [name for name in header if name not in PARAMETER_NAMES]
     if unknown:
         raise InputError(f"unknown column(s) {', '.join(unknown)}; columns must be benchmark parameter "

@@ -23,7 +23,7 @@ import numpy as np
 
 from whipple.diagnosis.causes import Cause, candidate_causes
 from whipple.model.assembly import model_matrices
-from whipple.model.linear_terms import COORDINATES, TERM_MATRICES, TERM_NAMES, TERM_UNITS, LinearTerms
+from whipple.model.linear_terms import COORDINATES, TERM_MATRICES, TERM_NAMES, TERM_UNITS, LinearTerms, term_parts
 from whipple.model.parameters import Bicycle
 
 #: Prefix of a term's cause name, e.g. ``term:K0_steer_steer``.
@@ -54,7 +54,7 @@ def is_term(name: str) -> bool:
 
 def term_words(name: str) -> str:
     """Say in physical words what a model term (cause name or term name) adds to the equations."""
-    matrix, row, column = name.removeprefix(PREFIX).split("_")
+    matrix, row, column = term_parts(name.removeprefix(PREFIX))
     words = _WORDS[(matrix, row == column)].format(row=row, column=column,
                                                    example=_EXAMPLES.get((matrix, row), "an effect not modelled"))
     return f"{words}, {matrix}[{row}, {column}]"
@@ -75,7 +75,7 @@ def term_causes(bicycle: Bicycle) -> list[Cause]:
     names = [name for name in TERM_NAMES if name not in PHYSICAL_TERMS]
     causes = []
     for name in names:
-        matrix, row, column = name.split("_")
+        matrix, row, column = term_parts(name)
         i, j = COORDINATES.index(row), COORDINATES.index(column)
         own = stiffness if matrix.startswith("K") else damping
         bound = float(np.sqrt(own[i] * own[j])) / speed ** TERM_MATRICES[matrix]

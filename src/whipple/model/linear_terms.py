@@ -28,6 +28,12 @@ TERM_NAMES = tuple(f"{matrix}_{row}_{column}" for matrix in TERM_MATRICES for ro
 LARGEST_TERM = 1e6
 
 
+def term_parts(name: str) -> tuple[str, str, str]:
+    """Return the matrix, equation and coordinate of a term name (``K0_steer_steer``: K0, steer, steer)."""
+    matrix, row, column = name.split("_")
+    return matrix, row, column
+
+
 @dataclass(frozen=True)
 class LinearTerms:
     """Entries added to C1, D, K0 and K2 (TOML table ``[extensions.linear_terms]``).
@@ -61,7 +67,7 @@ class LinearTerms:
         """Return the 2 x 2 matrix of terms added to ``name`` (C1, D, K0 or K2)."""
         added = np.zeros((2, 2))
         for term, value in self.entries:
-            matrix, row, column = term.split("_")
+            matrix, row, column = term_parts(term)
             if matrix == name:
                 added[COORDINATES.index(row), COORDINATES.index(column)] += value
         return added

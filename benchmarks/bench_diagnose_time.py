@@ -6,9 +6,10 @@ cause chosen again per left-out speed, the nonlinear amplitude check, the report
 The baseline measured in the same run is the held-out gain that only refits the cause chosen
 on all speeds (the earlier, faster and leakier form); the ratio says what choosing again costs.
 
-Run: ``python benchmarks/bench_diagnose_time.py [--effect two] [--workers N]`` (``two``: steer
-damping and a rear-frame roll inertia 40% high together, so that no single cause fits and
-pairs are tried; ``--workers N``: the gain, and the whole command, also with ``--workers N``, the held-out
+Run: ``python benchmarks/bench_diagnose_time.py [--effect two] [--fit-bias] [--workers N]``
+(``two``: steer damping and a rear-frame roll inertia 40% high together, so that no single cause
+fits and pairs are tried; ``--fit-bias``: models compared through the fitting function;
+``--workers N``: the gain, and the whole command, also with ``--workers N``, the held-out
 speeds diagnosed on a local Dask cluster, its start included).
 """
 
@@ -40,6 +41,7 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=40)
     parser.add_argument("--effect", choices=("one", "two"), default="one")
     parser.add_argument("--workers", type=int, default=None, metavar="N")
+    parser.add_argument("--fit-bias", action="store_true", help="compare models through the fitting function")
     args = parser.parse_args()
     base = load_bicycle("benchmark")
     truth = base.with_extensions(steer_damping=0.8)
@@ -54,20 +56,20 @@ def main() -> None:
         measurements = [m for f in files for m in measure_run(read_run(f), baseline="auto")]
         measured = time.perf_counter()
         seen = observations(measurements)
-        diagnosis = diagnose_observations(base, seen)
+        diagnosis = diagnose_observations(base, seen, bias=args.fit_bias)
         diagnosed = time.perf_counter()
-        gain = held_out_gain(base, seen)
+        gain = held_out_gain(base, seen, bias=args.fit_bias)
         chosen_again = time.perf_counter()
         if diagnosis.chosen is not None:
             held_out_gain(base, seen, fixed=diagnosis.chosen)
         refitted = time.perf_counter()
         if args.workers is not None:
-            spread = held_out_gain(base, seen, workers=args.workers)
+            spread = held_out_gain(base, seen, workers=args.workers, bias=args.fit_bias)
             assert spread == gain, "the folds on a cluster must give the serial gain"
             gain_on_workers = time.perf_counter() - refitted
         command_started = time.perf_counter()
         command = ["diagnose", *map(str, files), "--bicycle", "benchmark", "--json", str(Path(folder) / "d.json"),
-                   "--report", str(Path(folder) / "report")]
+                   "--report", str(Path(folder) / "report"), *(["--fit-bias"] if args.fit_bias else [])]
         cpu = time.process_time()
         with redirect_stdout(StringIO()):
             whipple_main(command)

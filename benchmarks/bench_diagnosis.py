@@ -16,8 +16,9 @@ realistic size and position, diagnose them blind, and count the outcomes:
   the true values.
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
-[--bicycles ...] [--families ...] [--trials FILE] [--log FILE]``; ``--seeds`` is per bicycle and
-family; ``--trials`` runs only the listed trials among those. The
+[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--fit-bias]``; ``--seeds`` is per
+bicycle and family; ``--trials`` runs only the listed trials among those; ``--fit-bias`` compares
+models through the fitting function (``diagnose_observations(bias=True)``). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
 (:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this
 repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE``
@@ -41,10 +42,10 @@ from whipple.errors import InputError  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-def _trial(arguments: tuple[str, str, int]) -> tuple[str, str, int, str, str, str, bool, float]:
-    bicycle, family, seed = arguments
+def _trial(arguments: tuple[str, str, int, bool]) -> tuple[str, str, int, str, str, str, bool, float]:
+    bicycle, family, seed, bias = arguments
     try:
-        trial = run_trial(family, seed, bicycle)
+        trial = run_trial(family, seed, bicycle, bias=bias)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
@@ -120,6 +121,8 @@ def main() -> None:
     parser.add_argument("--families", nargs="*", default=None, help="default: all a bicycle supports")
     parser.add_argument("--log", type=Path, help="append each trial's result to this JSON-lines file as it ends")
     parser.add_argument("--from-log", type=Path, help="tabulate the trials of a log instead of running any")
+    parser.add_argument("--fit-bias", action="store_true",
+                        help="compare models through the fitting function (diagnose_observations(bias=True))")
     parser.add_argument("--trials", type=Path,
                         help="run only these trials (JSON lines [bicycle, family, seed], e.g. from changed_windows.py)")
     args = parser.parse_args()
@@ -135,10 +138,11 @@ def main() -> None:
         if args.trials is not None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]
+        tasks = [(*job, args.fit_bias) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers
-        with map_ordered(_trial, jobs, scheduler=args.scheduler, workers=workers) as trials:
+        with map_ordered(_trial, tasks, scheduler=args.scheduler, workers=workers) as trials:
             for result in trials:
                 results.append(result)
                 print(f"\r{len(results)}/{len(jobs)} trials", end="", file=sys.stderr, flush=True)

@@ -298,16 +298,17 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None)
     return base, truth, runs
 
 
-def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None) -> Trial:
+def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = False) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
     The controlled bicycle's windows leave out their first 0.3 s (its slow castering mode; see
-    docs/diagnosis.md, ``--settle``).
+    docs/diagnosis.md, ``--settle``). ``bias``: the diagnosis compares models through the
+    fitting function (``diagnose_observations(bias=True)``).
     """
     base, truth, runs = trial_runs(cause, seed, base_name, speeds)
     settle = 0.0 if base.controller.is_empty() else 0.3
     measurements = [m for run in runs for m in measure_run(run, baseline="auto", settle=settle)]
-    diagnosis = diagnose_observations(base, observations(measurements))
+    diagnosis = diagnose_observations(base, observations(measurements), bias=bias)
     return Trial(cause, seed, truth, diagnosis, base_name)
 
 

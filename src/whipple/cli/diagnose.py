@@ -55,6 +55,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="leave the first SECONDS of every window out of the eigenvalue fits (default 0, as "
                              "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
                              "measured speeds (see docs/diagnosis.md)")
+    parser.add_argument("--fit-bias", action="store_true",
+                        help="compare each model with the windows through the fitting function: its eigenvalue plus "
+                             "the bias the fit shows on the model's own response (an option under test, see "
+                             "docs/diagnosis.md)")
     parser.add_argument("--gain-by-cause", nargs="?", const="singles", choices=("singles", "pairs"), default=None,
                         help="also give every candidate's held-out gain, each refitted on every fold without a "
                              "choice (pairs: also every pair of physical causes; slow, see docs/diagnosis.md)")
@@ -85,7 +89,8 @@ def run(args: argparse.Namespace) -> int:
     windows = read_windows(args.windows, runs) if args.windows is not None else None
     measurements = [m for run_ in runs for m in measure_run(run_, windows, options)]
     report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters,
-                      scheduler=args.scheduler, workers=args.workers, gain_by_cause=args.gain_by_cause)
+                      scheduler=args.scheduler, workers=args.workers, gain_by_cause=args.gain_by_cause,
+                      fit_bias=args.fit_bias)
     data = report_json(report)
     diagnosis = report.diagnosis
     print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs)")

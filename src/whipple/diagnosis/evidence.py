@@ -2,7 +2,9 @@
 
 Each candidate cause (:mod:`whipple.diagnosis.causes`) is fitted to all observations jointly by robust
 weighted least squares. Each window contributes the measured weave eigenvalue minus the model's
-eigenvalue at the window's speed and, where a steer signal was measured, the measured mode
+eigenvalue at the window's speed (with ``bias=True``, plus the bias the fitting function shows on
+that model's own response where the window's samples are known, :mod:`whipple.diagnosis.fit_bias`)
+and, where a steer signal was measured, the measured mode
 shape (steer amplitude per roll-rate amplitude, complex) minus the model's eigenvector ratio;
 each residual is whitened by its fit's covariance. Eigenvalues alone leave some causes nearly
 interchangeable (a longer trail and a high payload move the weave alike); the mode shape tells
@@ -37,6 +39,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, combined_cause, components, describe_family
+from whipple.diagnosis.fit_bias import debiased, fitting_bias
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2, window_whitening
 from whipple.diagnosis.model_terms import candidates_with_terms, is_term, term_words
 from whipple.diagnosis.observations import Observation
@@ -110,6 +113,9 @@ class Diagnosis:
     speed_dependence : SpeedDependence or None
         The leading cause fitted to the low and the high speeds apart (:func:`speed_dependence`),
         where its name was otherwise confident; above ``SPEED_DEPENDENCE`` it is not named.
+    fit_bias : bool
+        Whether each model was compared with the windows through the fitting function
+        (:mod:`whipple.diagnosis.fit_bias`).
     """
 
     verdict: str
@@ -129,6 +135,7 @@ class Diagnosis:
     single_scales: tuple[float, float] = (1.0, 1.0)
     typical_scales: tuple[float, float] = (1.0, 1.0)
     speed_dependence: SpeedDependence | None = None
+    fit_bias: bool = False
 
     def ranking(self) -> list[tuple[str, float]]:
         """Causes by decreasing evidence, with ``none`` at 0."""
@@ -157,7 +164,7 @@ def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[flo
 def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                           causes: Sequence[Cause] | None = None,
                           named_threshold: float = NAMED_THRESHOLD, margin: float = MARGIN,
-                          estimate_spread: bool = True, quick: bool = False) -> Diagnosis:
+                          estimate_spread: bool = True, quick: bool = False, bias: bool = False) -> Diagnosis:
     """Fit every cause to the observations and decide which, if any, explains them.
 
     When the best single cause leaves a dispersion above ``COMBINE_DISPERSION``, pairs of the
@@ -166,7 +173,10 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     (skipped by the held-out gain, which uses only the values). ``quick``: start each fit from
     the cause's no-effect values and a step of 5% of its bounds away (each pair once, from its
     members' values), and rescale the residuals by the dispersions instead of refitting (several
-    times faster; used by the held-out gain's folds).
+    times faster; used by the held-out gain's folds). ``bias``: compare each model with the
+    windows through the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit is
+    refitted once with the bias of the fitting function on its own model's response, computed
+    at its first fitted values (windows with known samples only).
     """
     observations = tuple(observations)
     if len(observations) < 2:
@@ -177,6 +187,10 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     n = sum(counts)
     base, fits = _fit_all(bicycle, causes, observations, whitening,
                           [quick_starts(cause) for cause in causes] if quick else None)
+    biases: list[NDArray[np.complex128]] | None = None
+    if bias:
+        biases = [fitting_bias(bicycle, observations), *_biases(bicycle, causes, fits, observations)]
+        base, fits = _fit_all(bicycle, causes, observations, whitening, [[fit.values] for fit in fits], biases)
     scales = _dispersions([base, *fits], counts)
     single_scales = typical_dispersion(fits, counts, whitening.scales)
     pairs: list[Cause] = []
@@ -191,6 +205,11 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         pairs = [pair for pair, _ in started]
         pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start] if quick else [start, list(pair.start)])
                      for pair, start in started]
+        if biases is not None:
+            pair_biases = _biases(bicycle, pairs, pair_fits, observations)
+            pair_fits = [fit_cause(bicycle, pair, observations, replace(whitening, bias=pair_bias), [fit.values])
+                         for pair, fit, pair_bias in zip(pairs, pair_fits, pair_biases, strict=True)]
+            biases += pair_biases
         causes, fits = causes + pairs, fits + pair_fits
         scales = _dispersions([base, *fits], counts)
     if scales != (1.0, 1.0) and quick:
@@ -203,24 +222,28 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         whitening = replace(whitening, scales=scales)
         single = len(causes) - len(pairs)
         again = [[fit.values] if n_cause >= single else None for n_cause, fit in enumerate(fits)]
-        base, fits = _fit_all(bicycle, causes, observations, whitening, again)
+        base, fits = _fit_all(bicycle, causes, observations, whitening, again, biases)
     scored = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n)), margin)
     chosen = None
+    compared: Sequence[Observation] = observations
     if scored:
         # The leading cause's values, with an uncertainty that also covers errors shared by the
         # windows of one speed.
         fit = scored[0]
-        chosen = next(c for c in causes if c.name == fit.cause and len(c.parameters) == len(fit.parameters))
+        index = next(k for k, cause in enumerate(causes)
+                     if cause.name == fit.cause and len(cause.parameters) == len(fit.parameters))
+        chosen = causes[index]
         spread = np.array(fit.std)
+        compared = observations if biases is None else debiased(observations, biases[1 + index])
         if estimate_spread:
-            spread = np.maximum(spread, jackknife_std(bicycle, chosen, observations, fit.values, scales))
+            spread = np.maximum(spread, jackknife_std(bicycle, chosen, compared, fit.values, scales))
         scored[0] = replace(fit, std=tuple(float(s) for s in spread))
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], counts, whitening.scales)
     verdict, name, rivals, reasons = _verdict(scored, typical, named_threshold, margin)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
-        dependence = speed_dependence(bicycle, chosen, observations, best.values, scales)
+        dependence = speed_dependence(bicycle, chosen, compared, best.values, scales)
         if dependence is not None and dependence.evidence > SPEED_DEPENDENCE:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
@@ -228,7 +251,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                      chosen=chosen if verdict != "none" else None, rivals=rivals,
                      family=describe_family([name, *rivals]) if verdict == "ambiguous" else "",
                      reasons=reasons, combinations=tuple(pair.name for pair in pairs),
-                     single_scales=single_scales, typical_scales=typical, speed_dependence=dependence)
+                     single_scales=single_scales, typical_scales=typical, speed_dependence=dependence,
+                     fit_bias=biases is not None)
 
 
 def _speed_dependence_reason(best: CauseFit, dependence: SpeedDependence) -> str:
@@ -445,14 +469,26 @@ def _residual_derivatives(bicycle: Bicycle, cause: Cause, observations: Sequence
 
 
 def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
-             whitening: Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None
-             ) -> tuple[CauseFit, list[CauseFit]]:
-    residual, predicted, block_chi2 = model_residuals(bicycle, observations, whitening)
+             whitening: Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None,
+             biases: Sequence[NDArray[np.complex128]] | None = None) -> tuple[CauseFit, list[CauseFit]]:
+    """Fit the base model and every cause; ``biases``: the fitting bias of the base model, then of each cause."""
+    own = [whitening] * (1 + len(causes)) if biases is None else [replace(whitening, bias=b) for b in biases]
+    residual, predicted, block_chi2 = model_residuals(bicycle, observations, own[0])
     base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted, block_chi2=block_chi2,
                     residuals=residual)
     starts = [None] * len(causes) if starts is None else starts
-    return base, [fit_cause(bicycle, cause, observations, whitening, start)
-                  for cause, start in zip(causes, starts, strict=True)]
+    return base, [fit_cause(bicycle, cause, observations, cause_whitening, start)
+                  for cause, start, cause_whitening in zip(causes, starts, own[1:], strict=True)]
+
+
+def _biases(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
+            observations: Sequence[Observation]) -> list[NDArray[np.complex128]]:
+    """Return each cause's fitting bias at its fitted values (:func:`~whipple.diagnosis.fit_bias.fitting_bias`).
+
+    Computed once, at the values fitted without it: it changes little over the refit's step.
+    """
+    return [fitting_bias(cause.apply(bicycle, list(fit.values)), observations)
+            for cause, fit in zip(causes, fits, strict=True)]
 
 
 def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:

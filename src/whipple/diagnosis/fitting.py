@@ -75,6 +75,10 @@ class Whitening:
     targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None]] = field(repr=False)
     measured_shapes: NDArray[np.complex128] = field(repr=False)
     scales: tuple[float, float] = (1.0, 1.0)
+    #: The fitting function's bias on the fitted model's own response, per window
+    #: (:mod:`whipple.diagnosis.fit_bias`): the model's eigenvalue plus it is what a window's
+    #: fit would report if the model were true. None: no bias.
+    bias: NDArray[np.complex128] | None = field(default=None, repr=False)
 
     def residual_layout(self) -> tuple[NDArray[np.int_], NDArray[np.int_]]:
         """Return the window and the kind of each residual, in :func:`model_residuals`' order.
@@ -136,7 +140,7 @@ def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whit
     if len(observations) != len(whitening.eigenvalue):
         raise ValueError(f"{len(observations)} observations, whitening of {len(whitening.eigenvalue)}")
     predicted, shapes = nearest_modes(bicycle, *whitening.targets)
-    targets = whitening.targets[1]
+    targets = whitening.targets[1] if whitening.bias is None else whitening.targets[1] - whitening.bias
     difference = np.column_stack([targets.real - predicted.real, targets.imag - predicted.imag])
     eigenvalue = np.einsum("nij,nj->ni", whitening.eigenvalue, difference).ravel()
     index = whitening.shape_index

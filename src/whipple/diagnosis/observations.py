@@ -9,7 +9,7 @@ speed where the weave forms.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -18,6 +18,29 @@ from whipple.measurement.experiment import WindowMeasurement
 from whipple.model.assembly import linear_model, second_order_matrices
 from whipple.model.parameters import Bicycle
 from whipple.stability.quartic import second_order_eigenvalues, second_order_eigenvectors
+
+
+@dataclass(frozen=True)
+class WindowSignals:
+    """The samples a window's weave fit used: what :mod:`whipple.diagnosis.fit_bias` refits.
+
+    Attributes
+    ----------
+    time : ndarray, shape (n,)
+        Sample times [s].
+    values : ndarray, shape (k, n)
+        The fitted signals, in SI units.
+    names : tuple of str
+        Their run-file names (``roll_rate``, ...).
+    baseline : str
+        The fitted function's non-oscillating part
+        (:data:`~whipple.measurement.weavefit.BASELINES`).
+    """
+
+    time: NDArray[np.float64]
+    values: NDArray[np.float64]
+    names: tuple[str, ...]
+    baseline: str
 
 
 @dataclass(frozen=True)
@@ -46,6 +69,9 @@ class Observation:
         Covariance of the shape's (real, imaginary) part.
     shape_signals : tuple of str
         The two signals of the shape, each a state of the model (see MODE_SHAPE_STATES).
+    signals : WindowSignals or None
+        The samples the eigenvalue was fitted to, where known (windows fitted from runs; not
+        windows read from a list of fitted eigenvalues).
     """
 
     run: str
@@ -58,6 +84,7 @@ class Observation:
     shape: complex | None = None
     shape_covariance: NDArray[np.float64] | None = None
     shape_signals: tuple[str, str] = ("steer_angle", "roll_rate")
+    signals: WindowSignals | None = field(default=None, repr=False, compare=False)
 
 
 
@@ -219,7 +246,9 @@ def observation(measurement: WindowMeasurement) -> Observation:
                        np.asarray(measurement.fit.covariance, dtype=float),
                        None if shape is None else complex(shape.ratio),
                        None if shape is None else np.asarray(shape.covariance, dtype=float),
-                       ("steer_angle", "roll_rate") if shape is None else (shape.signal, shape.reference))
+                       ("steer_angle", "roll_rate") if shape is None else (shape.signal, shape.reference),
+                       WindowSignals(measurement.fit.time, measurement.fit.measured, measurement.fit.signal_names,
+                                     measurement.fit.baseline))
 
 
 def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]:

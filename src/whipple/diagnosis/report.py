@@ -233,7 +233,7 @@ def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | 
 def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
              include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0),
              amplitude: bool = True, scheduler: str | None = None, workers: int | None = None,
-             gain_by_cause: str | None = None) -> DiagnosisReport:
+             gain_by_cause: str | None = None, fit_bias: bool = False) -> DiagnosisReport:
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain.
 
     With ``amplitude``, also compare the nonlinear model's weave at each window's measured
@@ -244,6 +244,8 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     (each refitted on every fold), "pairs" also every pair of physical causes (those that are
     not ``parameter:<key>``), see :func:`held_out_candidates`, and the held-out gain of choosing among
     them by prediction (a nested leave-one-speed-out: many times the cost of the table).
+    ``fit_bias``: the diagnosis, and the held-out gain's choice by evidence, compare models
+    through the fitting function (:mod:`whipple.diagnosis.fit_bias`).
     """
     used = tuple(m for m in measurements if m.usable)
     if len(used) < 2:
@@ -255,7 +257,7 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
                          f"least 2{why}")
     observations = [observation(m) for m in used]
     causes = candidates_with_terms(bicycle, include_parameters)
-    diagnosis = diagnose_observations(bicycle, observations, causes)
+    diagnosis = diagnose_observations(bicycle, observations, causes, bias=fit_bias)
     chosen = diagnosis.chosen
     extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle
     gain, note = None, ""
@@ -263,7 +265,8 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
     if chosen is not None:
         try:
-            gain = held_out_gain(bicycle, observations, causes, series, scheduler=scheduler, workers=workers)
+            gain = held_out_gain(bicycle, observations, causes, series, scheduler=scheduler, workers=workers,
+                                 bias=fit_bias)
         except AnalysisError as error:
             note = str(error)
     else:
@@ -472,6 +475,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "base_model": report.base_critical.to_dict(),
         "extended_model": report.extended_critical.to_dict(),
         "fit_baseline": report.baseline,
+        "fit_bias": diagnosis.fit_bias,
     }
     if report.amplitude is not None:
         result["nonlinear_amplitude"] = report.amplitude.to_dict()

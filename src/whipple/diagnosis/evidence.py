@@ -207,8 +207,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                      for pair, start in started]
         if biases is not None:
             pair_biases = _biases(bicycle, pairs, pair_fits, observations)
-            pair_fits = [fit_cause(bicycle, pair, observations, replace(whitening, bias=pair_bias), [fit.values])
-                         for pair, fit, pair_bias in zip(pairs, pair_fits, pair_biases, strict=True)]
+            _, pair_fits = _fit_all(bicycle, pairs, observations, whitening, [[fit.values] for fit in pair_fits],
+                                    [biases[0], *pair_biases])
             biases += pair_biases
         causes, fits = causes + pairs, fits + pair_fits
         scales = _dispersions([base, *fits], counts)

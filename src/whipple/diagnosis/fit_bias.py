@@ -94,7 +94,8 @@ def _window_bias(values: NDArray[np.complex128], vectors: NDArray[np.complex128]
         # as the window holds them) the fitted function reports as the measured one.
         own = measured
         for _ in range(FIXED_POINT_STEPS):
-            response = _modal_response(with_weave(own), with_weave(own), vectors, signals)
+            modes = with_weave(own)
+            response = _modal_response(modes, modes, vectors, signals)
             own = measured - (refit_weave(signals.time, response, own, signals.baseline) - own)
         response = _modal_response(with_weave(own), values, vectors, signals)
         fitted = refit_weave(signals.time, response, weave, signals.baseline)
@@ -109,9 +110,9 @@ def _modal_response(fitted_values: NDArray[np.complex128], values: NDArray[np.co
     """Return a free response of the model with the modal amplitudes that best match the window's samples.
 
     The amplitudes are fitted with the modes ``fitted_values``, and the response has the modes
-    ``values`` (the same but for the weave's eigenvalue). Each signal is weighted by the inverse
-    of its standard deviation and has its own constant (a sensor's offset, which the fitted
-    function's baseline holds too).
+    ``values`` (the same but for the weave's eigenvalue; given the same array, its columns are
+    built once). Each signal is weighted by the inverse of its standard deviation and has its
+    own constant (a sensor's offset, which the fitted function's baseline holds too).
 
     Raises
     ------
@@ -120,7 +121,8 @@ def _modal_response(fitted_values: NDArray[np.complex128], values: NDArray[np.co
     """
     tau = signals.time - signals.time[0]
     with np.errstate(over="ignore", invalid="ignore"):
-        fitted_modes, modes = np.exp(np.outer(tau, fitted_values)), np.exp(np.outer(tau, values))
+        fitted_modes = np.exp(np.outer(tau, fitted_values))
+        modes = fitted_modes if values is fitted_values else np.exp(np.outer(tau, values))
     if not (np.isfinite(fitted_modes).all() and np.isfinite(modes).all()):
         raise NoOscillationError("a mode grows beyond the arithmetic over the window")
     count = len(signals.names)
@@ -134,12 +136,21 @@ def _modal_response(fitted_values: NDArray[np.complex128], values: NDArray[np.co
             raise NoOscillationError("a signal is constant over the window")
         offsets = np.zeros((tau.size, count))
         offsets[:, k] = 1.0
-        row = vectors[MODE_SHAPE_STATES[name]][None, :]
-        # Real amplitudes of the complex modes: the real and imaginary parts of each column.
-        for mode_set, stack in ((fitted_modes, fitted_blocks), (modes, blocks)):
-            stack.append(np.hstack([(mode_set * row).real, -(mode_set * row).imag, offsets]) / spread)
+        row = vectors[MODE_SHAPE_STATES[name]]
+        fitted_blocks.append(_columns(fitted_modes, row, offsets) / spread)
+        blocks.append(fitted_blocks[-1] if modes is fitted_modes else _columns(modes, row, offsets) / spread)
         targets.append(measured / spread)
         spreads.append(spread)
     coefficients = np.linalg.lstsq(np.vstack(fitted_blocks), np.concatenate(targets), rcond=None)[0]
     response = np.vstack(blocks) @ coefficients
     return np.array([response[k * tau.size:(k + 1) * tau.size] * spreads[k] for k in range(count)])
+
+
+def _columns(modes: NDArray[np.complex128], row: NDArray[np.complex128], offsets: NDArray[np.float64]
+             ) -> NDArray[np.float64]:
+    """Return one signal's design columns: each mode's time course times the signal's eigenvector entry, then offsets.
+
+    Real amplitudes of the complex modes: the real and (negated) imaginary part of each column.
+    """
+    signal = modes * row[None, :]
+    return np.hstack([signal.real, -signal.imag, offsets])

@@ -558,6 +558,25 @@ def test_unusual_magnitudes_are_warnings_and_absurd_ones_problems():
         "IBzz = 2e+06 kg m^2 is beyond 1e+06 kg m^2: not a bicycle (a unit or typing error?)")
 
 
+def test_what_no_rigid_bicycle_has_is_a_warning_not_a_problem():
+    bicycle = load_bicycle("benchmark")
+    below = validate(bicycle.with_parameters(zB=0.3))
+    assert below.ok and below.warnings == (
+        "zB = 0.3 m puts the rear frame's mass centre below the ground (z points down: a sign error?)",)
+    massless = validate(bicycle.with_parameters(mH=0.0))  # the front frame keeps its inertia
+    assert massless.ok and massless.warnings == (
+        "mH = 0 with nonzero inertia (IHxx, IHyy, IHzz, IHxz): a body without mass has none",)
+    damped = validate(bicycle.with_extensions(steer_damping=-0.5))
+    assert damped.ok and "steer_damping = -0.5 is negative" in damped.warnings[0]
+    # The two-mass-skate bicycle's massless wheels have no inertia: nothing to warn about.
+    skate = Path(__file__).parent / "data" / "bicycleparameters" / "bicycles" / "TmsBenchmark.txt"
+    assert validate(load_bicycle(skate)).warnings == ()
+    batch = {k: np.full(3, v) for k, v in bicycle.parameters.items()} | {"zH": np.array([-0.7, 0.1, -0.7])}
+    assert validate(batch).warnings == (
+        "zH puts the front frame's mass centre below the ground (z points down: a sign error?) "
+        "(in 1 of 3 sets, first at index 1)",)
+
+
 def test_validate_broadcasts_over_parameter_sets():
     parameters = {k: np.full(5, v) for k, v in load_bicycle("benchmark").parameters.items()}
     assert validate(parameters).ok

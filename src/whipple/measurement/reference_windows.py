@@ -33,7 +33,8 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
     Raises
     ------
     RunFileError
-        Missing columns, bad numbers, or row windows without their run.
+        Missing columns, bad numbers, row windows without their run, no windows at all, or
+        (with `runs`) no window of any of the runs.
     """
     source = str(path)
     readable = Path(path) if isinstance(path, str | Path) else path
@@ -81,7 +82,19 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
             first = int(np.searchsorted(run.time, begin))
             stop = int(np.searchsorted(run.time, finish, side="right"))
         windows.append(Window(name, begin, finish, first, stop, "from windows file"))
+    if not rows:
+        raise RunFileError("the windows file has no windows", source)
+    if not windows:
+        named = sorted({run_name(row[key] or "") for row in rows})
+        raise RunFileError(f"no window names one of the runs given (it names {_listed(named)}; "
+                           f"the runs are {_listed(sorted(known))})", source)
     return tuple(windows)
+
+
+def _listed(names: Sequence[str], shown: int = 3) -> str:
+    """Return a short list of names for an error message."""
+    more = f" and {len(names) - shown} more" if len(names) > shown else ""
+    return ", ".join(names[:shown]) + more
 
 
 def _row_number(text: str | None) -> int:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from numbers import Real
 from typing import Any
@@ -28,10 +28,12 @@ from whipple.model.physical_checks import (
     LIMITS,
     excess_std,
     magnitude_findings,
+    placement_findings,
     principal_moments,
     singular_mass_matrix,
     triangle_message,
     triangle_remedy,
+    tyre_point_wheel_problem,
     uncertainty_findings,
 )
 
@@ -437,7 +439,7 @@ def _check_parameters(parameters: Mapping[str, ArrayLike], found: _Findings,
     for name, value in p.items():
         found.flag(~np.isfinite(value), f"{_show(name, value)} is not finite")
     finite = {name: np.where(np.isfinite(value), value, np.nan) for name, value in p.items()}
-    for bad, text, warning in magnitude_findings(finite, PARAMETER_UNITS):
+    for bad, text, warning in magnitude_findings(finite, PARAMETER_UNITS) + placement_findings(finite):
         found.flag(bad, text, warning)
     for name in ("w", "g"):
         if name in finite:
@@ -535,6 +537,8 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
         ("reflected_steer_inertia", ext.reflected_steer_inertia, 0.0, True, LIMITS["kg m^2"]),
         ("speed_scale", ext.speed_scale, 0.0, False, 100.0),
     ]
+    found.flag(ext.steer_damping < 0, f"extension steer_damping = {ext.steer_damping:.6g} is negative: it feeds "
+                                      "energy into the steering (an active device, or a sign error?)", True)
     found.flag(0 < ext.speed_scale < 0.01, f"extension speed_scale = {ext.speed_scale:.6g} is below 0.01: "
                                            "not a speed measurement (a typing error?)")
     for label, payload in (("payload", ext.payload), ("front_payload", ext.front_payload)):
@@ -578,11 +582,6 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
                    f"controller {name} = {value:.6g} must be finite and >= 0")
         found.flag(math.isfinite(value) and value > limit,
                    f"controller {name} = {value:.6g} is beyond {limit:g}: not a bicycle's controller")
-
-
-def tyre_point_wheel_problem(point: Sequence[str]) -> str:
-    """Return the problem of point wheels (``rR``, ``rF`` of radius zero) under the tyre model."""
-    return f"tyre compliance needs wheels of positive radius ({', '.join(point)} = 0)"
 
 
 def check_physical(

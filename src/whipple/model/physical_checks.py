@@ -11,6 +11,8 @@ Used by :func:`whipple.model.parameter_set.validate`, which collects their findi
   other two) holds for every rigid body, but measured inertias break it by a few percent
   within their measurement error; a violation is a warning stating its size, how it compares
   with the stated uncertainties, and whether the largest moment enters the linear equations.
+- **Placement.** A frame's mass centre below the ground, or a massless body with inertia, is
+  a warning: the equations take them, but no bicycle has them.
 - **Mass matrix.** Where a body has no inertia in the xz plane (point masses), the bicycle as
   a whole may still have none to roll or to steer; then M is singular and the model
   meaningless.
@@ -19,7 +21,7 @@ Used by :func:`whipple.model.parameter_set.validate`, which collects their findi
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -64,6 +66,36 @@ def magnitude_findings(values: Mapping[str, Array], units: Mapping[str, str]
         shown = f"g = {float(g):.6g} m/s^2" if g.ndim == 0 else "g"
         findings.append(((g > 0) & (g < LOW_GRAVITY),
                          f"{shown} is unusually small (below {LOW_GRAVITY:g} m/s^2)", True))
+    return findings
+
+
+#: Each body's mass and the inertia keys that a body of that mass may carry.
+_MASSES = {"mR": ("IRxx", "IRyy"), "mB": ("IBxx", "IByy", "IBzz", "IBxz"),
+           "mH": ("IHxx", "IHyy", "IHzz", "IHxz"), "mF": ("IFxx", "IFyy")}
+#: The frames' mass-centre heights (z points down, so a positive z is below the ground).
+_HEIGHTS = {"zB": "rear frame", "zH": "front frame"}
+
+
+def placement_findings(values: Mapping[str, Array]) -> list[tuple[NDArray[np.bool_], str, bool]]:
+    """(bad, message, is_warning) for what no rigid bicycle has, but the equations still take.
+
+    A frame's mass centre below the ground, and a massless body with inertia, are warnings: the
+    linear equations are defined for them (and a fitted or teaching set may have them), but they
+    are almost always a sign error or a value in the wrong field.
+    """
+    findings = []
+    for name, frame in _HEIGHTS.items():
+        if name in values:
+            height = values[name]
+            shown = f"{name} = {float(height):.6g} m" if height.ndim == 0 else name
+            findings.append((height > 0, f"{shown} puts the {frame}'s mass centre below the ground "
+                                         "(z points down: a sign error?)", True))
+    for mass, keys in _MASSES.items():
+        present = [key for key in keys if key in values]
+        if mass in values and present:
+            inertia = np.any(np.stack(np.broadcast_arrays(*(values[key] for key in present))) != 0, axis=0)
+            findings.append(((values[mass] == 0) & inertia, f"{mass} = 0 with nonzero inertia "
+                             f"({', '.join(present)}): a body without mass has none", True))
     return findings
 
 
@@ -163,3 +195,8 @@ def singular_mass_matrix(parameters: Mapping[str, Array]) -> NDArray[np.bool_]:
     det = m00 * m11 - M[..., 0, 1] * M[..., 1, 0]
     with np.errstate(invalid="ignore"):
         return ~((m00 > 0) & (m11 > 0) & (det > 1e-12 * np.abs(m00 * m11)))
+
+
+def tyre_point_wheel_problem(point: Sequence[str]) -> str:
+    """Return the problem of point wheels (``rR``, ``rF`` of radius zero) under the tyre model."""
+    return f"tyre compliance needs wheels of positive radius ({', '.join(point)} = 0)"

@@ -32,8 +32,8 @@ from numpy.typing import NDArray
 from whipple.errors import InputError
 from whipple.model.assembly import build_linear_model, whipple_form_matrices
 from whipple.model.linear import LinearModel
-from whipple.model.parameter_set import tyre_point_wheel_problem
 from whipple.model.parameters import PARAMETER_NAMES, Bicycle, validate_rows
+from whipple.model.physical_checks import tyre_point_wheel_problem
 from whipple.number_text import may_hold_other_numbers, parse_number
 from whipple.stability.critical import (
     CriticalSpeeds,

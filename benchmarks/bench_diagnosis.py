@@ -16,9 +16,10 @@ realistic size and position, diagnose them blind, and count the outcomes:
   the true values.
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
-[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--fit-bias]``; ``--seeds`` is per
-bicycle and family; ``--trials`` runs only the listed trials among those; ``--fit-bias`` compares
-models through the fitting function (``diagnose_observations(bias=True)``). The
+[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias]``; ``--seeds`` is
+per bicycle and family; ``--trials`` runs only the listed trials among those; ``--no-fit-bias``
+compares each window's eigenvalue with the model's directly (``diagnose_observations(bias=False)``,
+the earlier form; by default models are compared through the fitting function). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
 (:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this
 repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE``
@@ -121,8 +122,9 @@ def main() -> None:
     parser.add_argument("--families", nargs="*", default=None, help="default: all a bicycle supports")
     parser.add_argument("--log", type=Path, help="append each trial's result to this JSON-lines file as it ends")
     parser.add_argument("--from-log", type=Path, help="tabulate the trials of a log instead of running any")
-    parser.add_argument("--fit-bias", action="store_true",
-                        help="compare models through the fitting function (diagnose_observations(bias=True))")
+    parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
+                        help="compare models through the fitting function (the default; --no-fit-bias: "
+                             "diagnose_observations(bias=False))")
     parser.add_argument("--trials", type=Path,
                         help="run only these trials (JSON lines [bicycle, family, seed], e.g. from changed_windows.py)")
     args = parser.parse_args()

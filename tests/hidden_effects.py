@@ -298,12 +298,12 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None)
     return base, truth, runs
 
 
-def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = False) -> Trial:
+def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = True) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
     The controlled bicycle's windows leave out their first 0.3 s (its slow castering mode; see
     docs/diagnosis.md, ``--settle``). ``bias``: the diagnosis compares models through the
-    fitting function (``diagnose_observations(bias=True)``).
+    fitting function (the default of ``diagnose_observations``).
     """
     base, truth, runs = trial_runs(cause, seed, base_name, speeds)
     settle = 0.0 if base.controller.is_empty() else 0.3

@@ -115,7 +115,7 @@ class Diagnosis:
         where its name was otherwise confident; above ``SPEED_DEPENDENCE`` it is not named.
     fit_bias : bool
         Whether each model was compared with the windows through the fitting function
-        (:mod:`whipple.diagnosis.fit_bias`).
+        (:mod:`whipple.diagnosis.fit_bias`); False where no window's samples were known.
     """
 
     verdict: str
@@ -164,7 +164,7 @@ def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[flo
 def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                           causes: Sequence[Cause] | None = None,
                           named_threshold: float = NAMED_THRESHOLD, margin: float = MARGIN,
-                          estimate_spread: bool = True, quick: bool = False, bias: bool = False) -> Diagnosis:
+                          estimate_spread: bool = True, quick: bool = False, bias: bool = True) -> Diagnosis:
     """Fit every cause to the observations and decide which, if any, explains them.
 
     When the best single cause leaves a dispersion above ``COMBINE_DISPERSION``, pairs of the
@@ -173,10 +173,11 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     (skipped by the held-out gain, which uses only the values). ``quick``: start each fit from
     the cause's no-effect values and a step of 5% of its bounds away (each pair once, from its
     members' values), and rescale the residuals by the dispersions instead of refitting (several
-    times faster; used by the held-out gain's folds). ``bias``: compare each model with the
-    windows through the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit is
-    refitted once with the bias of the fitting function on its own model's response, computed
-    at its first fitted values (windows with known samples only).
+    times faster; used by the held-out gain's folds). ``bias`` (the default): compare each model
+    with the windows through the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit
+    is refitted once with the bias of the fitting function on its own model's response, computed
+    at its first fitted values (windows with known samples only); False compares each window's
+    eigenvalue with the model's own (the earlier form, about a sixth of the cost).
     """
     observations = tuple(observations)
     if len(observations) < 2:
@@ -190,7 +191,10 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     biases: list[NDArray[np.complex128]] | None = None
     if bias:
         biases = [fitting_bias(bicycle, observations), *_biases(bicycle, causes, fits, observations)]
-        base, fits = _fit_all(bicycle, causes, observations, whitening, [[fit.values] for fit in fits], biases)
+        if any(np.any(b != 0) for b in biases):
+            base, fits = _fit_all(bicycle, causes, observations, whitening, [[fit.values] for fit in fits], biases)
+        else:
+            biases = None  # no window's samples known (observations from a table): nothing to refit
     scales = _dispersions([base, *fits], counts)
     single_scales = typical_dispersion(fits, counts, whitening.scales)
     pairs: list[Cause] = []

@@ -17,8 +17,8 @@ fitted with the weave at the window's own eigenvalue: the one whose response the
 function reports as the measured eigenvalue (a fixed point, ``FIXED_POINT_STEPS`` refits),
 and the model's response is those amplitudes with the model's weave eigenvalue.
 
-Used by :func:`whipple.diagnosis.evidence.diagnose_observations` with ``bias=True`` (an option,
-not the default: see docs/diagnosis.md, "The fitting function's bias").
+Used by :func:`whipple.diagnosis.evidence.diagnose_observations` (by default; ``bias=False``
+compares the eigenvalues directly): see docs/diagnosis.md, "The fitting function's bias".
 """
 
 from __future__ import annotations

@@ -116,7 +116,7 @@ def _rms(values: NDArray[np.float64]) -> float:
 
 
 def _fold_model(bicycle: Bicycle, training: Sequence[Observation], causes: Sequence[Cause] | None,
-                fixed: Cause | None, choose: str = "evidence", bias: bool = False
+                fixed: Cause | None, choose: str = "evidence", bias: bool = True
                 ) -> tuple[Bicycle, str, str, tuple[float, ...]]:
     """Return the model extended on the training windows alone: bicycle, cause, verdict, values.
 
@@ -186,7 +186,7 @@ def _speed_folds(observations: Sequence[Observation]) -> list[list[int]]:
 def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause] | None = None,
                   series: Sequence[tuple[NDArray[np.float64], NDArray[np.float64], str]] | None = None,
                   fixed: Cause | None = None, *, choose: str = "evidence", scheduler: str | None = None,
-                  workers: int | None = None, bias: bool = False) -> Gain:
+                  workers: int | None = None, bias: bool = True) -> Gain:
     """Leave each speed group out: choose and fit the cause on the others, predict it.
 
     Parameters
@@ -213,8 +213,8 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
         ``scheduler``, or a local one of ``workers`` processes, see
         :func:`whipple.distributed.map_ordered`. The results are those of the serial run.
     bias : bool
-        Choosing by evidence, compare models through the fitting function
-        (``diagnose_observations(bias=True)``).
+        Choosing by evidence, compare models through the fitting function (the default, as
+        :func:`~whipple.diagnosis.evidence.diagnose_observations` does).
 
     With a single speed group, falls back to leave-one-window-out.
     """

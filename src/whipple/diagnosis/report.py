@@ -233,7 +233,7 @@ def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | 
 def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
              include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0),
              amplitude: bool = True, scheduler: str | None = None, workers: int | None = None,
-             gain_by_cause: str | None = None, fit_bias: bool = False) -> DiagnosisReport:
+             gain_by_cause: str | None = None, fit_bias: bool = True) -> DiagnosisReport:
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain.
 
     With ``amplitude``, also compare the nonlinear model's weave at each window's measured
@@ -244,8 +244,8 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     (each refitted on every fold), "pairs" also every pair of physical causes (those that are
     not ``parameter:<key>``), see :func:`held_out_candidates`, and the held-out gain of choosing among
     them by prediction (a nested leave-one-speed-out: many times the cost of the table).
-    ``fit_bias``: the diagnosis, and the held-out gain's choice by evidence, compare models
-    through the fitting function (:mod:`whipple.diagnosis.fit_bias`).
+    ``fit_bias`` (the default): the diagnosis, and the held-out gain's choice by evidence, compare
+    models through the fitting function (:mod:`whipple.diagnosis.fit_bias`).
     """
     used = tuple(m for m in measurements if m.usable)
     if len(used) < 2:

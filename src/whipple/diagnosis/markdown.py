@@ -23,6 +23,12 @@ def _speeds(critical: CriticalSpeeds) -> str:
     return "; ".join(" ".join(line.split()) for line in critical.summary())
 
 
+#: How the models were compared with the windows, by ``Diagnosis.fit_bias``.
+_COMPARISON = {True: "Each model was compared with the windows through the fitting function: its weave eigenvalue "
+                     "plus the bias the window's fit shows on the model's own response.",
+               False: "Each model's weave eigenvalue was compared with the windows' fitted eigenvalues directly."}
+
+
 def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: str = "") -> str:
     """Return the human-readable report; ``figures`` maps figure keys to file names beside it."""
     data = report_json(report)
@@ -57,7 +63,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     lines += [f"| {cause} | {evidence:.1f} |" for cause, evidence in diagnosis.ranking()[:12]]
     lines += ["", f"Evidence: {EVIDENCE_DEFINITION}. Dispersion (reduced chi2 of the best model): "
               f"{diagnosis.scale:.2f} for eigenvalues, {diagnosis.shape_scale:.2f} for mode shapes "
-              f"({diagnosis.n_shapes} windows with a shape).", "", f"![ranking]({figures['ranking']})", "",
+              f"({diagnosis.n_shapes} windows with a shape). {_COMPARISON[diagnosis.fit_bias]}", "",
+              f"![ranking]({figures['ranking']})", "",
               "## 3. The extended model", ""]
     if diagnosis.best is not None:
         lines += ["| parameter | value | std | unit |", "|---|---|---|---|"]

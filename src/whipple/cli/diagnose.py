@@ -58,7 +58,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
                         help="compare each model with the windows through the fitting function: its eigenvalue plus "
                              "the bias the fit shows on the model's own response (default; --no-fit-bias compares "
-                             "the eigenvalues directly, about 6 times faster, see docs/diagnosis.md)")
+                             "the eigenvalues directly, about 3 times faster, see docs/diagnosis.md)")
     parser.add_argument("--gain-by-cause", nargs="?", const="singles", choices=("singles", "pairs"), default=None,
                         help="also give every candidate's held-out gain, each refitted on every fold without a "
                              "choice (pairs: also every pair of physical causes; slow, see docs/diagnosis.md)")

@@ -177,7 +177,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     with the windows through the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit
     is refitted once with the bias of the fitting function on its own model's response, computed
     at its first fitted values (windows with known samples only); False compares each window's
-    eigenvalue with the model's own (the earlier form, about a sixth of the cost).
+    eigenvalue with the model's own (the earlier form, about a third of the cost).
     """
     observations = tuple(observations)
     if len(observations) < 2:

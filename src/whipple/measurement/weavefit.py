@@ -251,7 +251,7 @@ _Projection = Callable[[NDArray[np.float64]], tuple[NDArray[np.float64], NDArray
 
 
 def _projected(tau: NDArray[np.float64], Y: NDArray[np.float64], degree: int = 0) -> _Projection:
-    """Residual and Kaufman Jacobian of the variable-projection problem, for least_squares."""
+    """Residual and Kaufman Jacobian of the variable-projection problem (least_squares, or refit_weave's steps)."""
     basis = np.empty((tau.size, degree + 3))  # the baseline's columns are the same in every call
     for k in range(degree + 1):
         basis[:, k] = tau**k

@@ -25,6 +25,7 @@ from whipple.generated import whipple_numpy
 from whipple.model.linear_terms import LinearTerms, term_findings
 from whipple.model.parameter_table import BY_NAME, names
 from whipple.model.physical_checks import (
+    BODIES,
     LIMITS,
     excess_std,
     magnitude_findings,
@@ -54,13 +55,6 @@ CONTROLLER_GAIN_LIMIT = 1e6
 # floating-point rounding (an ideal thin disc sits exactly on the limit); up to _ROUNDING is
 # within the rounding of values published to three or four digits, so only a warning.
 _EXACT, _ROUNDING = 1e-9, 5e-3
-#: Inertia keys of each body: xx, yy, zz, xz (wheels: zz = xx, no product of inertia).
-_BODIES: tuple[tuple[str, str, str, str, str | None], ...] = (
-    ("rear wheel", "IRxx", "IRyy", "IRxx", None),
-    ("rear frame", "IBxx", "IByy", "IBzz", "IBxz"),
-    ("front frame", "IHxx", "IHyy", "IHzz", "IHxz"),
-    ("front wheel", "IFxx", "IFyy", "IFxx", None),
-)
 
 
 def _as_float(value: Any) -> Any:
@@ -459,7 +453,7 @@ def _check_parameters(parameters: Mapping[str, ArrayLike], found: _Findings,
         lam = finite["lam"]
         found.flag(np.abs(lam) >= math.pi / 2, f"{_show('lam', lam)} must be in (-pi/2, pi/2)")
     singular = []
-    for label, xx, yy, zz, xz in _BODIES:
+    for label, _, xx, yy, zz, xz in BODIES:
         singular.append(_check_inertia(label, (xx, yy, zz, xz), finite, found, uncertainty))
     needed = whipple_numpy.PARAMETERS
     if not found.gating_problems() and any(np.any(s) for s in singular) and all(n in finite for n in needed):

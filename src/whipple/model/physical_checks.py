@@ -34,6 +34,13 @@ from whipple.model.bodies import fold_point_wheels
 LIMITS = {"kg": 1e5, "m": 100.0, "kg m^2": 1e6, "m/s^2": 1e3}
 #: Largest magnitude of a bicycle with rider and load, by unit; beyond it a warning.
 PLAUSIBLE = {"kg": 500.0, "m": 5.0, "kg m^2": 500.0, "m/s^2": 30.0}
+#: Each body's mass key and inertia keys: xx, yy, zz, xz (wheels: zz = xx, no product of inertia).
+BODIES: tuple[tuple[str, str, str, str, str, str | None], ...] = (
+    ("rear wheel", "mR", "IRxx", "IRyy", "IRxx", None),
+    ("rear frame", "mB", "IBxx", "IByy", "IBzz", "IBxz"),
+    ("front frame", "mH", "IHxx", "IHyy", "IHzz", "IHxz"),
+    ("front wheel", "mF", "IFxx", "IFyy", "IFxx", None),
+)
 #: Gravity below this [m/s^2] is a warning (the Moon has 1.6).
 LOW_GRAVITY = 1.0
 #: A triangle-inequality excess up to this many standard deviations is within measurement error.
@@ -69,9 +76,6 @@ def magnitude_findings(values: Mapping[str, Array], units: Mapping[str, str]
     return findings
 
 
-#: Each body's mass and the inertia keys that a body of that mass may carry.
-_MASSES = {"mR": ("IRxx", "IRyy"), "mB": ("IBxx", "IByy", "IBzz", "IBxz"),
-           "mH": ("IHxx", "IHyy", "IHzz", "IHxz"), "mF": ("IFxx", "IFyy")}
 #: The frames' mass-centre heights (z points down, so a positive z is below the ground).
 _HEIGHTS = {"zB": "rear frame", "zH": "front frame"}
 
@@ -90,8 +94,8 @@ def placement_findings(values: Mapping[str, Array]) -> list[tuple[NDArray[np.boo
             shown = f"{name} = {float(height):.6g} m" if height.ndim == 0 else name
             findings.append((height > 0, f"{shown} puts the {frame}'s mass centre below the ground "
                                          "(z points down: a sign error?)", True))
-    for mass, keys in _MASSES.items():
-        present = [key for key in keys if key in values]
+    for _, mass, xx, yy, zz, xz in BODIES:
+        present = [key for key in dict.fromkeys((xx, yy, zz, xz)) if key is not None and key in values]
         if mass in values and present:
             inertia = np.any(np.stack(np.broadcast_arrays(*(values[key] for key in present))) != 0, axis=0)
             findings.append(((values[mass] == 0) & inertia, f"{mass} = 0 with nonzero inertia "

@@ -16,8 +16,14 @@ realistic size and position, diagnose them blind, and count the outcomes:
   the true values.
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
-[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias]``; ``--seeds`` is
-per bicycle and family; ``--trials`` runs only the listed trials among those; ``--no-fit-bias``
+[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias] [--size-scale S]``;
+``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
+``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
+ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
+hides two different effects together (run only when asked; its outcomes are counted apart:
+named one of the two is right, named a third cause wrong); ``--combine-dispersion D`` is an
+experiment: pairs of causes are tried when the best single cause leaves a dispersion above D
+(the package's rule: 2; 0 tries them always); ``--no-fit-bias``
 compares each window's eigenvalue with the model's directly (``diagnose_observations(bias=False)``,
 the earlier form; by default models are compared through the fitting function). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
@@ -35,18 +41,33 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from hidden_effects import BICYCLES, CONTROLLED, EXPECTED, families, run_trial  # noqa: E402
+from hidden_effects import (  # noqa: E402
+    BICYCLES,
+    CAUSE_OF_TRUTH,
+    CONTROLLED,
+    EXPECTED,
+    TWO,
+    bicycle_source,
+    families,
+    hidden_bicycle,
+    run_trial,
+    trial_rng,
+)
 
+from whipple.diagnosis import evidence  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
+from whipple.model.parameters import load_bicycle  # noqa: E402
 
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-def _trial(arguments: tuple[str, str, int, bool]) -> tuple[str, str, int, str, str, str, bool, float]:
-    bicycle, family, seed, bias = arguments
+def _trial(arguments: tuple[str, str, int, bool, float, float]) -> tuple[str, str, int, str, str, str, bool, float]:
+    bicycle, family, seed, bias, scale, combine_dispersion = arguments
+    # An experiment's knob, set in the worker process that runs the trial.
+    evidence.COMBINE_DISPERSION = combine_dispersion
     try:
-        trial = run_trial(family, seed, bicycle, bias=bias)
+        trial = run_trial(family, seed, bicycle, bias=bias, scale=scale)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
@@ -110,6 +131,27 @@ def _lowest_rate(results: list, outcomes: tuple[str, ...]) -> tuple[float, str]:
                 family) for family in dict.fromkeys(r[1] for r in results))
 
 
+def _print_two_effects(rows: list) -> None:
+    """Outcomes of the two-effect family, with each wrong confident name's two true effects."""
+    expected = {}
+    for r in rows:
+        truth = hidden_bicycle(load_bicycle(bicycle_source(r[0])), TWO, trial_rng(TWO, r[2]))[1]
+        causes = (CAUSE_OF_TRUTH.get(key, f"parameter:{key}") for key in truth)
+        expected[tuple(r[:3])] = {cause for cause in causes if cause is not None}
+    count = {outcome: sum(r[5] == outcome for r in rows) for outcome in ("right", "ambiguous_truth", "ambiguous",
+                                                                          "none", "wrong", "error")}
+    both = sum(r[5] == "ambiguous_truth" and len(expected[tuple(r[:3])]) == 2
+               and expected[tuple(r[:3])] <= set(r[4].split(" + ")) for r in rows)
+    print(f"\ntwo effects together ({len(rows)} trials): named one of them {count['right']}; ambiguous with one of "
+          f"them among the contenders {count['ambiguous_truth']} (led by the pair of both: {both}); ambiguous "
+          f"otherwise {count['ambiguous']}; none {count['none']}; no usable windows {count['error']}; wrong "
+          f"confident {count['wrong']} ({count['wrong'] / len(rows):.1%})")
+    for r in rows:
+        if r[5] == "wrong":
+            print(f"  wrong: {r[0]} seed {r[2]}: hidden {' + '.join(sorted(expected[tuple(r[:3])]))} "
+                  f"(and any outside the candidates), named {r[4]}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=17, help="seeds per bicycle and family")
@@ -119,12 +161,20 @@ def main() -> None:
     cluster.add_argument("--workers", type=int, default=2, help="local Dask worker processes")
     cluster.add_argument("--scheduler", help="address of an existing Dask scheduler")
     parser.add_argument("--bicycles", nargs="*", default=[*BICYCLES, CONTROLLED])
-    parser.add_argument("--families", nargs="*", default=None, help="default: all a bicycle supports")
+    parser.add_argument("--families", nargs="*", default=None,
+                        help="default: all single-effect families a bicycle supports (two_effects: only when listed)")
     parser.add_argument("--log", type=Path, help="append each trial's result to this JSON-lines file as it ends")
     parser.add_argument("--from-log", type=Path, help="tabulate the trials of a log instead of running any")
     parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
                         help="compare models through the fitting function (the default; --no-fit-bias: "
                              "diagnose_observations(bias=False))")
+    parser.add_argument("--combine-dispersion", type=float, default=evidence.COMBINE_DISPERSION,
+                        help="experiment: the dispersion of the best single cause above which pairs are tried "
+                             f"(whipple.diagnosis.evidence.COMBINE_DISPERSION, {evidence.COMBINE_DISPERSION:g}; "
+                             "0: always)")
+    parser.add_argument("--size-scale", type=float, default=1.0,
+                        help="multiply every hidden effect's size by this (tests/hidden_effects.py "
+                             "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
     parser.add_argument("--trials", type=Path,
                         help="run only these trials (JSON lines [bicycle, family, seed], e.g. from changed_windows.py)")
     args = parser.parse_args()
@@ -136,11 +186,12 @@ def main() -> None:
         # Seed by seed across every case, so that a run cut short still covers every case.
         jobs = [(bicycle, family, seed) for seed in range(args.first_seed, args.first_seed + args.seeds)
                 for bicycle in args.bicycles
-                for family in families(bicycle) if args.families is None or family in args.families]
+                for family in families(bicycle, two=TWO in (args.families or ()))
+                if args.families is None or family in args.families]
         if args.trials is not None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]
-        tasks = [(*job, args.fit_bias) for job in jobs]
+        tasks = [(*job, args.fit_bias, args.size_scale, args.combine_dispersion) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers
@@ -165,6 +216,12 @@ def main() -> None:
     print(header)
     for family in dict.fromkeys(r[1] for r in results):
         print(_row(family, [r for r in results if r[1] == family]))
+    two = [r for r in results if r[1] == TWO]
+    results = [r for r in results if r[1] != TWO]
+    if two:
+        _print_two_effects(two)
+    if not results:
+        return
     named = [r for r in results if r[1] != "none" and EXPECTED[r[1]] is not None]
     wrong = sum(r[5] == "wrong" for r in results)
     worst = _lowest_rate(named, ("right",))

@@ -6,7 +6,8 @@ deviations, the reasons for a verdict that is not a confident name, and the valu
 leave open (:func:`whipple.diagnosis.identifiability.open_values`). Used to attribute the
 trials whose outcome changes between two versions (run it with each version on the path).
 
-Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...]``
+Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...] [--size-scale S]`` (``S``: as
+in ``bench_diagnosis.py``, the hidden effect's size multiplied by S).
 """
 
 from __future__ import annotations
@@ -25,11 +26,12 @@ from whipple.diagnosis.identifiability import open_values  # noqa: E402
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("trials", nargs="+", metavar="BICYCLE:FAMILY:SEED")
+    parser.add_argument("--size-scale", type=float, default=1.0, help="multiply the hidden effect's size by this")
     args = parser.parse_args()
     for trial_name in args.trials:
         try:
             bicycle, family, seed = trial_name.split(":")
-            trial = run_trial(family, int(seed), bicycle)
+            trial = run_trial(family, int(seed), bicycle, scale=args.size_scale)
         except ValueError as error:
             parser.error(f"{trial_name}: {error}")
         diagnosis = trial.diagnosis

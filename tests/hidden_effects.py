@@ -51,6 +51,21 @@ CAUSES = ("none", "steer_damping", "steer_inertia", "speed_scale", "payload", "t
 PHYSICAL = ("rack", "basket", "roll_damping", "steer_spring")
 #: Families of the controlled bicycle's controller (need the ``causes`` branch's Controller fields).
 CONTROLLER = ("controller_gain", "controller_delay", "controller_lag")
+#: The family of two effects hidden together (:func:`two_effects`).
+TWO = "two_effects"
+#: Effects hidden in pairs: the first of two is a candidate's own form or built like hardware,
+#: the second may also be one of no candidate's form (applied last, as feedback on the model).
+TWO_FIRST = ("steer_damping", "steer_inertia", "speed_scale", "tyre_compliance", "parameter", "rack", "basket",
+             "motor")
+TWO_SECOND = (*TWO_FIRST, "roll_damping", "steer_spring")
+#: The cause a right diagnosis names for each true value's key (None: no candidate has it;
+#: other keys are a wrong parameter's).
+CAUSE_OF_TRUTH: dict[str, str | None] = {
+    "steer_damping": "steer_damping", "steer_inertia": "steer_inertia", "speed_scale": "speed_scale",
+    "payload_mass": "payload", "front_payload_mass": "front_payload", "cornering_stiffness": "tyre_compliance",
+    "relaxation_length": "tyre_compliance", "reflected_steer_inertia": "reflected_steer_inertia",
+    "roll_damping": None, "steer_spring": None, "gain_scale": "controller_gain", "delay": "controller_delay",
+    "lag": "controller_lag"}
 #: Keys of the ``parameter`` family's wrong parameter (drawn per seed): trail and the inertias
 #: are the parameters most often estimated rather than measured.
 WRONG_PARAMETERS = ("c", "IBxx", "IFyy")
@@ -66,6 +81,7 @@ EXPECTED: dict[str, str | None] = {
     "controller_gain": "controller_gain",
     "controller_delay": "controller_delay",
     "controller_lag": "controller_lag",
+    TWO: "one of the two effects",
 }
 _DATA = Path(__file__).resolve().parent / "data" / "bicycleparameters" / "bicycles"
 #: The uncontrolled bicycles of the trials: the benchmark, the seed paper's, a measured one.
@@ -93,10 +109,23 @@ class Trial:
 
     @property
     def expected(self) -> str | None:
-        """The cause a right diagnosis names (None: the truth is none of the candidates)."""
+        """The cause a right diagnosis names (None: the truth is none of the candidates).
+
+        Two effects: the first's cause (:attr:`expected_causes` has both).
+        """
+        if self.cause == TWO:
+            return self.expected_causes[0]
         if self.cause == "parameter":
             return "parameter:" + next(iter(self.truth))
         return EXPECTED[self.cause]
+
+    @property
+    def expected_causes(self) -> tuple[str, ...]:
+        """Every hidden effect's cause that is a candidate (two effects: one or both)."""
+        if self.cause != TWO:
+            return () if self.expected is None else (self.expected,)
+        causes = (CAUSE_OF_TRUTH.get(key, f"parameter:{key}") for key in self.truth)
+        return tuple(dict.fromkeys(cause for cause in causes if cause is not None))
 
     @property
     def named_correctly(self) -> bool:
@@ -134,6 +163,13 @@ class Trial:
         never named). ``wrong``: named, and not the expected cause: a wrong confident name.
         """
         verdict, cause, expected = self.diagnosis.verdict, self.diagnosis.cause, self.expected
+        if self.cause == TWO:
+            # Right: named one of the hidden effects (a pair is never named); wrong: named another.
+            if verdict == "named":
+                return "right" if cause in self.expected_causes else "wrong"
+            if verdict == "ambiguous":
+                return "ambiguous_truth" if set(self.expected_causes) & set(self.contenders) else "ambiguous"
+            return "none"
         if expected is None:
             return "wrong" if verdict == "named" else "right"
         if expected == "none":
@@ -185,32 +221,42 @@ def with_feedback(model: LinearModel, gains: np.ndarray) -> LinearModel:
     return replace(model, A=A)
 
 
-def hidden_bicycle(base: Bicycle, cause: str,
-                   rng: np.random.Generator) -> tuple[Bicycle, dict[str, float], LinearModel | None]:
+def hidden_bicycle(base: Bicycle, cause: str, rng: np.random.Generator,
+                   scale: float = 1.0) -> tuple[Bicycle, dict[str, float], LinearModel | None]:
     """The true bicycle: ``base`` with one effect of a random realistic size.
+
+    ``scale`` multiplies the effect's size after it is drawn (1: the ranges below), to try the
+    diagnosis on effects smaller or larger than those it was measured on: an added quantity
+    (mass, inertia, damping, stiffness, delay, lag, tyre relaxation length) is multiplied by it,
+    a factor f (speed, gain, a wrong parameter) becomes f**scale, and the tyres' cornering
+    stiffness is divided by it. The draws themselves are the same for every scale.
 
     Returns the bicycle, the true values a named cause's estimate should cover, and the true
     model where the effect is outside the bicycle's model (else None: ``linear_model``).
     """
+    if scale <= 0.0:
+        raise ValueError(f"scale must be positive, not {scale}")
     p = base.parameters
+    if cause == TWO:
+        return two_effects(base, rng, scale)
     if cause == "none":
         return base, {}, None
     if cause == "steer_damping":
-        value = rng.uniform(0.4, 1.2)
+        value = rng.uniform(0.4, 1.2) * scale
         return base.with_extensions(steer_damping=value), {"steer_damping": value}, None
     if cause == "steer_inertia":
-        value = rng.uniform(0.03, 0.08)
+        value = rng.uniform(0.03, 0.08) * scale
         return base.with_extensions(steer_inertia=value), {"steer_inertia": value}, None
     if cause == "speed_scale":
-        value = rng.choice([-1.0, 1.0]) * rng.uniform(0.05, 0.10) + 1.0
+        value = (rng.choice([-1.0, 1.0]) * rng.uniform(0.05, 0.10) + 1.0) ** scale
         return base.with_extensions(speed_scale=value), {"speed_scale": value}, None
     if cause == "payload":
-        mass = rng.uniform(10.0, 25.0)
+        mass = rng.uniform(10.0, 25.0) * scale
         x, z = p["xB"] + rng.uniform(-0.1, 0.1), p["zB"] + rng.uniform(-0.1, 0.1)
         # Only the mass is an estimate the diagnosis must cover (position: if identifiable).
         return base.with_extensions(payload=Payload(mass, x, z)), {"payload_mass": mass}, None
     if cause == "tyre_compliance":
-        stiffness, relaxation = rng.uniform(8.0, 16.0), rng.uniform(0.1, 0.25)
+        stiffness, relaxation = rng.uniform(8.0, 16.0) / scale, rng.uniform(0.1, 0.25) * scale
         tyres = TyreCompliance(stiffness, 0.57, relaxation)
         return (base.with_extensions(tyre_compliance=tyres),
                 {"cornering_stiffness": stiffness, "relaxation_length": relaxation}, None)
@@ -218,53 +264,68 @@ def hidden_bicycle(base: Bicycle, cause: str,
         # Trail and the inertias are the parameters most often estimated rather than measured
         # (a 25-50% error is plausible); the same rule applies to any other key asked for.
         key = str(rng.choice(WRONG_PARAMETERS)) if cause == "parameter" else cause.split(":", 1)[1]
-        value = p[key] * (1.0 + rng.choice([-1.0, 1.0]) * rng.uniform(0.25, 0.5))
+        value = p[key] * (1.0 + rng.choice([-1.0, 1.0]) * rng.uniform(0.25, 0.5)) ** scale
         return base.with_parameters(**{key: value}), {key: value}, None
     if cause == "rack":
         # A loaded rear rack: a box from above the rear axle to 0.3 m behind it.
-        mass = rng.uniform(2.0, 15.0)
+        mass = rng.uniform(2.0, 15.0) * scale
         load = box(mass, rng.uniform(-0.3, 0.05), -p["rR"] - rng.uniform(0.1, 0.35),
                    rng.uniform(0.2, 0.45), rng.uniform(0.2, 0.35), rng.uniform(0.1, 0.3))
         return with_body(base, "B", load), {"payload_mass": mass}, None
     if cause == "basket":
         # A loaded basket on the handlebar or fork: ahead of and above the front axle.
-        mass = rng.uniform(1.0, 8.0)
+        mass = rng.uniform(1.0, 8.0) * scale
         load = box(mass, p["w"] + rng.uniform(-0.05, 0.25), -p["rF"] - rng.uniform(0.2, 0.6),
                    rng.uniform(0.2, 0.35), rng.uniform(0.25, 0.4), rng.uniform(0.15, 0.3))
         return with_body(base, "H", load), {"front_payload_mass": mass}, None
     if cause == "roll_damping":
         # A viscous roll torque (rider's passive sway, air): decay rate 0.2-0.6 1/s of the
         # bicycle's roll inertia. No candidate cause has a speed-independent roll damping.
-        value = rng.uniform(0.2, 0.6) * roll_inertia(p)
+        value = rng.uniform(0.2, 0.6) * roll_inertia(p) * scale
         gains = np.zeros((2, 4))
         gains[0, 2] = -value
         return base, {"roll_damping": value}, with_feedback(linear_model(base), gains)
     if cause == "steer_spring":
         # A steering stabiliser: a centring spring of 0.5-3 N m/rad between the frames (a
         # product for cargo bicycles; cable tension acts alike). No physical candidate has it.
-        value = rng.uniform(0.5, 3.0)
+        value = rng.uniform(0.5, 3.0) * scale
         gains = np.zeros((2, 4))
         gains[1, 1] = -value
         return base, {"steer_spring": value}, with_feedback(linear_model(base), gains)
     if cause == "motor":
         # A geared steer motor: its rotor's inertia J times the gear ratio N squared acts on
         # the steer equation alone (N^2 J of 0.02-0.3 kg m^2, e.g. N = 10-20, J = 2e-4-8e-4).
-        value = rng.uniform(0.02, 0.3)
+        value = rng.uniform(0.02, 0.3) * scale
         return (base.with_extensions(reflected_steer_inertia=value),
                 {"reflected_steer_inertia": value}, None)
     if cause == "controller_gain":
         # An actuator's torque constant or amplifier gain 15-40% off.
-        value = 1.0 + rng.choice([-1.0, 1.0]) * rng.uniform(0.15, 0.4)
+        value = (1.0 + rng.choice([-1.0, 1.0]) * rng.uniform(0.15, 0.4)) ** scale
         return base.with_controller(replace(base.controller, gain_scale=value)), {"gain_scale": value}, None
     if cause == "controller_delay":
         # Sensing, computing and communication of a steer-by-wire loop: 30-120 ms.
-        value = rng.uniform(0.03, 0.12)
+        value = rng.uniform(0.03, 0.12) * scale
         return base.with_controller(replace(base.controller, delay=value)), {"delay": value}, None
     if cause == "controller_lag":
         # A first-order actuator of 1.3-5 Hz bandwidth (time constant 30-120 ms).
-        value = rng.uniform(0.03, 0.12)
+        value = rng.uniform(0.03, 0.12) * scale
         return base.with_controller(replace(base.controller, lag=value)), {"lag": value}, None
     raise ValueError(cause)
+
+
+def two_effects(base: Bicycle, rng: np.random.Generator,
+                scale: float = 1.0) -> tuple[Bicycle, dict[str, float], LinearModel | None]:
+    """The true bicycle with two different effects of :func:`hidden_bicycle`, drawn per seed.
+
+    The first is drawn from :data:`TWO_FIRST`, the second from the rest of :data:`TWO_SECOND`,
+    each at its own random size; the second is applied to the bicycle that has the first.
+    The true values of both are returned together (a wrong parameter under its own key).
+    """
+    first = str(rng.choice(TWO_FIRST))
+    second = str(rng.choice([family for family in TWO_SECOND if family != first]))
+    with_first, truth, _ = hidden_bicycle(base, first, rng, scale)
+    with_both, second_truth, model = hidden_bicycle(with_first, second, rng, scale)
+    return with_both, {**truth, **second_truth}, model
 
 
 def bicycle_source(name: str) -> str:
@@ -275,22 +336,22 @@ def bicycle_source(name: str) -> str:
 def trial_rng(cause: str, seed: int) -> np.random.Generator:
     """The random generator of a trial: its first draws are the hidden effect's (:func:`hidden_bicycle`)."""
     # Families added later go last, so that the earlier ones keep their random streams.
-    families = (*CAUSES, *PHYSICAL[:3], "motor", *CONTROLLER, "parameter", *PHYSICAL[3:])
+    families = (*CAUSES, *PHYSICAL[:3], "motor", *CONTROLLER, "parameter", *PHYSICAL[3:], TWO)
     return np.random.default_rng([seed, families.index(cause) if cause in families else 99])
 
 
-def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None):
+def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None, scale: float = 1.0):
     """Return ``(base, truth, runs)``: the base bicycle, the hidden effect's true values, and
     the simulated runs (one per speed) of a trial.
 
     ``base_name`` is a key of :data:`BICYCLES`, the controlled bicycle, or any bicycle
-    ``load_bicycle`` reads.
+    ``load_bicycle`` reads; ``scale`` multiplies the effect's size (:func:`hidden_bicycle`).
     """
     rng = trial_rng(cause, seed)
     base = load_bicycle(bicycle_source(base_name))
     if speeds is None:
         speeds = SPEEDS if base.controller.is_empty() else CONTROLLED_SPEEDS
-    truth_bicycle, truth, model = hidden_bicycle(base, cause, rng)
+    truth_bicycle, truth, model = hidden_bicycle(base, cause, rng, scale)
     runs = []
     for k, speed in enumerate(speeds):
         scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES)
@@ -298,27 +359,33 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None)
     return base, truth, runs
 
 
-def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = True) -> Trial:
+def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = True,
+              scale: float = 1.0) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
     The controlled bicycle's windows leave out their first 0.3 s (its slow castering mode; see
     docs/diagnosis.md, ``--settle``). ``bias``: the diagnosis compares models through the
-    fitting function (the default of ``diagnose_observations``).
+    fitting function (the default of ``diagnose_observations``); ``scale`` multiplies the
+    effect's size (:func:`hidden_bicycle`).
     """
-    base, truth, runs = trial_runs(cause, seed, base_name, speeds)
+    base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
     settle = 0.0 if base.controller.is_empty() else 0.3
     measurements = [m for run in runs for m in measure_run(run, baseline="auto", settle=settle)]
     diagnosis = diagnose_observations(base, observations(measurements), bias=bias)
     return Trial(cause, seed, truth, diagnosis, base_name)
 
 
-def families(bicycle: str) -> tuple[str, ...]:
-    """The trial families of a bicycle (a key of BICYCLES, or CONTROLLED) this model supports."""
+def families(bicycle: str, two: bool = False) -> tuple[str, ...]:
+    """The trial families of a bicycle (a key of BICYCLES, or CONTROLLED) this model supports.
+
+    ``two``: also the family of two effects together (uncontrolled bicycles; not part of the
+    rates the issue asks for, which are per single effect).
+    """
     if bicycle == CONTROLLED:
         return ("none", *CONTROLLER) if _supports(CONTROLLER) else ("none",)
     extra = ("motor",) if _supports(("motor",)) else ()
     return ("none", "steer_damping", "steer_inertia", "speed_scale", "payload", "tyre_compliance",
-            "parameter", *PHYSICAL, *extra)
+            "parameter", *PHYSICAL, *extra, *((TWO,) if two and extra else ()))
 
 
 def _supports(names: tuple[str, ...]) -> bool:
@@ -328,5 +395,5 @@ def _supports(names: tuple[str, ...]) -> bool:
     return all(any(f.name == fields[name][1] for f in dataclass_fields(fields[name][0])) for name in names)
 
 
-__all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLER", "EXPECTED", "PHYSICAL", "Trial", "box",
-           "cause_by_name", "families", "hidden_bicycle", "run_trial", "trial_runs", "with_body"]
+__all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLER", "EXPECTED", "PHYSICAL", "TWO", "Trial", "box",
+           "cause_by_name", "families", "hidden_bicycle", "run_trial", "trial_runs", "two_effects", "with_body"]

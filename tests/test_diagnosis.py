@@ -21,6 +21,7 @@ from whipple.diagnosis.causes import cause_by_name, payload_form, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import fit_cause, model_residuals, window_whitening
 from whipple.diagnosis.observations import Observation, predicted_modes, predicted_weave
+from whipple.diagnosis.report import ShapeComparison, caveats
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import Payload, load_bicycle
 from whipple.simulation.scenario import RunScenario
@@ -119,6 +120,22 @@ def test_a_load_ahead_of_the_steer_axis_is_found(monkeypatch):
     assert all(abs(value - true) < 3 * std for value, true, std in zip(fit.values, load, fit.std, strict=True))
     monkeypatch.setattr(starts, "GRID_STARTS", 0)
     assert fit_cause(bicycle, cause, observations).chi2 > 100 * fit.chi2
+
+
+def test_a_named_payload_with_a_fitted_position_carries_the_two_effects_caveat():
+    """A payload whose position is fitted can mimic two effects together (docs/diagnosis.md)."""
+    bicycle = load_bicycle(str(BROWSER))
+    p = bicycle.parameters
+    load = Payload(4.0, p["w"] + 0.1, -p["rF"] - 0.4)
+    diagnosis = diagnose_observations(bicycle, _observations(bicycle.with_extensions(front_payload=load),
+                                                             np.random.default_rng(1)))
+    assert (diagnosis.verdict, diagnosis.cause) == ("named", "front_payload")
+    no_shapes = ShapeComparison(np.zeros(0, bool), np.zeros(0, complex), ("roll_rate", "steer_angle"))
+    assert any("two other effects together" in note for note in caveats(diagnosis, no_shapes))
+    damped = diagnose_observations(bicycle, _observations(bicycle.with_extensions(steer_damping=0.8),
+                                                          np.random.default_rng(1)))
+    assert damped.cause == "steer_damping"
+    assert not any("two other effects" in note for note in caveats(damped, no_shapes))
 
 
 def test_no_effect_gives_none():

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
-from whipple.diagnosis.causes import Cause, with_cause
+from whipple.diagnosis.causes import PAYLOAD_FRAMES, Cause, with_cause
 from whipple.diagnosis.evidence import (
     CLOSE_EVIDENCE,
     HIGH_DISPERSION,
@@ -337,6 +337,12 @@ def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
         if close:
             notes.append(f"close alternatives to {diagnosis.best.cause} ({diagnosis.best.evidence:.1f}): "
                          + ", ".join(close))
+        if diagnosis.verdict == "named" and diagnosis.best.cause in PAYLOAD_FRAMES and len(diagnosis.best.values) > 1:
+            # Measured in the hidden-effect trials with two effects together (docs/diagnosis.md).
+            notes.append(f"a {diagnosis.best.cause.replace('_', ' ')} with a fitted position has the freedom to stand "
+                         "in for two other effects together (in simulated trials it was the wrong name in most "
+                         "wrong verdicts with two hidden effects): if more than one effect may be present, read "
+                         "it as the best single candidate")
     return notes
 
 

@@ -6,9 +6,11 @@ cause chosen again per left-out speed, the nonlinear amplitude check, the report
 The baseline measured in the same run is the held-out gain that only refits the cause chosen
 on all speeds (the earlier, faster and leakier form); the ratio says what choosing again costs.
 
-Run: ``python benchmarks/bench_diagnose_time.py [--effect two] [--no-fit-bias] [--workers N]``
+Run: ``python benchmarks/bench_diagnose_time.py [--effect two|load] [--no-fit-bias] [--workers N]``
 (``two``: steer damping and a rear-frame roll inertia 40% high together, so that no single cause
-fits and pairs are tried; ``--no-fit-bias``: models compared without the fitting function's bias;
+fits and pairs are tried; ``load``: a 15 kg load over the rear rack, 0.1 m behind the rear axle
+and 0.55 m above the ground, so that a payload with its position leads and pairs are tried too;
+``--no-fit-bias``: models compared without the fitting function's bias;
 ``--workers N``: the gain, and the whole command, also with ``--workers N``, the held-out
 speeds diagnosed on a local Dask cluster, its start included).
 """
@@ -28,18 +30,20 @@ from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations
 from whipple.measurement.experiment import measure_run
 from whipple.measurement.runs import read_run
-from whipple.model.parameters import load_bicycle
+from whipple.model.parameters import Payload, load_bicycle
 from whipple.simulation.run_writer import write_run_csv
 from whipple.simulation.scenario import RunScenario
 from whipple.simulation.simulator import simulate_run
 
 SPEEDS = (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0)
+#: The ``load`` effect: mass [kg], x and z of its mass centre [m] (z down, from the rear contact).
+RACK_LOAD = (15.0, -0.1, -0.55)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=40)
-    parser.add_argument("--effect", choices=("one", "two"), default="one")
+    parser.add_argument("--effect", choices=("one", "two", "load"), default="one")
     parser.add_argument("--workers", type=int, default=None, metavar="N")
     parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
                         help="compare models through the fitting function (the default)")
@@ -48,6 +52,8 @@ def main() -> None:
     truth = base.with_extensions(steer_damping=0.8)
     if args.effect == "two":
         truth = truth.with_parameters(IBxx=1.4 * base.parameters["IBxx"])
+    if args.effect == "load":
+        truth = base.with_extensions(payload=Payload(*RACK_LOAD))
     with tempfile.TemporaryDirectory() as folder:
         files = []
         for k in range(args.runs):
@@ -79,7 +85,8 @@ def main() -> None:
             with redirect_stdout(StringIO()):
                 whipple_main([*command, "--workers", str(args.workers)])
             parallel = time.perf_counter() - finished
-    hidden = "steer damping 0.8 + IBxx x1.4" if args.effect == "two" else "steer damping 0.8"
+    hidden = {"one": "steer damping 0.8", "two": "steer damping 0.8 + IBxx x1.4",
+              "load": "payload {} kg at x = {} m, z = {} m".format(*RACK_LOAD)}[args.effect]
     print(f"{args.runs} runs, {len(seen)} windows; hidden: {hidden}")
     print(f"verdict {diagnosis.verdict} ({diagnosis.cause}); pairs tried: "
           + (", ".join(diagnosis.combinations) or "none"))

@@ -91,6 +91,9 @@ def main() -> None:
     print(f"verdict {diagnosis.verdict} ({diagnosis.cause}); pairs tried: "
           + (", ".join(diagnosis.combinations) or "none"))
     print(f"held-out RMS {gain.base_rms:.3f} -> {gain.extended_rms:.3f} 1/s ({100 * gain.cut:.0f}% cut)")
+    for speed in gain.speeds:
+        print(f"  {speed.speed:.1f} m/s, {speed.windows} windows, {speed.cause}: RMS {speed.base_rms:.3f} -> "
+              f"{speed.extended_rms:.3f}, median {speed.base_median:.3f} -> {speed.extended_median:.3f} 1/s")
     again, refit = chosen_again - diagnosed, refitted - chosen_again
     print(f"measure {measured - started:.1f} s, diagnose {diagnosed - measured:.1f} s, gain (choice redone) "
           f"{again:.1f} s, gain (refit only, baseline) {refit:.1f} s: ratio {again / max(refit, 1e-9):.1f}")

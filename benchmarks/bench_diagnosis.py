@@ -43,13 +43,13 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from hidden_effects import (  # noqa: E402
     BICYCLES,
-    CAUSE_OF_TRUTH,
     CONTROLLED,
     EXPECTED,
     TWO,
     bicycle_source,
     families,
     hidden_bicycle,
+    hidden_causes,
     run_trial,
     trial_rng,
 )
@@ -133,11 +133,9 @@ def _lowest_rate(results: list, outcomes: tuple[str, ...]) -> tuple[float, str]:
 
 def _print_two_effects(rows: list) -> None:
     """Outcomes of the two-effect family, with each wrong confident name's two true effects."""
-    expected = {}
-    for r in rows:
-        truth = hidden_bicycle(load_bicycle(bicycle_source(r[0])), TWO, trial_rng(TWO, r[2]))[1]
-        causes = (CAUSE_OF_TRUTH.get(key, f"parameter:{key}") for key in truth)
-        expected[tuple(r[:3])] = {cause for cause in causes if cause is not None}
+    bases = {name: load_bicycle(bicycle_source(name)) for name in dict.fromkeys(r[0] for r in rows)}
+    expected = {tuple(r[:3]): set(hidden_causes(hidden_bicycle(bases[r[0]], TWO, trial_rng(TWO, r[2]))[1]))
+                for r in rows}
     count = {outcome: sum(r[5] == outcome for r in rows) for outcome in ("right", "ambiguous_truth", "ambiguous",
                                                                           "none", "wrong", "error")}
     both = sum(r[5] == "ambiguous_truth" and len(expected[tuple(r[:3])]) == 2

@@ -124,8 +124,7 @@ class Trial:
         """Every hidden effect's cause that is a candidate (two effects: one or both)."""
         if self.cause != TWO:
             return () if self.expected is None else (self.expected,)
-        causes = (CAUSE_OF_TRUTH.get(key, f"parameter:{key}") for key in self.truth)
-        return tuple(dict.fromkeys(cause for cause in causes if cause is not None))
+        return hidden_causes(self.truth)
 
     @property
     def named_correctly(self) -> bool:
@@ -313,6 +312,17 @@ def hidden_bicycle(base: Bicycle, cause: str, rng: np.random.Generator,
     raise ValueError(cause)
 
 
+def cause_of_truth(key: str) -> str | None:
+    """The cause a right diagnosis names for a true value's key (None: no candidate has it)."""
+    return CAUSE_OF_TRUTH.get(key, f"parameter:{key}")
+
+
+def hidden_causes(truth: dict[str, float]) -> tuple[str, ...]:
+    """The candidate causes of the hidden effects whose true values ``truth`` holds, once each."""
+    causes = (cause_of_truth(key) for key in truth)
+    return tuple(dict.fromkeys(cause for cause in causes if cause is not None))
+
+
 def two_effects(base: Bicycle, rng: np.random.Generator,
                 scale: float = 1.0) -> tuple[Bicycle, dict[str, float], LinearModel | None]:
     """The true bicycle with two different effects of :func:`hidden_bicycle`, drawn per seed.
@@ -396,4 +406,5 @@ def _supports(names: tuple[str, ...]) -> bool:
 
 
 __all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLER", "EXPECTED", "PHYSICAL", "TWO", "Trial", "box",
-           "cause_by_name", "families", "hidden_bicycle", "run_trial", "trial_runs", "two_effects", "with_body"]
+           "cause_by_name", "cause_of_truth", "families", "hidden_bicycle", "hidden_causes", "run_trial",
+           "trial_runs", "two_effects", "with_body"]

@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 from hidden_effects import (
     BICYCLES,
-    CAUSE_OF_TRUTH,
     CONTROLLED,
     EXPECTED,
     TWO,
     box,
+    cause_of_truth,
     families,
     hidden_bicycle,
     run_trial,
@@ -115,7 +115,7 @@ def test_two_effects_hides_two_different_effects():
     base = load_bicycle("benchmark")
     for seed in range(20):
         bicycle, truth, model = hidden_bicycle(base, TWO, trial_rng(TWO, seed))
-        causes = [CAUSE_OF_TRUTH.get(key, f"parameter:{key}") for key in truth]
+        causes = [cause_of_truth(key) for key in truth]
         assert len(set(causes)) == 2, truth
         assert causes[0] is not None  # the first effect is always some candidate's
         changed = bicycle.parameters != base.parameters or bicycle.extensions != base.extensions

@@ -18,7 +18,9 @@ alike; pushes and catches break that pattern. From the swings:
   at the end of the record.
 * A **grab**: the first swing after a push that is over in under half the record's half
   period and half the push's time, starting while the bicycle moves fast, is a hand catching
-  the falling bicycle, not a free swing; it ends the window and starts none itself.
+  the falling bicycle, not a free swing; it ends the window and starts none itself. So is
+  such a swing that starts slowly but is also over in under half the time of each swing
+  beside it: a growing weave caught at its largest lean, where the roll rate turns.
 * An unstable run may grow out of the noise and be caught within a swing or two, with no
   visible push: the swings that grew up to the catch form the window.
 * A stretch with no free swing, or a single swing back followed by stillness (a push or a
@@ -257,6 +259,10 @@ class _Finder:
             self.durations[j] < 0.5 * min(self.half_period, self.durations[j - 1])
             and abs(self.smooth[self.extremes[j]]) >= 2 * self.loud)
 
+    def quick(self, j: int) -> bool:
+        """Whether swing j is over in under half the record's half period."""
+        return bool(self.durations[j] < 0.5 * self.half_period)
+
     def forced(self, j: int) -> bool:
         return self.ratio(j) > PUSH_RATIO and not self.sustained(j)
 
@@ -371,8 +377,10 @@ class _Finder:
                 break
             # The first free swing may be quick after a slow push; quick and followed by
             # stillness, or far quicker than the record's oscillation, it is a catch (the
-            # bicycle grabbed, perhaps as it fell).
-            grabbed = j == push + 1 and self.grab(j)
+            # bicycle grabbed, perhaps as it fell). A catch at the largest lean starts slowly
+            # (the roll rate turns there): quickness against both neighbours stands in for the
+            # fast start.
+            grabbed = j == push + 1 and (self.grab(j) or self.abrupt(j) and self.quick(j))
             if a >= level and (grabbed or self.abrupt(j) and (j > push + 1 or growth or self.held(j + 1))):
                 end, resume = self.onset(j), j
                 why = f"abrupt swing at {self.run.time[end]:.2f} s"

@@ -18,9 +18,10 @@ alike; pushes and catches break that pattern. From the swings:
   at the end of the record.
 * A **grab**: the first swing after a push that is over in under half the record's half
   period and half the push's time, starting while the bicycle moves fast, is a hand catching
-  the falling bicycle, not a free swing; it ends the window and starts none itself. So is
-  such a swing that starts slowly but is also over in under half the time of each swing
-  beside it: a growing weave caught at its largest lean, where the roll rate turns.
+  the falling bicycle, not a free swing; it ends the window and starts none itself. A swing
+  right after the push that starts slowly but is as quick, and over in under half the time of
+  each swing beside it, is a catch too (a growing weave caught at its largest lean, where the
+  roll rate turns): it ends the window, but the search for the next push still looks at it.
 * An unstable run may grow out of the noise and be caught within a swing or two, with no
   visible push: the swings that grew up to the catch form the window.
 * A stretch with no free swing, or a single swing back followed by stillness (a push or a
@@ -256,7 +257,7 @@ class _Finder:
         but starts from near rest.
         """
         return 1 <= j < self.swings.size and bool(
-            self.durations[j] < 0.5 * min(self.half_period, self.durations[j - 1])
+            self.quick(j) and self.durations[j] < 0.5 * self.durations[j - 1]
             and abs(self.smooth[self.extremes[j]]) >= 2 * self.loud)
 
     def quick(self, j: int) -> bool:

@@ -56,7 +56,8 @@ class CauseFit:
     pinned: tuple[tuple[str, float], ...] = ()
     #: Covariance of the values from the least-squares fit (before any widening of ``std``).
     covariance: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 0)), repr=False, compare=False)
-    #: Derivative of ``residuals`` by each value at the fit (a column each), for rescaling.
+    #: Derivative of the whitened residuals by each value at the fit (a column each; SciPy's
+    #: Jacobian for the robust loss), for the Occam factor (:func:`~whipple.diagnosis.evidence.occam_factor`).
     jacobian: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 0)), repr=False, compare=False)
 
 
@@ -213,20 +214,16 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
         raise AnalysisError(f"fit of {cause.name} failed")
     values = best.x * scale
     jacobian = np.asarray(best.jac / scale, dtype=float)
-    covariance = values_covariance(jacobian)
-    std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+    try:
+        covariance = np.linalg.pinv(jacobian.T @ jacobian)
+        std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+    except np.linalg.LinAlgError:
+        covariance = np.full((len(values), len(values)), np.inf)
+        std = np.full(len(values), np.inf)
     final, predicted, block_chi2 = model_residuals(cause.apply(bicycle, values), observations, whitening)
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
                     tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2,
                     residuals=final, pinned=pinned_values(cause, values), covariance=covariance, jacobian=jacobian)
-
-
-def values_covariance(jacobian: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Covariance of fitted values from the Jacobian of their whitened residuals (inf where it fails)."""
-    try:
-        return np.asarray(np.linalg.pinv(jacobian.T @ jacobian))
-    except np.linalg.LinAlgError:
-        return np.full((jacobian.shape[1], jacobian.shape[1]), np.inf)
 
 
 def pinned_values(cause: Cause, values: Sequence[float] | NDArray[np.float64]) -> tuple[tuple[str, float], ...]:

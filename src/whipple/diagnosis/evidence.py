@@ -87,7 +87,8 @@ SCREEN_ACTIVE = 0.1
 #: How the evidence charges a cause's fitted values: ``"bic"``, ln(n)/2 each (n residuals), or
 #: ``"laplace"``, the share of the cause's bounds its fit leaves open (:func:`occam_factor`). The
 #: second, tried over 1,000 hidden-effect trials, named a wrong parameter right far more often
-#: (69% -> 91%) but a basket load less often (73% -> 71%, 4 wrong names against 1): it trades
+#: (69% -> 91%) but a basket load less often (73% -> 71%, 4 wrong names against 1; with two
+#: effects hidden together, 12 wrong names of 150 against 10): it trades
 #: causes with one value against loads with three, by bounds that are physical limits rather
 #: than priors (docs/diagnosis.md, "The Occam factor"). A knob for experiments.
 OCCAM = "bic"

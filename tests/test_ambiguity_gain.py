@@ -97,7 +97,7 @@ def test_a_payload_off_the_frame_with_a_controller_delay_is_found_as_a_pair():
     bicycle = load_bicycle("sbw2024")
     forms = {cause.name: cause for cause in general_forms(candidate_causes(bicycle))}
     pair = combined_cause(forms["payload"], forms["controller_delay"])
-    true_values = (10.0, 0.6, -0.35, 0.03)
+    true_values = (10.0, 0.6, -0.35, 0.1, 0.12, 0.03)  # a rigid load: own radii of gyration 0.1 and 0.12 m
     truth = pair.apply(bicycle, true_values)
     diagnosis = diagnose_observations(bicycle, _observations(truth, 0, np.repeat([1.5, 2.5, 3.5, 4.5, 5.5], 4)))
     assert max(diagnosis.single_scales) > 2.0
@@ -246,9 +246,9 @@ def test_pairs_of_candidates_are_every_two_names_in_their_most_general_form():
     causes = [cause_by_name(bicycle, name) for name in ("steer_damping", "speed_scale")]
     forms = general_forms([*causes, *payload_causes(bicycle, "payload")])
     assert [c.name for c in forms] == ["steer_damping", "speed_scale", "payload"]
-    assert len(forms[-1].parameters) == 3
+    assert len(forms[-1].parameters) == 5  # a rigid load at any position
     pairs = cause_pairs(forms)
     assert [p.name for p in pairs] == ["steer_damping + speed_scale", "steer_damping + payload",
                                        "speed_scale + payload"]
-    assert len(pairs[-1].parameters) == 4
+    assert len(pairs[-1].parameters) == 6
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from whipple.diagnosis.causes import (
+    MAX_GYRATION,
     POSITIVE_PARAMETERS,
     candidate_causes,
     cause_by_name,
@@ -39,16 +40,20 @@ def test_controller_causes_only_for_controlled_bicycles():
 
 
 @pytest.mark.parametrize("name", ["payload", "front_payload"])
-def test_payload_forms_share_one_prior_up_to_the_full_position(name):
+def test_payload_forms_share_one_prior_up_to_a_rigid_load(name):
     bicycle = load_bicycle("benchmark")
     forms = [cause for cause in candidate_causes(bicycle) if cause.name == name]
-    # Three forms, one hypothesis: their priors add up to the one unit of a named cause.
+    # Four forms, one hypothesis: their priors add up to the one unit of a named cause.
     assert sum(cause.prior for cause in forms) == pytest.approx(1.0)
-    assert [len(cause.parameters) for cause in forms] == [1, 2, 3]
-    full = forms[-1]
+    assert [len(cause.parameters) for cause in forms] == [1, 2, 3, 5]
+    full, rigid = forms[-2:]
     assert full.parameters == (f"{name}_mass", f"{name}_x", f"{name}_z")
+    assert rigid.parameters == (*full.parameters, f"{name}_roll_gyration", f"{name}_yaw_gyration")
     bounds = payload_bounds(bicycle, name)
     assert full.bounds == (bounds["mass"], bounds["x"], bounds["z"])
+    assert rigid.bounds == (*full.bounds, (0.0, MAX_GYRATION), (0.0, MAX_GYRATION))
+    # The grid of starts places the load; its own inertia starts at none.
+    assert rigid.gridded == (0, 1, 2) and rigid.start[-2:] == (0.0, 0.0)
     for low, high in full.bounds:
         assert low < high
     # Every start lies within the bounds.
@@ -69,6 +74,27 @@ def test_front_payload_mass_form_sits_at_the_front_mass_centre():
     expected = whipple_matrices({**p, "mH": p["mH"] + 5.0})
     for a, b in zip(extended_matrices(p, changed.extensions)[:4], expected[:4], strict=True):
         np.testing.assert_allclose(a, b, rtol=1e-13, atol=1e-12)
+
+
+@pytest.mark.parametrize(("name", "letter"), [("payload", "B"), ("front_payload", "H")])
+def test_a_rigid_load_is_a_body_composed_into_its_frame(name, letter):
+    # Two routes to the same bicycle: the derived point-mass extension plus the load's central
+    # inertia, against the load composed into the frame's benchmark parameters (parallel axes).
+    bicycle = load_bicycle("benchmark")
+    p = bicycle.parameters
+    rigid = payload_form(bicycle, name, "mxzk")
+    mass, x, z, roll_gyration, yaw_gyration = 6.0, p["w"] + 0.15 if letter == "H" else -0.2, -1.0, 0.18, 0.12
+    changed = with_cause(bicycle, rigid, [mass, x, z, roll_gyration, yaw_gyration])
+    roll, yaw = mass * roll_gyration**2, mass * yaw_gyration**2
+    joined = combine(frame_body(p, letter), Body(mass, x, z, roll, roll + yaw, yaw, 0.0))
+    composed = {**p, f"m{letter}": joined.mass, f"x{letter}": joined.x, f"z{letter}": joined.z,
+                f"I{letter}xx": joined.xx, f"I{letter}zz": joined.zz, f"I{letter}xz": joined.xz}
+    for a, b in zip(extended_matrices(changed.parameters, changed.extensions)[:4], whipple_matrices(composed)[:4],
+                    strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-10)
+    # Without its own inertia it is the point-mass form.
+    point = with_cause(bicycle, payload_form(bicycle, name, "mxz"), [mass, x, z])
+    assert with_cause(bicycle, rigid, [mass, x, z, 0.0, 0.0]).parameters == point.parameters
 
 
 @pytest.mark.parametrize("bicycle_name", ["benchmark", "sbw2024"])

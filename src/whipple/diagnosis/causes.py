@@ -46,6 +46,9 @@ class Cause:
     null : tuple of float or None
         Values at which the cause changes nothing (None for tyre compliance, which never
         reduces exactly to knife edges).
+    gridded : tuple of int or None
+        Indices of the values that the coarse grid of starts spans, the others held at their
+        start (:func:`whipple.diagnosis.starts.grid_starts`); None: all of them.
     """
 
     name: str
@@ -56,6 +59,7 @@ class Cause:
     apply: Callable[[Bicycle, Sequence[float]], Bicycle]
     prior: float = 1.0
     null: tuple[float, ...] | None = None
+    gridded: tuple[int, ...] | None = None
 
     @property
     def limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -118,6 +122,14 @@ def payload_bounds(bicycle: Bicycle, name: str) -> dict[str, tuple[float, float]
     return {"mass": (0.0, max(3.0 * p["mH"], 20.0)), "x": (min(p["xB"], p["xH"]), p["w"] + 0.5), "z": height}
 
 
+#: Upper bound of a load's own radii of gyration [m]: a solid cube 0.7 m on a side (a
+#: uniform box of side a has a / sqrt(6)), larger than any rack or basket load.
+MAX_GYRATION = 0.3
+#: The fitted values of a payload form, by letter of ``free``, and their units.
+_PAYLOAD_VALUES = {"m": ("mass",), "x": ("x",), "z": ("z",), "k": ("roll_gyration", "yaw_gyration")}
+_PAYLOAD_UNITS = {"mass": "kg", "x": "m", "z": "m", "roll_gyration": "m", "yaw_gyration": "m"}
+
+
 def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> Cause:
     """Return one form of a payload cause, its fixed coordinates at the frame's mass centre.
 
@@ -127,47 +139,62 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> 
         Supplies the frame's mass centre and the bounds (:func:`payload_bounds`).
     name : {"payload", "front_payload"}
         The rear-frame or the front-frame payload.
-    free : {"m", "mx", "mz", "mxz"}
+    free : {"m", "mx", "mz", "mxz", "mxzk"}
         The fitted values: always the mass [kg], and x and/or z [m]; a coordinate not fitted is
-        the frame's mass centre's (xB, zB or xH, zH).
+        the frame's mass centre's (xB, zB or xH, zH). ``"mxzk"`` adds the load's own radii of
+        gyration [m] about the roll (x) and yaw (z) axes, each 0 to :data:`MAX_GYRATION`: a
+        rigid load (a box on a rack, a full basket) rather than a point mass, whose central
+        inertia is added to the frame's inertia tensor (the point mass carries the
+        parallel-axis terms; about y, the sum of the two, as for a flat load: pitch does not
+        enter the linear model, and the sum keeps the tensor physical).
     prior : float
         As in :class:`Cause`.
     """
     letter = PAYLOAD_FRAMES[name]
-    if free not in ("m", "mx", "mz", "mxz"):
+    if free not in ("m", "mx", "mz", "mxz", "mxzk"):
         raise ValueError(f"unknown payload form {free!r}")
     centre = {"x": float(bicycle.parameters[f"x{letter}"]), "z": float(bicycle.parameters[f"z{letter}"])}
-    bounds = payload_bounds(bicycle, name)
-    axes = ("mass",) + tuple(axis for axis in "xz" if axis in free)
+    bounds = {**payload_bounds(bicycle, name), "roll_gyration": (0.0, MAX_GYRATION),
+              "yaw_gyration": (0.0, MAX_GYRATION)}
+    axes = tuple(axis for letter_ in free for axis in _PAYLOAD_VALUES[letter_])
 
     def apply(changed: Bicycle, values: Sequence[float]) -> Bicycle:
         given = dict(zip(axes, (float(value) for value in values), strict=True))
         position = {axis: given.get(axis, float(changed.parameters[f"{axis}{letter}"])) for axis in "xz"}
-        return changed.with_extensions(**{name: Payload(mass=given["mass"], x=position["x"], z=position["z"])})
+        loaded = changed.with_extensions(**{name: Payload(mass=given["mass"], x=position["x"], z=position["z"])})
+        if "roll_gyration" not in given:
+            return loaded
+        roll, yaw = given["mass"] * given["roll_gyration"] ** 2, given["mass"] * given["yaw_gyration"] ** 2
+        own = {f"I{letter}xx": roll, f"I{letter}yy": roll + yaw, f"I{letter}zz": yaw}
+        return loaded.with_parameters(**{key: float(loaded.parameters[key]) + added for key, added in own.items()
+                                         if key in loaded.parameters})
 
-    return Cause(name, tuple(f"{name}_{axis}" for axis in axes), tuple("kg" if a == "mass" else "m" for a in axes),
-                 tuple(0.0 if axis == "mass" else centre[axis] for axis in axes),
+    return Cause(name, tuple(f"{name}_{axis}" for axis in axes), tuple(_PAYLOAD_UNITS[axis] for axis in axes),
+                 tuple(centre.get(axis, 0.0) for axis in axes),
                  tuple(bounds[axis] for axis in axes), apply, prior=prior,
-                 null=(0.0,) if free == "m" else None)
+                 null=(0.0,) if free == "m" else None,
+                 # The grid places the load; its own inertia starts at none, a refinement.
+                 gridded=(0, 1, 2) if "k" in free else None)
 
 
 def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:
     """Return the forms of a payload cause: ``payload`` (rear frame) or ``front_payload``.
 
-    Three forms for the evidence, sharing the cause's one unit of prior weight (so that taking
-    the best of them is not a free second or third chance): the mass alone at the frame's mass
-    centre; mass and height at the mass centre's fore-aft position (height changes the roll
-    inertia, which a mass alone cannot mimic); and mass and full position, for a load on a rack
-    behind the saddle or in a basket ahead of the steer axis. The full-position form was once
-    kept out of the evidence because it mimicked steer inertia and trail; with the ambiguity
-    rules (:mod:`whipple.diagnosis.families`) such mimicry is reported as ``ambiguous`` instead,
-    and without the form a real rack or basket load (a rigid body away from the mass centre)
-    was named right in 0% and 6% of hidden-effect trials; with it, in most (docs/diagnosis.md).
-    Other forms: :func:`payload_form`.
+    Four forms for the evidence, sharing the cause's one unit of prior weight (so that taking
+    the best of them is not a free extra chance): the mass alone at the frame's mass centre;
+    mass and height at the mass centre's fore-aft position (height changes the roll inertia,
+    which a mass alone cannot mimic); mass and full position, for a load on a rack behind the
+    saddle or in a basket ahead of the steer axis; and the same load as a rigid body with its
+    own radius of gyration. The full-position form was once kept out of the evidence because it
+    mimicked steer inertia and trail; with the ambiguity rules (:mod:`whipple.diagnosis.families`)
+    such mimicry is reported as ``ambiguous`` instead, and without the form a real rack or
+    basket load (a rigid body away from the mass centre) was named right in 0% and 6% of
+    hidden-effect trials; with it, in most (docs/diagnosis.md). A point mass cannot carry a
+    box's own inertia, which then went to a second cause (a rack load as ``payload`` plus a
+    wrong frame inertia); the rigid form takes it up. Other forms: :func:`payload_form`.
     """
-    third = 1.0 / 3.0
-    return [payload_form(bicycle, name, "m", prior=third), payload_form(bicycle, name, "mz", prior=third),
-            payload_form(bicycle, name, "mxz", prior=third)]
+    forms = ("m", "mz", "mxz", "mxzk")
+    return [payload_form(bicycle, name, free, prior=1.0 / len(forms)) for free in forms]
 
 
 def controller_causes(bicycle: Bicycle) -> list[Cause]:

@@ -51,7 +51,8 @@ def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[
     """Return the ``GRID_STARTS`` points of a coarse grid over the bounds with the smallest ``chi2``.
 
     ``chi2(values)``: the misfit of the cause at those values (robust chi-square). Only for
-    causes with 2 to ``GRID_MAX_VALUES`` values (one value is well served by the fixed starts).
+    causes with 2 to ``GRID_MAX_VALUES`` values (one value is well served by the fixed starts),
+    or as many of them as ``cause.gridded`` names, the rest held at their start.
     A payload's position does nothing at zero mass, so fits started at the no-effect values,
     near the frame's mass centre, stay in the basin around it: a basket's load ahead of the
     steer axis was fitted at the front frame's rear bound with chi-square 1476 where the load's
@@ -59,14 +60,15 @@ def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[
     were blamed. The grid reaches every part of the bounds at the cost of ``GRID_POINTS ** k``
     model evaluations, no fits.
     """
-    k = len(cause.parameters)
-    if not 2 <= k <= GRID_MAX_VALUES:
+    spanned = list(range(len(cause.parameters)) if cause.gridded is None else cause.gridded)
+    if not 2 <= len(spanned) <= GRID_MAX_VALUES:
         return []
     lower, upper = cause.limits
     cells = (np.arange(GRID_POINTS) + 0.5) / GRID_POINTS
     scored = []
-    for fractions in itertools.product(cells, repeat=k):
-        point = lower + (upper - lower) * np.array(fractions)
+    for fractions in itertools.product(cells, repeat=len(spanned)):
+        point = np.array(cause.start, dtype=float)
+        point[spanned] = lower[spanned] + (upper[spanned] - lower[spanned]) * np.array(fractions)
         try:
             misfit = chi2([float(v) for v in point])
         except (np.linalg.LinAlgError, ValueError):

@@ -8,16 +8,17 @@ Two kinds of trial family:
 
 - the candidate causes' own forms (``steer_damping``, ``steer_inertia``, ``speed_scale``,
   ``payload``, ``tyre_compliance``, ``parameter:<key>``), drawn as before;
-- effects built like real hardware, independently of any candidate's form: ``rack`` (a box
-  of 2-15 kg on a rear rack above or behind the rear axle, composed into the rear frame by
-  rigid-body composition, so the truth has its own inertia and the candidate point-mass
-  payload is close but not exact), ``basket`` (a box of 1-8 kg ahead of and above the front
-  axle, composed into the front frame), ``roll_damping`` (a viscous roll torque, e.g. a
-  rider's passive sway or air) and ``steer_spring`` (a steering stabiliser's centring spring):
-  no physical candidate has these forms (a model term does, :mod:`whipple.diagnosis.model_terms`,
-  and leads to the verdict ``ambiguous``); and with the ``causes`` branch's
-  model support ``motor`` (a geared steer motor's reflected inertia) and the controller
-  families of a controlled bicycle.
+- effects built like real hardware, independently of any candidate's form: ``rack`` (a box of
+  2-15 kg on a rear rack above or behind the rear axle, pitched up to 25 degrees either way,
+  composed into the rear frame by rigid-body composition, so the truth has its own inertia with
+  principal axes of its own, and the candidate payload, a point mass or a rigid load with the
+  frame's axes, is close but not exact), ``basket`` (a box of 1-8 kg ahead of and above the
+  front axle, pitched alike, composed into the front frame), ``roll_damping`` (a viscous roll
+  torque, e.g. a rider's passive sway or air) and ``steer_spring`` (a steering stabiliser's
+  centring spring): no physical candidate has these forms (a model term does,
+  :mod:`whipple.diagnosis.model_terms`, and leads to the verdict ``ambiguous``); and with the
+  ``causes`` branch's model support ``motor`` (a geared steer motor's reflected inertia) and the
+  controller families of a controlled bicycle.
 
 Each family maps to the answer a right diagnosis gives (:data:`EXPECTED`); ``None`` means
 the truth is none of the candidates, and the right answer is ``none`` or ``ambiguous``,
@@ -189,10 +190,14 @@ class Trial:
                    if name in self.truth)
 
 
-def box(mass: float, x: float, z: float, length: float, width: float, height: float) -> Body:
-    """A uniform box [kg, m] with edges along the benchmark axes, centred at (x, z)."""
-    return Body(mass, x, z, mass * (width**2 + height**2) / 12, mass * (length**2 + height**2) / 12,
-                mass * (length**2 + width**2) / 12, 0.0)
+def box(mass: float, x: float, z: float, length: float, width: float, height: float, pitch: float = 0.0) -> Body:
+    """A uniform box [kg, m] centred at (x, z), its length along x and height along z when
+    ``pitch`` [rad], a rotation about the lateral axis, is 0 (tilted boxes have a product of
+    inertia xz)."""
+    along_x, along_z = mass * (width**2 + height**2) / 12, mass * (length**2 + width**2) / 12
+    cos, sin = np.cos(pitch), np.sin(pitch)
+    return Body(mass, x, z, along_x * cos**2 + along_z * sin**2, mass * (length**2 + height**2) / 12,
+                along_x * sin**2 + along_z * cos**2, (along_x - along_z) * sin * cos)
 
 
 def with_body(bicycle: Bicycle, frame: str, body: Body) -> Bicycle:
@@ -218,6 +223,14 @@ def with_feedback(model: LinearModel, gains: np.ndarray) -> LinearModel:
     for k in range(model.B.shape[-3]):
         A[..., k, :, :4] += model.B[..., k, :, :] @ gains
     return replace(model, A=A)
+
+
+def _tilt(rng: np.random.Generator) -> float:
+    """A luggage box's pitch [rad], up to 25 degrees either way (a bag hung on a rack, a basket
+    on a raked fork), so that its principal axes are not the frame's and no candidate's form is
+    exact. Drawn from a child of ``rng``: the trial's other draws (and its runs' noise) stay
+    those of the untilted boxes."""
+    return float(rng.spawn(1)[0].uniform(-1.0, 1.0) * np.radians(25.0))
 
 
 def hidden_bicycle(base: Bicycle, cause: str, rng: np.random.Generator,
@@ -269,13 +282,13 @@ def hidden_bicycle(base: Bicycle, cause: str, rng: np.random.Generator,
         # A loaded rear rack: a box from above the rear axle to 0.3 m behind it.
         mass = rng.uniform(2.0, 15.0) * scale
         load = box(mass, rng.uniform(-0.3, 0.05), -p["rR"] - rng.uniform(0.1, 0.35),
-                   rng.uniform(0.2, 0.45), rng.uniform(0.2, 0.35), rng.uniform(0.1, 0.3))
+                   rng.uniform(0.2, 0.45), rng.uniform(0.2, 0.35), rng.uniform(0.1, 0.3), _tilt(rng))
         return with_body(base, "B", load), {"payload_mass": mass}, None
     if cause == "basket":
         # A loaded basket on the handlebar or fork: ahead of and above the front axle.
         mass = rng.uniform(1.0, 8.0) * scale
         load = box(mass, p["w"] + rng.uniform(-0.05, 0.25), -p["rF"] - rng.uniform(0.2, 0.6),
-                   rng.uniform(0.2, 0.35), rng.uniform(0.25, 0.4), rng.uniform(0.15, 0.3))
+                   rng.uniform(0.2, 0.35), rng.uniform(0.25, 0.4), rng.uniform(0.15, 0.3), _tilt(rng))
         return with_body(base, "H", load), {"front_payload_mass": mass}, None
     if cause == "roll_damping":
         # A viscous roll torque (rider's passive sway, air): decay rate 0.2-0.6 1/s of the

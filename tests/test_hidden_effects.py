@@ -76,6 +76,17 @@ def test_rack_composition_is_rigid_body_composition():
         assert float(getattr(restored, field)) == pytest.approx(p[key], abs=1e-9)
 
 
+def test_a_pitched_box_is_the_same_box_turned():
+    # Its xz inertia is the level box's rotated about y: same principal values, a product of
+    # inertia that no candidate's frame-aligned load has, yy unchanged.
+    level, pitched = box(6.0, 0.1, -0.9, 0.3, 0.35, 0.2), box(6.0, 0.1, -0.9, 0.3, 0.35, 0.2, 0.3)
+    def principal(b):
+        return np.linalg.eigvalsh(np.array([[b.xx, b.xz], [b.xz, b.zz]]))
+    np.testing.assert_allclose(principal(pitched), principal(level), rtol=1e-12)
+    assert level.xz == 0.0 and abs(pitched.xz) > 0.1 * abs(level.xx - level.zz)
+    assert pitched.yy == level.yy
+
+
 def test_roll_damping_truth_damps_roll_only():
     """The outside-the-candidates truth adds -c * roll_rate to the roll equation alone."""
     base = load_bicycle("benchmark")

@@ -185,13 +185,13 @@ def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:
     mass and height at the mass centre's fore-aft position (height changes the roll inertia,
     which a mass alone cannot mimic); mass and full position, for a load on a rack behind the
     saddle or in a basket ahead of the steer axis; and the same load as a rigid body with its
-    own radius of gyration. The full-position form was once kept out of the evidence because it
+    own radii of gyration about the roll and yaw axes. The full-position form was once kept out of the evidence because it
     mimicked steer inertia and trail; with the ambiguity rules (:mod:`whipple.diagnosis.families`)
     such mimicry is reported as ``ambiguous`` instead, and without the form a real rack or
     basket load (a rigid body away from the mass centre) was named right in 0% and 6% of
     hidden-effect trials; with it, in most (docs/diagnosis.md). A point mass cannot carry a
     box's own inertia, which then went to a second cause (a rack load as ``payload`` plus a
-    wrong frame inertia); the rigid form takes it up. Other forms: :func:`payload_form`.
+    wrong frame inertia, a pair that is never named); the rigid form takes it up. Other forms: :func:`payload_form`.
     """
     forms = ("m", "mz", "mxz", "mxzk")
     return [payload_form(bicycle, name, free, prior=1.0 / len(forms)) for free in forms]

@@ -49,6 +49,10 @@ class Cause:
     gridded : tuple of int or None
         Indices of the values that the coarse grid of starts spans, the others held at their
         start (:func:`whipple.diagnosis.starts.grid_starts`); None: all of them.
+    refines : tuple of str or None
+        The values of a simpler form of the same cause that this one extends (its leading
+        values): fitted among the same candidates, that form's fit starts this one
+        (:func:`whipple.diagnosis.starts.refinement_starts`) instead of a search of its own.
     """
 
     name: str
@@ -60,6 +64,7 @@ class Cause:
     prior: float = 1.0
     null: tuple[float, ...] | None = None
     gridded: tuple[int, ...] | None = None
+    refines: tuple[str, ...] | None = None
 
     @property
     def limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -173,8 +178,10 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> 
                  tuple(centre.get(axis, 0.0) for axis in axes),
                  tuple(bounds[axis] for axis in axes), apply, prior=prior,
                  null=(0.0,) if free == "m" else None,
-                 # The grid places the load; its own inertia starts at none, a refinement.
-                 gridded=(0, 1, 2) if "k" in free else None)
+                 # A rigid load is a point mass refined: the point mass's fit places it (or,
+                 # fitted alone, the grid does, its own inertia held at none).
+                 gridded=(0, 1, 2) if "k" in free else None,
+                 refines=tuple(f"{name}_{axis}" for axis in ("mass", "x", "z")) if "k" in free else None)
 
 
 def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:
@@ -185,13 +192,14 @@ def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:
     mass and height at the mass centre's fore-aft position (height changes the roll inertia,
     which a mass alone cannot mimic); mass and full position, for a load on a rack behind the
     saddle or in a basket ahead of the steer axis; and the same load as a rigid body with its
-    own radii of gyration about the roll and yaw axes. The full-position form was once kept out of the evidence because it
-    mimicked steer inertia and trail; with the ambiguity rules (:mod:`whipple.diagnosis.families`)
-    such mimicry is reported as ``ambiguous`` instead, and without the form a real rack or
-    basket load (a rigid body away from the mass centre) was named right in 0% and 6% of
-    hidden-effect trials; with it, in most (docs/diagnosis.md). A point mass cannot carry a
-    box's own inertia, which then went to a second cause (a rack load as ``payload`` plus a
-    wrong frame inertia, a pair that is never named); the rigid form takes it up. Other forms: :func:`payload_form`.
+    own radii of gyration about the roll and yaw axes. The full-position form was once kept out
+    of the evidence because it mimicked steer inertia and trail; with the ambiguity rules
+    (:mod:`whipple.diagnosis.families`) such mimicry is reported as ``ambiguous`` instead, and
+    without the form a real rack or basket load (a rigid body away from the mass centre) was
+    named right in 0% and 6% of hidden-effect trials; with it, in most (docs/diagnosis.md). A
+    point mass cannot carry a box's own inertia, which then went to a second cause (a rack load
+    as ``payload`` plus a wrong frame inertia, a pair that is never named); the rigid form takes
+    it up. Other forms: :func:`payload_form`.
     """
     forms = ("m", "mz", "mxz", "mxzk")
     return [payload_form(bicycle, name, free, prior=1.0 / len(forms)) for free in forms]

@@ -44,7 +44,7 @@ from whipple.diagnosis.fit_bias import debiased, fitting_bias
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2, window_whitening
 from whipple.diagnosis.model_terms import candidates_with_terms, is_term, term_words
 from whipple.diagnosis.observations import Observation
-from whipple.diagnosis.starts import quick_starts
+from whipple.diagnosis.starts import quick_starts, refinement_starts
 from whipple.errors import InputError
 from whipple.model.parameters import Bicycle
 
@@ -188,12 +188,13 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     ``estimate_spread``: also compute the jackknife spread of the leading cause's values
     (skipped by the held-out gain, which uses only the values). ``quick``: start each fit from
     the cause's no-effect values and a step of 5% of its bounds away (each pair once, from its
-    members' values), and rescale the residuals by the dispersions instead of refitting (several
-    times faster; used by the held-out gain's folds). ``bias`` (the default): compare each model
-    with the windows through the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit
-    is refitted once with the bias of the fitting function on its own model's response, computed
-    at its first fitted values (windows with known samples only); False compares each window's
-    eigenvalue with the model's own (the earlier form, about a third of the cost).
+    members' values; a refinement from the form it refines, as always), and rescale the
+    residuals by the dispersions instead of refitting (several times faster; used by the
+    held-out gain's folds). ``bias`` (the default): compare each model with the windows through
+    the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit is refitted once with
+    the bias of the fitting function on its own model's response, computed at its first fitted
+    values (windows with known samples only); False compares each window's eigenvalue with the
+    model's own (the earlier form, about a third of the cost).
     """
     observations = tuple(observations)
     if len(observations) < 2:
@@ -203,7 +204,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
     n = sum(counts)
     base, fits = _fit_all(bicycle, causes, observations, whitening,
-                          [quick_starts(cause) for cause in causes] if quick else None)
+                          [quick_starts(cause) if cause.refines is None else None for cause in causes]
+                          if quick else None)
     biases: list[NDArray[np.complex128]] | None = None
     if bias:
         biases = [fitting_bias(bicycle, observations), *_biases(bicycle, causes, fits, observations)]
@@ -222,8 +224,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     if max(single_scales) > COMBINE_DISPERSION or flexible:
         # No single cause explains the data, or the best could stand in for two: try the
         # leading few in pairs, each pair started from its members' fitted values. Model terms
-        # are never paired.
-        pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name)]
+        # are never paired, nor refinements (a rigid load: see families.cause_pairs).
+        pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name) and cause.refines is None]
         members, member_fits = [causes[k] for k in pairable], [fits[k] for k in pairable]
         started = _leading_pairs(members, _scored(members, base, member_fits, n))
         started += _screened_pairs(bicycle, members, member_fits, observations, whitening,
@@ -531,8 +533,16 @@ def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[O
     base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted, block_chi2=block_chi2,
                     residuals=residual)
     starts = [None] * len(causes) if starts is None else starts
-    return base, [fit_cause(bicycle, cause, observations, cause_whitening, start)
-                  for cause, start, cause_whitening in zip(causes, starts, own[1:], strict=True)]
+    fits: list[CauseFit] = []
+    for cause, start, cause_whitening in zip(causes, starts, own[1:], strict=True):
+        simpler = next((fit for fit in fits if start is None and cause.refines is not None
+                        and fit.cause == cause.name and fit.parameters == cause.refines), None)
+        if simpler is None:
+            fits.append(fit_cause(bicycle, cause, observations, cause_whitening, start))
+        else:  # a refinement of a form fitted just before: start from its fit, no search
+            fits.append(fit_cause(bicycle, cause, observations, cause_whitening,
+                                  refinement_starts(cause, simpler.values), grid=False))
+    return base, fits
 
 
 def _biases(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],

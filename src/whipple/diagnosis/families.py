@@ -141,16 +141,29 @@ def combined_cause(first: Cause, second: Cause) -> Cause:
                  prior=first.prior * second.prior, null=null)
 
 
-def general_forms(causes: Sequence[Cause]) -> list[Cause]:
-    """One form per cause name, the one with the most fitted values (e.g. a payload at any position)."""
+def general_forms(causes: Sequence[Cause], refinements: bool = True) -> list[Cause]:
+    """One form per cause name, the one with the most fitted values (e.g. a rigid load at any position).
+
+    ``refinements`` False: leave out the forms that refine another (``Cause.refines``; a rigid
+    load, whose own inertia a second cause's inertia would trade against), unless a cause has no
+    other form.
+    """
     chosen: dict[str, Cause] = {}
     for cause in causes:
+        if not refinements and cause.refines is not None and any(
+                other.name == cause.name and other.refines is None for other in causes):
+            continue
         if cause.name not in chosen or len(cause.parameters) > len(chosen[cause.name].parameters):
             chosen[cause.name] = cause
     return list(chosen.values())
 
 
 def cause_pairs(causes: Sequence[Cause]) -> list[Cause]:
-    """Every pair of distinct causes (each in its most general form), fitted jointly."""
-    forms = general_forms(causes)
+    """Every pair of distinct causes, fitted jointly.
+
+    Each in its most general form that refines no other (a payload at any position, a point
+    mass: a pair's second cause takes up what a rigid load's own inertia would, so the rigid
+    form would only add values that trade against it).
+    """
+    forms = general_forms(causes, refinements=False)
     return [combined_cause(first, second) for k, first in enumerate(forms) for second in forms[k + 1:]]

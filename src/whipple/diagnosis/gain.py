@@ -325,6 +325,6 @@ def held_out_candidates(causes: Sequence[Cause], pairs: bool = False) -> list[Ca
     """
     candidates = general_forms(causes)
     if pairs:
-        candidates += cause_pairs([cause for cause in candidates
+        candidates += cause_pairs([cause for cause in causes
                                    if not cause.name.startswith("parameter:") and not is_term(cause.name)])
     return candidates

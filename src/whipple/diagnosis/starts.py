@@ -77,3 +77,17 @@ def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[
             scored.append((misfit, point))
     scored.sort(key=lambda entry: entry[0])
     return [point for _, point in scored[:GRID_STARTS]]
+
+
+def refinement_starts(cause: Cause, simpler: Sequence[float]) -> list[list[float]]:
+    """Return starts of a cause that refines a simpler form (``cause.refines``) fitted at ``simpler``.
+
+    The simpler form's values, the extra values at 10% and at half of their bounds from their
+    no-effect starts: not at the start itself, where an added inertia m k^2 has no slope in k.
+    """
+    lower, upper = cause.limits
+    extra = slice(len(simpler), len(cause.parameters))
+    start = np.array(cause.start, dtype=float)[extra]
+    return [[*map(float, simpler), *map(float, np.clip(start + f * (upper[extra] - lower[extra]), lower[extra],
+                                                       upper[extra]))]
+            for f in (0.1, 0.5)]

@@ -16,7 +16,8 @@ realistic size and position, diagnose them blind, and count the outcomes:
   the true values.
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
-[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias] [--size-scale S] [--occam laplace]``;
+[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias] [--size-scale S] [--occam laplace]
+[--rigid-loads]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
@@ -25,7 +26,8 @@ named one of the two is right, named a third cause wrong); ``--combine-dispersio
 experiment: pairs of causes are tried when the best single cause leaves a dispersion above D
 (the package's rule: 2; 0 tries them always); ``--occam laplace`` is another: the evidence's
 Occam factor by the Laplace approximation within each cause's bounds
-(``whipple.diagnosis.evidence.OCCAM``); ``--no-fit-bias``
+(``whipple.diagnosis.evidence.OCCAM``); ``--rigid-loads`` another: the payloads' rigid-load form
+among the candidates (``whipple.diagnosis.causes.RIGID_LOADS``); ``--no-fit-bias``
 compares each window's eigenvalue with the model's directly (``diagnose_observations(bias=False)``,
 the earlier form; by default models are compared through the fitting function). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
@@ -56,7 +58,7 @@ from hidden_effects import (  # noqa: E402
     trial_rng,
 )
 
-from whipple.diagnosis import evidence  # noqa: E402
+from whipple.diagnosis import causes, evidence  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
 from whipple.model.parameters import load_bicycle  # noqa: E402
@@ -64,12 +66,13 @@ from whipple.model.parameters import load_bicycle  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-def _trial(arguments: tuple[str, str, int, bool, float, float, str]
+def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool]
            ) -> tuple[str, str, int, str, str, str, bool, float]:
-    bicycle, family, seed, bias, scale, combine_dispersion, occam = arguments
+    bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads = arguments
     # Experiments' knobs, set in the worker process that runs the trial.
     evidence.COMBINE_DISPERSION = combine_dispersion
     evidence.OCCAM = occam
+    causes.RIGID_LOADS = rigid_loads
     try:
         trial = run_trial(family, seed, bicycle, bias=bias, scale=scale)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
@@ -176,6 +179,9 @@ def main() -> None:
                              "0: always)")
     parser.add_argument("--occam", choices=("bic", "laplace"), default=evidence.OCCAM,
                         help="experiment: how the evidence charges fitted values (whipple.diagnosis.evidence.OCCAM)")
+    parser.add_argument("--rigid-loads", action="store_true",
+                        help="experiment: the payloads' rigid-load form among the candidates "
+                             "(whipple.diagnosis.causes.RIGID_LOADS)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
@@ -195,7 +201,8 @@ def main() -> None:
         if args.trials is not None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]
-        tasks = [(*job, args.fit_bias, args.size_scale, args.combine_dispersion, args.occam) for job in jobs]
+        tasks = [(*job, args.fit_bias, args.size_scale, args.combine_dispersion, args.occam,
+                  args.rigid_loads) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

@@ -244,12 +244,12 @@ def test_a_choice_by_prediction_never_sees_the_held_out_speed():
 def test_pairs_of_candidates_are_every_two_names_in_their_most_general_form():
     bicycle = load_bicycle("benchmark")
     causes = [cause_by_name(bicycle, name) for name in ("steer_damping", "speed_scale")]
-    forms = general_forms([*causes, *payload_causes(bicycle, "payload")])
+    forms = general_forms([*causes, *payload_causes(bicycle, "payload", rigid=True)])
     assert [c.name for c in forms] == ["steer_damping", "speed_scale", "payload"]
     assert len(forms[-1].parameters) == 5  # a rigid load at any position
     # Pairs take the point mass at any position: a rigid load's own inertia would trade against
     # the second cause's.
-    pairs = cause_pairs([*causes, *payload_causes(bicycle, "payload")])
+    pairs = cause_pairs([*causes, *payload_causes(bicycle, "payload", rigid=True)])
     assert [p.name for p in pairs] == ["steer_damping + speed_scale", "steer_damping + payload",
                                        "speed_scale + payload"]
     assert len(pairs[-1].parameters) == 4

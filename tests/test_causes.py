@@ -14,6 +14,7 @@ from whipple.diagnosis.causes import (
     candidate_causes,
     cause_by_name,
     payload_bounds,
+    payload_causes,
     payload_form,
     with_cause,
 )
@@ -43,19 +44,25 @@ def test_controller_causes_only_for_controlled_bicycles():
 def test_payload_forms_share_one_prior_up_to_a_rigid_load(name):
     bicycle = load_bicycle("benchmark")
     forms = [cause for cause in candidate_causes(bicycle) if cause.name == name]
-    # Four forms, one hypothesis: their priors add up to the one unit of a named cause.
+    # Three forms by default, one hypothesis: their priors add up to the one unit of a named cause.
     assert sum(cause.prior for cause in forms) == pytest.approx(1.0)
-    assert [len(cause.parameters) for cause in forms] == [1, 2, 3, 5]
-    full, rigid = forms[-2:]
+    assert [len(cause.parameters) for cause in forms] == [1, 2, 3]
+    full = forms[-1]
     assert full.parameters == (f"{name}_mass", f"{name}_x", f"{name}_z")
-    assert rigid.parameters == (*full.parameters, f"{name}_roll_gyration", f"{name}_yaw_gyration")
     bounds = payload_bounds(bicycle, name)
     assert full.bounds == (bounds["mass"], bounds["x"], bounds["z"])
+    # The experiment: a fourth form, a rigid load refining the third, within the same prior.
+    with_rigid = payload_causes(bicycle, name, rigid=True)
+    assert sum(cause.prior for cause in with_rigid) == pytest.approx(1.0)
+    rigid = with_rigid[-1]
+    assert rigid.parameters == (*full.parameters, f"{name}_roll_gyration", f"{name}_yaw_gyration")
     assert rigid.bounds == (*full.bounds, (0.0, MAX_GYRATION), (0.0, MAX_GYRATION))
-    # The grid of starts places the load; its own inertia starts at none.
-    assert rigid.gridded == (0, 1, 2) and rigid.start[-2:] == (0.0, 0.0)
+    assert rigid.refines == full.parameters and rigid.start[-2:] == (0.0, 0.0)
+    # Fitted alone, its grid of starts places the load, its own inertia held at none.
+    assert rigid.gridded == (0, 1, 2)
     for low, high in full.bounds:
         assert low < high
+    forms += [rigid]
     # Every start lies within the bounds.
     for cause in forms:
         assert all(low <= start <= high for start, (low, high) in zip(cause.start, cause.bounds, strict=True))

@@ -33,7 +33,7 @@ def test_a_rigid_load_on_a_light_frame_is_found_from_the_point_mass_fit():
     truth_values = [10.0, -0.15, -0.7, 0.13, 0.11]
     observations = synthetic_observations(rigid.apply(bicycle, truth_values), 3, np.repeat([3.0, 4.0, 5.0, 6.0], 4))
     whitening = window_whitening(observations, bicycle)
-    forms = payload_causes(bicycle, "payload")
+    forms = payload_causes(bicycle, "payload", rigid=True)
     _, fits = evidence._fit_all(bicycle, forms, observations, whitening)
     point, refined = fits[-2], fits[-1]
     assert refined.parameters == rigid.parameters and refined.chi2 <= point.chi2 * (1 + 1e-9)

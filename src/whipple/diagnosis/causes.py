@@ -184,24 +184,30 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> 
                  refines=tuple(f"{name}_{axis}" for axis in ("mass", "x", "z")) if "k" in free else None)
 
 
-def payload_causes(bicycle: Bicycle, name: str) -> list[Cause]:
+#: Whether the payloads' rigid-load form is among the candidates (an experiment, not the
+#: default): over seeds 0-24 of every family and bicycle it named a rack load right more often
+#: (64 -> 66 of 75) but a basket less often (55 -> 46; docs/diagnosis.md, "A rigid load").
+RIGID_LOADS = False
+
+
+def payload_causes(bicycle: Bicycle, name: str, rigid: bool | None = None) -> list[Cause]:
     """Return the forms of a payload cause: ``payload`` (rear frame) or ``front_payload``.
 
-    Four forms for the evidence, sharing the cause's one unit of prior weight (so that taking
+    Three forms for the evidence, sharing the cause's one unit of prior weight (so that taking
     the best of them is not a free extra chance): the mass alone at the frame's mass centre;
     mass and height at the mass centre's fore-aft position (height changes the roll inertia,
-    which a mass alone cannot mimic); mass and full position, for a load on a rack behind the
-    saddle or in a basket ahead of the steer axis; and the same load as a rigid body with its
-    own radii of gyration about the roll and yaw axes. The full-position form was once kept out
+    which a mass alone cannot mimic); and mass and full position, for a load on a rack behind
+    the saddle or in a basket ahead of the steer axis. The full-position form was once kept out
     of the evidence because it mimicked steer inertia and trail; with the ambiguity rules
     (:mod:`whipple.diagnosis.families`) such mimicry is reported as ``ambiguous`` instead, and
     without the form a real rack or basket load (a rigid body away from the mass centre) was
-    named right in 0% and 6% of hidden-effect trials; with it, in most (docs/diagnosis.md). A
-    point mass cannot carry a box's own inertia, which then went to a second cause (a rack load
-    as ``payload`` plus a wrong frame inertia, a pair that is never named); the rigid form takes
-    it up. Other forms: :func:`payload_form`.
+    named right in 0% and 6% of hidden-effect trials; with it, in most (docs/diagnosis.md).
+    ``rigid`` (default :data:`RIGID_LOADS`): a fourth form, the same load as a rigid body with
+    its own radii of gyration about the roll and yaw axes, refining the third. Other forms:
+    :func:`payload_form`.
     """
-    forms = ("m", "mz", "mxz", "mxzk")
+    rigid = RIGID_LOADS if rigid is None else rigid
+    forms = ("m", "mz", "mxz", "mxzk") if rigid else ("m", "mz", "mxz")
     return [payload_form(bicycle, name, free, prior=1.0 / len(forms)) for free in forms]
 
 

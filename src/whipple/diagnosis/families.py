@@ -142,7 +142,7 @@ def combined_cause(first: Cause, second: Cause) -> Cause:
 
 
 def general_forms(causes: Sequence[Cause], refinements: bool = True) -> list[Cause]:
-    """One form per cause name, the one with the most fitted values (e.g. a rigid load at any position).
+    """One form per cause name, the one with the most fitted values (e.g. a payload at any position).
 
     ``refinements`` False: leave out the forms that refine another (``Cause.refines``; a rigid
     load, whose own inertia a second cause's inertia would trade against), unless a cause has no

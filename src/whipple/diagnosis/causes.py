@@ -46,13 +46,12 @@ class Cause:
     null : tuple of float or None
         Values at which the cause changes nothing (None for tyre compliance, which never
         reduces exactly to knife edges).
-    gridded : tuple of int or None
-        Indices of the values that the coarse grid of starts spans, the others held at their
-        start (:func:`whipple.diagnosis.starts.grid_starts`); None: all of them.
     refines : tuple of str or None
         The values of a simpler form of the same cause that this one extends (its leading
         values): fitted among the same candidates, that form's fit starts this one
-        (:func:`whipple.diagnosis.starts.refinement_starts`) instead of a search of its own.
+        (:func:`whipple.diagnosis.starts.refinement_starts`) instead of a search of its own;
+        fitted alone, the coarse grid of starts spans those values only, the others held at
+        their start (:func:`whipple.diagnosis.starts.grid_starts`).
     """
 
     name: str
@@ -63,7 +62,6 @@ class Cause:
     apply: Callable[[Bicycle, Sequence[float]], Bicycle]
     prior: float = 1.0
     null: tuple[float, ...] | None = None
-    gridded: tuple[int, ...] | None = None
     refines: tuple[str, ...] | None = None
 
     @property
@@ -180,7 +178,6 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> 
                  null=(0.0,) if free == "m" else None,
                  # A rigid load is a point mass refined: the point mass's fit places it (or,
                  # fitted alone, the grid does, its own inertia held at none).
-                 gridded=(0, 1, 2) if "k" in free else None,
                  refines=tuple(f"{name}_{axis}" for axis in ("mass", "x", "z")) if "k" in free else None)
 
 

@@ -535,8 +535,9 @@ def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[O
     starts = [None] * len(causes) if starts is None else starts
     fits: list[CauseFit] = []
     for cause, start, cause_whitening in zip(causes, starts, own[1:], strict=True):
-        simpler = next((fit for fit in fits if start is None and cause.refines is not None
-                        and fit.cause == cause.name and fit.parameters == cause.refines), None)
+        simpler = None
+        if start is None and cause.refines is not None:
+            simpler = next((fit for fit in fits if fit.cause == cause.name and fit.parameters == cause.refines), None)
         if simpler is None:
             fits.append(fit_cause(bicycle, cause, observations, cause_whitening, start))
         else:  # a refinement of a form fitted just before: start from its fit, no search

@@ -52,7 +52,7 @@ def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[
 
     ``chi2(values)``: the misfit of the cause at those values (robust chi-square). Only for
     causes with 2 to ``GRID_MAX_VALUES`` values (one value is well served by the fixed starts),
-    or as many of them as ``cause.gridded`` names, the rest held at their start.
+    or, for a refinement (``cause.refines``), the values it refines, the rest held at their start.
     A payload's position does nothing at zero mass, so fits started at the no-effect values,
     near the frame's mass centre, stay in the basin around it: a basket's load ahead of the
     steer axis was fitted at the front frame's rear bound with chi-square 1476 where the load's
@@ -60,7 +60,7 @@ def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[
     were blamed. The grid reaches every part of the bounds at the cost of ``GRID_POINTS ** k``
     model evaluations, no fits.
     """
-    spanned = list(range(len(cause.parameters)) if cause.gridded is None else cause.gridded)
+    spanned = list(range(len(cause.parameters) if cause.refines is None else len(cause.refines)))
     if not 2 <= len(spanned) <= GRID_MAX_VALUES:
         return []
     lower, upper = cause.limits

@@ -3,18 +3,23 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
 from synthetic_windows import synthetic_observations
 
 from whipple.cli import main
+from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias
+from whipple.diagnosis.causes import candidate_causes
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
+from whipple.diagnosis.fitting import model_residuals, robust_chi2, window_whitening
 from whipple.diagnosis.observations import observations, predicted_weave
 from whipple.measurement.experiment import measure_run
+from whipple.measurement.refit import refit_weave, refit_weaves
 from whipple.measurement.runs import run_from_simulation
-from whipple.measurement.weavefit import NoOscillationError, fit_weave, refit_weave, response_with_eigenvalue
+from whipple.measurement.weavefit import NoOscillationError, fit_weave, response_with_eigenvalue
 from whipple.model.parameters import load_bicycle
 from whipple.simulation.scenario import RunScenario, Sensor, Sensors
 from whipple.simulation.simulator import simulate_run, write_run_csv
@@ -98,6 +103,32 @@ def test_refit_weave_reaches_the_full_fits_optimum(baseline):
     assert np.sum((signal - fitted[refit]) ** 2) <= np.sum((signal - fitted[full]) ** 2)
 
 
+def test_refitting_many_windows_at_once_gives_each_windows_own_refit():
+    # Windows of different lengths, baselines and signal counts, one without oscillation:
+    # stacked, each must reach the optimum it reaches alone, and the failure stays its own.
+    rng = np.random.default_rng(5)
+    times, values, starts, baselines = [], [], [], []
+    for n, (size, baseline) in enumerate([(300, "constant"), (180, "quadratic"), (520, "constant"),
+                                          (240, "quadratic"), (400, "constant")]):
+        time = np.arange(size) * 0.01
+        weave = np.exp(-0.4 * time) * np.sin((3.5 + 0.3 * n) * time + 0.2 * n)
+        signal = weave + 0.3 * np.exp(-8.0 * time) + 0.01 * rng.standard_normal(size)
+        values.append(np.vstack([signal, 0.5 * signal + 0.02 * rng.standard_normal(size)]) if n == 2 else signal)
+        times.append(time)
+        starts.append(complex(-0.3, 3.4 + 0.3 * n))
+        baselines.append(baseline)
+    values[4] = np.full(400, 0.7)
+    together, failures = refit_weaves(times, values, np.array(starts), baselines)
+    for n in range(4):
+        alone = refit_weave(times[n], values[n], starts[n], baselines[n])
+        assert together[n] == pytest.approx(alone, abs=1e-12)
+        if n != 2:  # the full fit weighs two signals its own way
+            assert together[n] == pytest.approx(fit_weave(times[n], values[n], baseline=baselines[n]).eigenvalue,
+                                                abs=1e-5)
+        assert failures[n] is None
+    assert np.isnan(together[4]) and "constant" in failures[4]
+
+
 def test_diagnosis_through_the_fitting_function_estimates_the_truth_better():
     # Realistic sensors: compared through the fitting function, the true cause's value is
     # nearer the truth (the windows' bias is predicted, not fitted by the cause's value).
@@ -135,3 +166,24 @@ def test_observations_without_samples_are_compared_directly():
     without = diagnose_observations(base, listed, estimate_spread=False, bias=False)
     assert not with_bias.fit_bias
     assert with_bias.ranking() == without.ranking()
+
+
+def test_only_causes_near_the_best_are_refitted_with_their_own_bias():
+    # The screen of the bias (evidence.BIAS_SCREEN): a cause near the best is refitted with its
+    # own model's bias exactly as without the screen; one far behind is its direct fit,
+    # evaluated with the base model's bias, and its chi-square is that evaluation's.
+    base = load_bicycle("kooijman2008")
+    found = _observations(base.with_extensions(steer_damping=1.1), (5.0, 7.0), sensors=Sensors(), seed=5)
+    causes = [cause for cause in candidate_causes(base) if cause.name in ("steer_damping", "speed_scale")]
+    whitening = window_whitening(found, base)
+    _, fits = fit_all(base, causes, found, whitening)
+    base_bias = fitting_bias(base, found)
+    screened_base, screened, biases = refit_through_bias(base, causes, fits, found, whitening, base_bias, [True, False])
+    own = fitting_bias(causes[0].apply(base, list(fits[0].values)), found)
+    unscreened_base, unscreened = fit_all(base, causes[:1], found, whitening, [[fits[0].values]], [base_bias, own])
+    assert screened[0].values == unscreened[0].values and screened[0].chi2 == unscreened[0].chi2
+    assert screened_base.chi2 == unscreened_base.chi2
+    assert np.array_equal(biases[0], own) and biases[1] is base_bias
+    assert screened[1].values == fits[1].values
+    far = model_residuals(causes[1].apply(base, list(fits[1].values)), found, replace(whitening, bias=base_bias))[0]
+    assert screened[1].chi2 == robust_chi2(far) != fits[1].chi2

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from synthetic_windows import synthetic_observations
 
-from whipple.diagnosis import evidence
+from whipple.diagnosis import candidate_fits
 from whipple.diagnosis.causes import payload_causes, payload_form
 from whipple.diagnosis.fitting import fit_cause, window_whitening
 from whipple.diagnosis.starts import refinement_starts
@@ -34,7 +34,7 @@ def test_a_rigid_load_on_a_light_frame_is_found_from_the_point_mass_fit():
     observations = synthetic_observations(rigid.apply(bicycle, truth_values), 3, np.repeat([3.0, 4.0, 5.0, 6.0], 4))
     whitening = window_whitening(observations, bicycle)
     forms = payload_causes(bicycle, "payload", rigid=True)
-    _, fits = evidence._fit_all(bicycle, forms, observations, whitening)
+    _, fits = candidate_fits.fit_all(bicycle, forms, observations, whitening)
     point, refined = fits[-2], fits[-1]
     assert refined.parameters == rigid.parameters and refined.chi2 <= point.chi2 * (1 + 1e-9)
     assert abs(refined.values[0] - truth_values[0]) < 3 * refined.std[0]

@@ -37,6 +37,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, combined_cause, components, describe_family
@@ -44,7 +45,7 @@ from whipple.diagnosis.fit_bias import debiased, fitting_bias
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2, window_whitening
 from whipple.diagnosis.model_terms import candidates_with_terms, is_term, term_words
 from whipple.diagnosis.observations import Observation
-from whipple.diagnosis.starts import quick_starts, refinement_starts
+from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
 from whipple.model.parameters import Bicycle
 
@@ -77,6 +78,11 @@ PAIR_CANDIDATES = 3
 #: :func:`speed_dependence`) above which a leading cause is not named: its form does not follow
 #: how the error changes with speed. The same odds as ``MARGIN`` (~7:1).
 SPEED_DEPENDENCE = MARGIN
+#: Evidence (compared directly, and times the dispersion) by which a cause may trail the best
+#: and still be refitted through its own model's fitting bias; further behind, its direct fit
+#: is evaluated with the base model's. Twice the most either moved a cause against the leader among the candidates
+#: of 40 runs with a rack load (45), and the bias was most of a diagnosis' time (docs/diagnosis.md).
+BIAS_SCREEN = 100.0
 #: How many more pairs, the best by a screen of all pairs linearised at the base model, are tried.
 PAIR_SCREENED = 3
 #: How many more again, the best by a screen linearised away from the base model (at each
@@ -193,7 +199,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     held-out gain's folds). ``bias`` (the default): compare each model with the windows through
     the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit is refitted once with
     the bias of the fitting function on its own model's response, computed at its first fitted
-    values (windows with known samples only); False compares each window's eigenvalue with the
+    values (windows with known samples only; the base model's bias for a cause more than
+    ``BIAS_SCREEN`` behind the best at those values); False compares each window's eigenvalue with the
     model's own (the earlier form, about a third of the cost).
     """
     observations = tuple(observations)
@@ -203,16 +210,22 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     whitening = window_whitening(observations, bicycle)
     counts = (2 * len(observations), 2 * len(whitening.shape_index))
     n = sum(counts)
-    base, fits = _fit_all(bicycle, causes, observations, whitening,
-                          [quick_starts(cause) if cause.refines is None else None for cause in causes]
-                          if quick else None)
+    base, fits = fit_all(bicycle, causes, observations, whitening,
+                         [quick_starts(cause) if cause.refines is None else None for cause in causes]
+                         if quick else None)
     biases: list[NDArray[np.complex128]] | None = None
-    if bias:
-        biases = [fitting_bias(bicycle, observations), *_biases(bicycle, causes, fits, observations)]
-        if any(np.any(b != 0) for b in biases):
-            base, fits = _fit_all(bicycle, causes, observations, whitening, [[fit.values] for fit in fits], biases)
-        else:
-            biases = None  # no window's samples known (observations from a table): nothing to refit
+    if bias and any(o.signals is not None for o in observations):
+        direct = [fit.evidence for fit in _scored(causes, base, fits, n)]
+        # In units of the data's dispersion: where no model explains the windows, every
+        # difference of chi-square is that many times larger.
+        screen = BIAS_SCREEN * max(_dispersions([base, *fits], counts))
+        near = [evidence >= max(direct) - screen for evidence in direct]
+        base_bias = fitting_bias(bicycle, observations)
+        biased_base, biased_fits, own = refit_through_bias(bicycle, causes, fits, observations, whitening,
+                                                           base_bias, near)
+        if any(np.any(b != 0) for b in [base_bias, *own]):
+            base, fits, biases = biased_base, biased_fits, [base_bias, *own]
+        # else no window's samples known (observations from a table): the direct fits stand
     scales = _dispersions([base, *fits], counts)
     single_scales = typical_dispersion(fits, counts, whitening.scales)
     pairs: list[Cause] = []
@@ -234,9 +247,10 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start] if quick else [start, list(pair.start)])
                      for pair, start in started]
         if biases is not None:
-            pair_biases = _biases(bicycle, pairs, pair_fits, observations)
-            _, pair_fits = _fit_all(bicycle, pairs, observations, whitening, [[fit.values] for fit in pair_fits],
-                                    [biases[0], *pair_biases])
+            # Every pair through its own bias: a pair's joint fit may move far between the direct
+            # and the biased comparison (on the bundled treadmill data, a screened pair fell out).
+            _, pair_fits, pair_biases = refit_through_bias(bicycle, pairs, pair_fits, observations, whitening,
+                                                           biases[0], [True] * len(pairs))
             biases += pair_biases
         causes, fits = causes + pairs, fits + pair_fits
         scales = _dispersions([base, *fits], counts)
@@ -250,7 +264,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         whitening = replace(whitening, scales=scales)
         single = len(causes) - len(pairs)
         again = [[fit.values] if n_cause >= single else None for n_cause, fit in enumerate(fits)]
-        base, fits = _fit_all(bicycle, causes, observations, whitening, again, biases)
+        base, fits = fit_all(bicycle, causes, observations, whitening, again, biases)
     scored = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n)), margin)
     chosen = None
     compared: Sequence[Observation] = observations
@@ -522,38 +536,6 @@ def _residual_derivatives(bicycle: Bicycle, cause: Cause, observations: Sequence
         changed = model_residuals(cause.apply(bicycle, [float(v) for v in x]), observations, whitening)[0]
         columns.append((changed - residual) / (x[i] - origin[i]))
     return np.column_stack(columns)
-
-
-def _fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
-             whitening: Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None,
-             biases: Sequence[NDArray[np.complex128]] | None = None) -> tuple[CauseFit, list[CauseFit]]:
-    """Fit the base model and every cause; ``biases``: the fitting bias of the base model, then of each cause."""
-    own = [whitening] * (1 + len(causes)) if biases is None else [replace(whitening, bias=b) for b in biases]
-    residual, predicted, block_chi2 = model_residuals(bicycle, observations, own[0])
-    base = CauseFit("none", (), (), (), (), robust_chi2(residual), predicted=predicted, block_chi2=block_chi2,
-                    residuals=residual)
-    starts = [None] * len(causes) if starts is None else starts
-    fits: list[CauseFit] = []
-    for cause, start, cause_whitening in zip(causes, starts, own[1:], strict=True):
-        simpler = None
-        if start is None and cause.refines is not None:
-            simpler = next((fit for fit in fits if fit.cause == cause.name and fit.parameters == cause.refines), None)
-        if simpler is None:
-            fits.append(fit_cause(bicycle, cause, observations, cause_whitening, start))
-        else:  # a refinement of a form fitted just before: start from its fit, no search
-            fits.append(fit_cause(bicycle, cause, observations, cause_whitening,
-                                  refinement_starts(cause, simpler.values), grid=False))
-    return base, fits
-
-
-def _biases(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
-            observations: Sequence[Observation]) -> list[NDArray[np.complex128]]:
-    """Return each cause's fitting bias at its fitted values (:func:`~whipple.diagnosis.fit_bias.fitting_bias`).
-
-    Computed once, at the values fitted without it: it changes little over the refit's step.
-    """
-    return [fitting_bias(cause.apply(bicycle, list(fit.values)), observations)
-            for cause, fit in zip(causes, fits, strict=True)]
 
 
 def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:

@@ -24,14 +24,13 @@ compares the eigenvalues directly): see docs/diagnosis.md, "The fitting function
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.observations import MODE_SHAPE_STATES, SHAPE_MATCH, Observation, WindowSignals
-from whipple.errors import InputError
-from whipple.measurement.weavefit import NoOscillationError, refit_weave
+from whipple.measurement.refit import refit_weaves
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import Bicycle
 
@@ -46,7 +45,8 @@ def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArr
     Zero where a window's samples are unknown (:attr:`Observation.signals` is None), where a
     fitted signal is no state of the model, where no oscillatory mode of the model lies
     within ``SHAPE_MATCH`` of the measured eigenvalue, or where the refit fails or moves
-    further than that (then the window's fit is no weave of this model to correct).
+    further than that (then the window's fit is no weave of this model to correct). All
+    windows are refitted at once (:func:`~whipple.measurement.refit.refit_weaves`).
     """
     bias = np.zeros(len(observations), dtype=complex)
     known = [n for n, o in enumerate(observations)
@@ -56,8 +56,15 @@ def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArr
     speeds = bicycle.model_speed(np.array([observations[n].speed for n in known], dtype=float))
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(speeds))
-    for k, n in enumerate(known):
-        bias[n] = _window_bias(values[k], vectors[k], observations[n])
+    windows = [window for k, n in enumerate(known)
+               if (window := _model_weave(n, values[k], vectors[k], observations[n])) is not None]
+    groups: dict[tuple[int, int], list[_Window]] = {}
+    for window in windows:
+        groups.setdefault((len(window.signals.names), window.pair.size), []).append(window)
+    for members in groups.values():
+        for window, found in zip(members, _Stack(members).bias(), strict=True):
+            if np.isfinite(found) and abs(found) <= SHAPE_MATCH * abs(window.weave):
+                bias[window.index] = found
     return bias
 
 
@@ -70,87 +77,155 @@ def debiased(observations: Sequence[Observation], bias: NDArray[np.complex128]) 
             for o, b in zip(observations, bias, strict=True)]
 
 
-def _window_bias(values: NDArray[np.complex128], vectors: NDArray[np.complex128], observation: Observation) -> complex:
-    """Return the bias of one window, given the model's eigenvalues and eigenvectors at its speed."""
-    if not (np.isfinite(values).all() and np.isfinite(vectors).all()):
-        return 0.0j
-    measured = observation.eigenvalue
-    upper = np.where(values.imag < 0, np.conj(values), values)
-    nearest = int(np.argmin(np.abs(upper - measured)))
-    weave = complex(upper[nearest])
-    if weave.imag <= 0 or abs(weave - measured) > SHAPE_MATCH * abs(measured):
-        return 0.0j
-    signals = observation.signals
-    assert signals is not None
-    pair = np.flatnonzero(np.abs(upper - weave) <= 1e-9 * abs(weave))
+@dataclass(frozen=True)
+class _Window:
+    """A window with the model's modes at its speed, its weave the mode nearest the measured eigenvalue."""
 
-    def with_weave(eigenvalue: complex) -> NDArray[np.complex128]:
-        changed = values.copy()
-        changed[pair] = np.where(values[pair].imag < 0, np.conj(eigenvalue), eigenvalue)
+    index: int
+    measured: complex
+    weave: complex
+    values: NDArray[np.complex128]
+    vectors: NDArray[np.complex128]
+    pair: NDArray[np.intp]
+    signals: WindowSignals
+
+    def with_weave(self, eigenvalue: complex) -> NDArray[np.complex128]:
+        """Return the model's eigenvalues with its weave pair moved to `eigenvalue` and its conjugate."""
+        changed = self.values.copy()
+        changed[self.pair] = np.where(self.values[self.pair].imag < 0, np.conj(eigenvalue), eigenvalue)
         return changed
 
-    try:
-        # The window's own weave, found as the eigenvalue whose response (with the other modes
-        # as the window holds them) the fitted function reports as the measured one.
-        own = measured
+
+def _model_weave(index: int, values: NDArray[np.complex128], vectors: NDArray[np.complex128],
+                 observation: Observation) -> _Window | None:
+    """Return the window with the model's weave, or None if no oscillatory mode lies near its eigenvalue."""
+    if not (np.isfinite(values).all() and np.isfinite(vectors).all()):
+        return None
+    measured = observation.eigenvalue
+    upper = np.where(values.imag < 0, np.conj(values), values)
+    weave = complex(upper[int(np.argmin(np.abs(upper - measured)))])
+    if weave.imag <= 0 or abs(weave - measured) > SHAPE_MATCH * abs(measured):
+        return None
+    assert observation.signals is not None
+    pair = np.flatnonzero(np.abs(upper - weave) <= 1e-9 * abs(weave))
+    return _Window(index, measured, weave, values, vectors, pair, observation.signals)
+
+
+class _Stack:
+    """Windows with the same number of signals, their modal responses solved together.
+
+    Padded with samples of weight zero to the longest window. The design's columns for the
+    modes other than the weave, and for the signals' offsets, are the same in every response
+    (only the weave's eigenvalue changes), so they are built once.
+    """
+
+    def __init__(self, windows: Sequence[_Window]) -> None:
+        self.windows = windows
+        count, length = len(windows[0].signals.names), max(window.signals.time.size for window in windows)
+        self.sizes = np.array([window.signals.time.size for window in windows])
+        self.tau = np.zeros((len(windows), length))
+        self.mask = np.zeros((len(windows), length))
+        targets = np.zeros((len(windows), count, length))
+        for row, window in enumerate(windows):
+            signals = window.signals
+            self.tau[row, :signals.time.size] = signals.time - signals.time[0]
+            self.mask[row, :signals.time.size] = 1.0
+            targets[row, :, :signals.time.size] = signals.values
+        self.spreads = np.std(targets, axis=2, where=self.mask[:, None, :].astype(bool))
+        rows = np.array([window.vectors[[MODE_SHAPE_STATES[name] for name in window.signals.names]]
+                         for window in windows])
+        others = np.array([np.setdiff1d(np.arange(window.values.size), window.pair) for window in windows])
+        pairs = np.array([window.pair for window in windows])
+        self.pair_rows = np.take_along_axis(rows, pairs[:, None, :], axis=2)
+        self.pair_lower = np.array([window.values[window.pair].imag < 0 for window in windows])
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            self.targets = (targets / self.spreads[:, :, None]).reshape(len(windows), -1)
+            offsets = np.zeros((len(windows), count, length, count))
+            for k in range(count):
+                offsets[:, k, :, k] = self.mask / self.spreads[:, k, None]
+            other_values = np.array([window.values[other] for window, other in zip(windows, others, strict=True)])
+            self.fixed = np.concatenate([self._mode_columns(np.arange(len(windows)), other_values,
+                                                            np.take_along_axis(rows, others[:, None, :], axis=2)),
+                                         offsets.reshape(len(windows), count * length, count)], axis=2)
+        self.usable = (self.spreads > 0).all(axis=1) & np.isfinite(self.fixed).all(axis=(1, 2))
+
+    def _mode_columns(self, members: NDArray[np.intp], modes: NDArray[np.complex128],
+                      rows: NDArray[np.complex128]) -> NDArray[np.float64]:
+        """Return design columns (M, k n, 2 m): each mode's time course times the signal's eigenvector entry.
+
+        Real amplitudes of the complex modes: the real and (negated) imaginary part of each
+        column; each signal weighted by the inverse of its spread; a padded sample's row zero.
+        """
+        courses = np.exp(self.tau[members, :, None] * modes[:, None, :]) * self.mask[members, :, None]
+        blocks = []
+        for k in range(rows.shape[1]):
+            signal = courses * rows[:, k, None, :]
+            blocks.append(np.concatenate([signal.real, -signal.imag], axis=2) / self.spreads[members, k, None, None])
+        return np.concatenate(blocks, axis=1)
+
+    def _weave_columns(self, members: NDArray[np.intp], eigenvalues: NDArray[np.complex128]) -> NDArray[np.float64]:
+        modes = np.where(self.pair_lower[members], np.conj(eigenvalues)[:, None], eigenvalues[:, None])
+        return self._mode_columns(members, modes, self.pair_rows[members])
+
+    def responses(self, members: NDArray[np.intp], fitted: NDArray[np.complex128],
+                  weaves: NDArray[np.complex128]) -> tuple[list[NDArray[np.float64]], NDArray[np.bool_]]:
+        """Return free responses of the model with the modal amplitudes that best match each window's samples.
+
+        The amplitudes are fitted with the weave at ``fitted`` and the response has it at
+        ``weaves`` [1/s]. Each signal has its own constant (a sensor's offset, which the fitted
+        function's baseline holds too). Also returns which responses are finite: a mode may
+        grow beyond the arithmetic over a window.
+        """
+        with np.errstate(over="ignore", invalid="ignore"):
+            fitted_design = np.concatenate([self._weave_columns(members, fitted), self.fixed[members]], axis=2)
+            design = (fitted_design if weaves is fitted else
+                      np.concatenate([self._weave_columns(members, weaves), self.fixed[members]], axis=2))
+        finite = np.isfinite(fitted_design).all(axis=(1, 2)) & np.isfinite(design).all(axis=(1, 2))
+        count = self.spreads.shape[1]
+        coefficients = _minimum_norm(np.where(finite[:, None, None], fitted_design, 0.0), self.targets[members],
+                                     self.sizes[members] * count)
+        curves = (np.where(finite[:, None, None], design, 0.0) @ coefficients[:, :, None]).reshape(
+            len(members), count, -1) * self.spreads[members, :, None]
+        return [curve[:, :size] for curve, size in zip(curves, self.sizes[members], strict=True)], finite
+
+    def _refits(self, members: NDArray[np.intp], fitted: NDArray[np.complex128], weaves: NDArray[np.complex128],
+                starts: NDArray[np.complex128]) -> NDArray[np.complex128]:
+        curves, finite = self.responses(members, fitted, weaves)
+        windows = [self.windows[int(n)] for n in members]
+        refitted = refit_weaves([window.signals.time for window in windows], curves, starts,
+                                [window.signals.baseline for window in windows])[0]
+        return np.where(finite, refitted, np.nan)
+
+    def bias(self) -> NDArray[np.complex128]:
+        """Return each window's fitting bias [1/s]: NaN where a response or refit failed."""
+        found = np.full(len(self.windows), np.nan, dtype=complex)
+        members = np.flatnonzero(self.usable)
+        measured = np.array([window.measured for window in self.windows])
+        # The window's own weave: the eigenvalue whose response (with the other modes as the
+        # window holds them) the fitted function reports as the measured one.
+        own = measured[members]
         for _ in range(FIXED_POINT_STEPS):
-            modes = with_weave(own)
-            response = _modal_response(modes, modes, vectors, signals)
-            own = measured - (refit_weave(signals.time, response, own, signals.baseline) - own)
-        response = _modal_response(with_weave(own), values, vectors, signals)
-        fitted = refit_weave(signals.time, response, weave, signals.baseline)
-    except InputError:
-        return 0.0j
-    bias = fitted - weave
-    return bias if np.isfinite(bias) and abs(bias) <= SHAPE_MATCH * abs(weave) else 0.0j
+            if members.size == 0:
+                return found
+            refitted = self._refits(members, own, own, own)
+            kept = np.isfinite(refitted)
+            members, own = members[kept], measured[members[kept]] - (refitted[kept] - own[kept])
+        if members.size:
+            weaves = np.array([self.windows[int(n)].weave for n in members])
+            found[members] = self._refits(members, own, weaves, weaves) - weaves
+        return found
 
 
-def _modal_response(fitted_values: NDArray[np.complex128], values: NDArray[np.complex128],
-                    vectors: NDArray[np.complex128], signals: WindowSignals) -> NDArray[np.float64]:
-    """Return a free response of the model with the modal amplitudes that best match the window's samples.
+def _minimum_norm(designs: NDArray[np.float64], targets: NDArray[np.float64], samples: NDArray[np.float64]
+                  ) -> NDArray[np.float64]:
+    """Return each design's minimum-norm least-squares solution, as ``numpy.linalg.lstsq`` would.
 
-    The amplitudes are fitted with the modes ``fitted_values``, and the response has the modes
-    ``values`` (the same but for the weave's eigenvalue; given the same array, its columns are
-    built once). Each signal is weighted by the inverse of its standard deviation and has its
-    own constant (a sensor's offset, which the fitted function's baseline holds too).
-
-    Raises
-    ------
-    NoOscillationError
-        If a signal is constant or a mode grows beyond the arithmetic over the window.
+    Singular values below ``eps max(samples, columns)`` times the largest are dropped, as
+    lstsq's default does with the window's own number of samples: the design of a model with
+    complex pairs and real modes has dependent columns.
     """
-    tau = signals.time - signals.time[0]
-    with np.errstate(over="ignore", invalid="ignore"):
-        fitted_modes = np.exp(np.outer(tau, fitted_values))
-        modes = fitted_modes if values is fitted_values else np.exp(np.outer(tau, values))
-    if not (np.isfinite(fitted_modes).all() and np.isfinite(modes).all()):
-        raise NoOscillationError("a mode grows beyond the arithmetic over the window")
-    count = len(signals.names)
-    fitted_blocks: list[NDArray[np.float64]] = []
-    blocks: list[NDArray[np.float64]] = []
-    targets, spreads = [], []
-    for k, name in enumerate(signals.names):
-        measured = signals.values[k]
-        spread = float(np.std(measured))
-        if spread == 0.0:
-            raise NoOscillationError("a signal is constant over the window")
-        offsets = np.zeros((tau.size, count))
-        offsets[:, k] = 1.0
-        row = vectors[MODE_SHAPE_STATES[name]]
-        fitted_blocks.append(_columns(fitted_modes, row, offsets) / spread)
-        blocks.append(fitted_blocks[-1] if modes is fitted_modes else _columns(modes, row, offsets) / spread)
-        targets.append(measured / spread)
-        spreads.append(spread)
-    coefficients = np.linalg.lstsq(np.vstack(fitted_blocks), np.concatenate(targets), rcond=None)[0]
-    response = np.vstack(blocks) @ coefficients
-    return np.array([response[k * tau.size:(k + 1) * tau.size] * spreads[k] for k in range(count)])
-
-
-def _columns(modes: NDArray[np.complex128], row: NDArray[np.complex128], offsets: NDArray[np.float64]
-             ) -> NDArray[np.float64]:
-    """Return one signal's design columns: each mode's time course times the signal's eigenvector entry, then offsets.
-
-    Real amplitudes of the complex modes: the real and (negated) imaginary part of each column.
-    """
-    signal = modes * row[None, :]
-    return np.hstack([signal.real, -signal.imag, offsets])
+    u, s, vh = np.linalg.svd(designs, full_matrices=False)
+    cutoff = np.finfo(float).eps * np.maximum(samples, designs.shape[2])[:, None] * s[:, :1]
+    inverse = np.divide(1.0, s, out=np.zeros_like(s), where=s > cutoff)
+    projected = np.einsum("nrc,nr->nc", u, targets) * inverse
+    return np.asarray(np.einsum("nci,nc->ni", vh, projected), dtype=float)

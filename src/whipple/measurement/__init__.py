@@ -12,8 +12,10 @@ swings, windows
     Free-coasting windows, found automatically.
 reference_windows
     Windows files, and the comparison of two sets of windows.
-weave_starts, lsq_covariance, weavefit
+weave_starts, lsq_covariance, projection, weavefit
     The seed paper's damped sinusoid fitted by variable projection, with its covariance.
+refit
+    Refits of the damped sinusoid from starts near their optima, many windows at once.
 mode_shape
     The weave's mode shape: a second signal's amplitude relative to the roll rate.
 experiment

@@ -27,6 +27,7 @@ from scipy.optimize import least_squares
 
 from whipple.errors import AnalysisError, InputError, RunFileError
 from whipple.measurement.lsq_covariance import NOISE_MODELS, SingularFitError, lsq_covariance
+from whipple.measurement.projection import Projection
 from whipple.measurement.runs import Run
 from whipple.measurement.weave_starts import starting_values
 from whipple.measurement.windows import Window
@@ -251,32 +252,18 @@ _Projection = Callable[[NDArray[np.float64]], tuple[NDArray[np.float64], NDArray
 
 
 def _projected(tau: NDArray[np.float64], Y: NDArray[np.float64], degree: int = 0) -> _Projection:
-    """Residual and Kaufman Jacobian of the variable-projection problem (least_squares, or refit_weave's steps)."""
-    basis = np.empty((tau.size, degree + 3))  # the baseline's columns are the same in every call
-    for k in range(degree + 1):
-        basis[:, k] = tau**k
+    """Residual and Kaufman Jacobian of one window's variable-projection problem, for least_squares."""
+    projection, rows = Projection([tau], [Y], degree), np.zeros(1, dtype=np.intp)
 
     def parts(theta: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        d, w = theta
-        decay = np.exp(d * tau)
-        cos, sin = decay * np.cos(w * tau), decay * np.sin(w * tau)
-        basis[:, -2], basis[:, -1] = cos, sin
-        q, r = np.linalg.qr(basis)
-        coefficients = np.linalg.lstsq(r, q.T @ Y, rcond=None)[0]
-        residual = Y - basis @ coefficients
-        c2, c3 = coefficients[-2], coefficients[-1]
-        columns = []
-        for derivative in (
-            tau[:, None] * (cos[:, None] * c2 + sin[:, None] * c3),  # d/dd of the model
-            tau[:, None] * (cos[:, None] * c3 - sin[:, None] * c2),  # d/dw
-        ):
-            columns.append(-(derivative - q @ (q.T @ derivative)).ravel())
-        return residual.ravel(), np.column_stack(columns)
+        residual, jacobian, _ = projection.parts(theta[None, :], rows)
+        return residual.ravel(), jacobian.reshape(-1, 2)
 
     return parts
 
 
-def _bounds(tau: NDArray[np.float64]) -> tuple[list[float], list[float]]:
+def window_bounds(tau: NDArray[np.float64]) -> tuple[list[float], list[float]]:
+    """Return the lower and upper bounds of (d, w) [1/s] for a window with sample times `tau` from its start."""
     # w from (almost) nothing to the Nyquist frequency; the damping bound only keeps exp()
     # finite over the window.
     span = float(tau[-1])
@@ -286,7 +273,7 @@ def _bounds(tau: NDArray[np.float64]) -> tuple[list[float], list[float]]:
 def _best_optimum(tau: NDArray[np.float64], Y: NDArray[np.float64], span: float,
                   degree: int = 0) -> NDArray[np.float64]:
     parts = _projected(tau, Y.T, degree)
-    lower, upper = _bounds(tau)
+    lower, upper = window_bounds(tau)
     starts = [np.clip(start, lower, upper) for start in starting_values(tau, Y.T[:, 0])]
     # Polishing every start is wasteful: the two most promising ones are polished.
     ranked = sorted(starts, key=lambda start: float(np.sum(parts(start)[0] ** 2)))
@@ -304,7 +291,7 @@ def _polish(
     tau: NDArray[np.float64], Y: NDArray[np.float64], start: NDArray[np.float64], span: float,
     degree: int = 0,
 ) -> NDArray[np.float64]:
-    lower, upper = _bounds(tau)
+    lower, upper = window_bounds(tau)
     x0 = np.clip(start, np.array(lower) + 1e-9, np.array(upper) - 1e-9)
     parts = _projected(tau, Y.T, degree)
     cache: dict[bytes, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
@@ -417,79 +404,3 @@ def response_with_eigenvalue(
     y = np.atleast_2d(np.asarray(values, dtype=float))
     fitted = _linear_fit(t - t[0], y.T, np.array([eigenvalue.real, abs(eigenvalue.imag)]), BASELINES[baseline])[1]
     return np.asarray(fitted.T, dtype=float)
-
-
-#: Relative size of the last Gauss-Newton step at which :func:`refit_weave` stops: far below
-#: any window's stated uncertainty (a few percent of the eigenvalue).
-REFIT_TOLERANCE = 1e-7
-#: Most Gauss-Newton steps of :func:`refit_weave` (a start near the optimum needs 2-4).
-REFIT_STEPS = 20
-#: Halvings of a step that raises the cost before the point is taken as the optimum.
-HALVINGS = 30
-
-
-def _gauss_newton(parts: _Projection, theta: NDArray[np.float64],
-                  bounds: tuple[list[float], list[float]]) -> NDArray[np.float64]:
-    """Return the least-squares optimum near `theta` by Gauss-Newton steps, halved while they raise the cost."""
-    lower, upper = np.array(bounds[0]), np.array(bounds[1])
-    residual, jacobian = parts(theta)
-    cost = float(residual @ residual)
-    for _ in range(REFIT_STEPS):
-        step = np.linalg.lstsq(jacobian, -residual, rcond=None)[0]
-        if np.all(np.abs(step) <= REFIT_TOLERANCE * np.abs(theta).max()):
-            return np.clip(theta + step, lower, upper)  # converged: the last step needs no check
-        for _ in range(HALVINGS):
-            trial = np.clip(theta + step, lower, upper)
-            with np.errstate(over="ignore", invalid="ignore"):
-                trial_residual, trial_jacobian = parts(trial)
-            trial_cost = float(trial_residual @ trial_residual)
-            if trial_cost <= cost:
-                break
-            step = step / 2
-        else:
-            return theta  # no step lowers the cost: theta is the optimum to rounding
-        theta, residual, jacobian, cost = trial, trial_residual, trial_jacobian, trial_cost
-    return theta
-
-
-def refit_weave(time: ArrayLike, values: ArrayLike, start: complex, baseline: str = "constant") -> complex:
-    """Return the eigenvalue :func:`fit_weave` reaches from a start near it, without its search for starts.
-
-    For a response whose weave is known (a model's own response over a window): the fitted
-    function's optimum nearest the true eigenvalue, at a fraction of the cost of a full fit.
-    From a start this close, Gauss-Newton steps on the variable-projection problem reach the
-    optimum in two or three steps (to :data:`REFIT_TOLERANCE`), where the setup of SciPy's
-    trust-region solver alone costs more than those steps.
-
-    Parameters
-    ----------
-    time : array_like, shape (n,)
-        Sample times [s].
-    values : array_like, shape (n,) or (k, n)
-        The signal(s), each weighted by the inverse of its standard deviation.
-    start : complex
-        Starting eigenvalue d + i w [1/s].
-    baseline : str
-        As in :func:`fit_weave`.
-
-    Raises
-    ------
-    NoOscillationError
-        If a signal is constant or the optimum holds under half a period of oscillation.
-    """
-    if baseline not in BASELINES:
-        raise InputError(f"unknown baseline '{baseline}' (one of {', '.join(BASELINES)})")
-    t = np.asarray(time, dtype=float)
-    y = np.atleast_2d(np.asarray(values, dtype=float))
-    tau = t - t[0]
-    span = float(tau[-1])
-    spread = y.std(axis=1)
-    if not (spread > 0).all():
-        raise NoOscillationError("a signal is constant over the window")
-    theta = _gauss_newton(_projected(tau, (y / spread[:, None]).T, BASELINES[baseline]),
-                          np.array([start.real, abs(start.imag)]), _bounds(tau))
-    if not np.isfinite(theta).all():
-        raise NoOscillationError("the refit left the window's arithmetic (a mode grows beyond it)")
-    if theta[1] * span < np.pi:
-        raise NoOscillationError(f"under half a period of oscillation in the window (w = {theta[1]:.3g} rad/s)")
-    return complex(theta[0], theta[1])

@@ -1,0 +1,82 @@
+"""Every candidate fitted to the same windows, directly or through the fitting function.
+
+:func:`fit_all` fits the base model and each cause. :func:`refit_through_bias` compares each
+with the windows through the fitting function (:mod:`whipple.diagnosis.fit_bias`): the bias of
+a model is costly (refits of every window), so only the causes near the best get their own
+model's bias and a refit; the others, far behind, are evaluated at their values with the base
+model's bias, which moves them little against a lead of ``screen`` (docs/diagnosis.md, "All
+windows at once, and the bias only where it can matter").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.fit_bias import fitting_bias
+from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2
+from whipple.diagnosis.observations import Observation
+from whipple.diagnosis.starts import refinement_starts
+from whipple.model.parameters import Bicycle
+
+
+def fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
+            whitening: Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None,
+            biases: Sequence[NDArray[np.complex128]] | None = None) -> tuple[CauseFit, list[CauseFit]]:
+    """Fit the base model and every cause; ``biases``: the fitting bias of the base model, then of each cause."""
+    own = [whitening] * (1 + len(causes)) if biases is None else [replace(whitening, bias=b) for b in biases]
+    base = _evaluated(bicycle, CauseFit("none", (), (), (), (), 0.0), observations, own[0])
+    starts = [None] * len(causes) if starts is None else starts
+    fits: list[CauseFit] = []
+    for cause, start, cause_whitening in zip(causes, starts, own[1:], strict=True):
+        simpler = None
+        if start is None and cause.refines is not None:
+            simpler = next((fit for fit in fits if fit.cause == cause.name and fit.parameters == cause.refines), None)
+        if simpler is None:
+            fits.append(fit_cause(bicycle, cause, observations, cause_whitening, start))
+        else:  # a refinement of a form fitted just before: start from its fit, no search
+            fits.append(fit_cause(bicycle, cause, observations, cause_whitening,
+                                  refinement_starts(cause, simpler.values), grid=False))
+    return base, fits
+
+
+def refit_through_bias(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
+                       observations: Sequence[Observation], whitening: Whitening,
+                       base_bias: NDArray[np.complex128], near: Sequence[bool]
+                       ) -> tuple[CauseFit, list[CauseFit], list[NDArray[np.complex128]]]:
+    """Compare the base model and each fitted cause with the windows through the fitting function.
+
+    A cause ``near`` the best is refitted from its values with its own model's bias at them;
+    any other is evaluated at its values with the base model's bias ``base_bias``.
+
+    Returns
+    -------
+    base : CauseFit
+        The base model with its bias.
+    fits : list of CauseFit
+        Each cause, in the order of `causes`.
+    biases : list of ndarray of complex
+        The bias each cause was compared with [1/s], per window.
+    """
+    biases = [fitting_bias(cause.apply(bicycle, list(fit.values)), observations) if is_near else base_bias
+              for cause, fit, is_near in zip(causes, fits, near, strict=True)]
+    chosen = [k for k, is_near in enumerate(near) if is_near]
+    base, refitted = fit_all(bicycle, [causes[k] for k in chosen], observations, whitening,
+                             [[fits[k].values] for k in chosen], [base_bias, *[biases[k] for k in chosen]])
+    with_base_bias = replace(whitening, bias=base_bias)
+    compared = [fit if is_near else
+                _evaluated(cause.apply(bicycle, list(fit.values)), fit, observations, with_base_bias)
+                for cause, fit, is_near in zip(causes, fits, near, strict=True)]
+    for k, fit in zip(chosen, refitted, strict=True):
+        compared[k] = fit
+    return base, compared, biases
+
+
+def _evaluated(model: Bicycle, fit: CauseFit, observations: Sequence[Observation], whitening: Whitening) -> CauseFit:
+    """Return `fit` with its residuals and chi-square those of `model` under `whitening` (no refit)."""
+    residual, predicted, block_chi2 = model_residuals(model, observations, whitening)
+    return replace(fit, chi2=robust_chi2(residual), predicted=predicted, block_chi2=block_chi2, residuals=residual)

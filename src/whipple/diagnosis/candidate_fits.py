@@ -68,11 +68,10 @@ def refit_through_bias(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence
     base, refitted = fit_all(bicycle, [causes[k] for k in chosen], observations, whitening,
                              [[fits[k].values] for k in chosen], [base_bias, *[biases[k] for k in chosen]])
     with_base_bias = replace(whitening, bias=base_bias)
-    compared = [fit if is_near else
+    in_order = iter(refitted)
+    compared = [next(in_order) if is_near else
                 _evaluated(cause.apply(bicycle, list(fit.values)), fit, observations, with_base_bias)
                 for cause, fit, is_near in zip(causes, fits, near, strict=True)]
-    for k, fit in zip(chosen, refitted, strict=True):
-        compared[k] = fit
     return base, compared, biases
 
 

@@ -80,8 +80,9 @@ PAIR_CANDIDATES = 3
 SPEED_DEPENDENCE = MARGIN
 #: Evidence (compared directly, and times the dispersion) by which a cause may trail the best
 #: and still be refitted through its own model's fitting bias; further behind, its direct fit
-#: is evaluated with the base model's. Twice the most either moved a cause against the leader among the candidates
-#: of 40 runs with a rack load (45), and the bias was most of a diagnosis' time (docs/diagnosis.md).
+#: is evaluated with the base model's. Twice the most either moved a cause against the leader
+#: among the candidates of 40 runs with a rack load (45), and the bias was most of a
+#: diagnosis' time (docs/diagnosis.md).
 BIAS_SCREEN = 100.0
 #: How many more pairs, the best by a screen of all pairs linearised at the base model, are tried.
 PAIR_SCREENED = 3
@@ -248,7 +249,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                      for pair, start in started]
         if biases is not None:
             # Every pair through its own bias: a pair's joint fit may move far between the direct
-            # and the biased comparison (on the bundled treadmill data, a screened pair fell out).
+            # and the biased comparison, and the pairs are few.
             _, pair_fits, pair_biases = refit_through_bias(bicycle, pairs, pair_fits, observations, whitening,
                                                            biases[0], [True] * len(pairs))
             biases += pair_biases

@@ -89,12 +89,6 @@ class _Window:
     pair: NDArray[np.intp]
     signals: WindowSignals
 
-    def with_weave(self, eigenvalue: complex) -> NDArray[np.complex128]:
-        """Return the model's eigenvalues with its weave pair moved to `eigenvalue` and its conjugate."""
-        changed = self.values.copy()
-        changed[self.pair] = np.where(self.values[self.pair].imag < 0, np.conj(eigenvalue), eigenvalue)
-        return changed
-
 
 def _model_weave(index: int, values: NDArray[np.complex128], vectors: NDArray[np.complex128],
                  observation: Observation) -> _Window | None:
@@ -112,7 +106,7 @@ def _model_weave(index: int, values: NDArray[np.complex128], vectors: NDArray[np
 
 
 class _Stack:
-    """Windows with the same number of signals, their modal responses solved together.
+    """Windows with the same number of signals and weave modes, their modal responses solved together.
 
     Padded with samples of weight zero to the longest window. The design's columns for the
     modes other than the weave, and for the signals' offsets, are the same in every response

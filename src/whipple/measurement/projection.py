@@ -39,7 +39,6 @@ class Projection:
                  degree: int = 0) -> None:
         self.sizes = np.array([tau.size for tau in taus])
         self.tau = np.concatenate(taus)
-        self.data = np.concatenate(values)
         every = _Segments(self.sizes)
         # Polynomials in the window's time scaled to [-1, 1]: the same column space as powers
         # of tau, better conditioned.
@@ -49,7 +48,7 @@ class Projection:
         for power in range(degree + 1):
             basis = np.column_stack([basis, every.orthonormal(basis, scaled**power)[0]])
         self.polynomials = basis
-        self.data_left = self.data
+        self.data_left = np.concatenate(values)
         for _ in range(2):
             self.data_left = self.data_left - _project(every, basis, self.data_left)
 
@@ -66,19 +65,16 @@ class Projection:
         d, w = segments.expand(theta[:, 0]), segments.expand(theta[:, 1])
         decay = np.exp(d * tau)
         cos, sin = decay * np.cos(w * tau), decay * np.sin(w * tau)
-        cos_left = cos - _project(segments, polynomials, cos)
-        cos_left = cos_left - _project(segments, polynomials, cos_left)
-        sin_left = sin - _project(segments, polynomials, sin)
-        sin_left = sin_left - _project(segments, polynomials, sin_left)
-        cos_unit, cos_norm = segments.orthonormal(np.empty((tau.size, 0)), cos_left)
-        sin_unit, sin_norm, along_cos = segments.orthonormal(cos_unit[:, None], sin_left, with_coefficients=True)
+        cos_unit, cos_norm = segments.orthonormal(polynomials, cos)
+        sin_unit, sin_norm, along = segments.orthonormal(np.column_stack([polynomials, cos_unit]), sin,
+                                                         with_coefficients=True)
         cos_share, sin_share = segments.dot(cos_unit, data_left), segments.dot(sin_unit, data_left)
         residual = (data_left - segments.expand(cos_share) * cos_unit[:, None]
                     - segments.expand(sin_share) * sin_unit[:, None])
         # The coefficients of the cosine and sine themselves (per signal): back-substitution
         # through their 2 x 2 triangular factor.
         c3 = sin_share / sin_norm[:, None]
-        c2 = (cos_share - along_cos[:, :1] * c3) / cos_norm[:, None]
+        c2 = (cos_share - along[:, -1:] * c3) / cos_norm[:, None]
         c2, c3 = segments.expand(c2), segments.expand(c3)
         basis = np.column_stack([polynomials, cos_unit, sin_unit])
         columns = []
@@ -147,8 +143,6 @@ class _Segments:
 
 
 def _project(segments: _Segments, basis: NDArray[np.float64], values: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Return the projection of `values` (s,) or (s, k) on each window's orthonormal `basis` (s, j)."""
-    if values.ndim == 1:
-        return np.sum(basis * segments.expand(segments.sum(basis * values[:, None])), axis=1)
+    """Return the projection of `values` (s, k) on each window's orthonormal `basis` (s, j)."""
     along = segments.sum(basis[:, :, None] * values[:, None, :])  # (m, j, k)
     return np.einsum("sj,sjk->sk", basis, segments.expand(along))

@@ -84,15 +84,16 @@ def refit_weaves(times: Sequence[NDArray[np.float64]], values: Sequence[NDArray[
     eigenvalues = np.full(len(times), np.nan, dtype=complex)
     failures: list[str | None] = [None] * len(times)
     signals = [np.atleast_2d(np.asarray(v, dtype=float)) for v in values]
+    spreads = [y.std(axis=1) for y in signals]
     groups: dict[tuple[int, int], list[int]] = {}
-    for n, (y, baseline) in enumerate(zip(signals, baselines, strict=True)):
-        if not (y.std(axis=1) > 0).all():
+    for n, (y, spread, baseline) in enumerate(zip(signals, spreads, baselines, strict=True)):
+        if not (spread > 0).all():
             failures[n] = "a signal is constant over the window"
         else:
             groups.setdefault((BASELINES[baseline], y.shape[0]), []).append(n)
     for (degree, _), members in groups.items():
         taus = [np.asarray(times[n], dtype=float) - float(times[n][0]) for n in members]
-        weighted = [(signals[n] / signals[n].std(axis=1)[:, None]).T for n in members]
+        weighted = [(signals[n] / spreads[n][:, None]).T for n in members]
         bounds = np.array([window_bounds(tau) for tau in taus])
         start = np.array([[starts[n].real, abs(starts[n].imag)] for n in members])
         with np.errstate(over="ignore", invalid="ignore"):

@@ -39,7 +39,7 @@ def test_difference_vanishes_with_the_square_of_the_amplitude(name, speed, settl
     # The nonlinear weave reproduces the linear eigenvalue at small amplitude...
     assert abs(tiny.difference) < 1e-5
     # ...and departs from it as the amplitude squared (a second-order effect), not as noise would
-    # (the integration's tolerance leaves a floor near 2e-7 1/s, far below these differences).
+    # (the integration, at rtol 1e-10, leaves a floor far below these differences).
     ratio = abs(large.difference) / abs(small.difference)
     assert ratio == pytest.approx((large.amplitude / small.amplitude) ** 2, rel=0.1)
 

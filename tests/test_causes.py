@@ -60,7 +60,7 @@ def test_payload_forms_share_one_prior_up_to_a_rigid_load(name):
     assert rigid.bounds == (*full.bounds, (0.0, MAX_GYRATION), (0.0, MAX_GYRATION))
     assert rigid.refines == full.parameters and rigid.start[-2:] == (0.0, 0.0)
     # Fitted alone, its grid of starts places the load, its own inertia held at none.
-    grid = grid_starts(rigid, lambda values: (values[0] - 7.0) ** 2 + values[1] ** 2 + values[2] ** 2)
+    grid = grid_starts(rigid, lambda points: [(v[0] - 7.0) ** 2 + v[1] ** 2 + v[2] ** 2 for v in points])
     assert len(grid) == 2 and all(tuple(point[-2:]) == (0.0, 0.0) for point in grid)
     assert len({tuple(point[:3]) for point in grid}) == 2
     for low, high in full.bounds:

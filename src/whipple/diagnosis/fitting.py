@@ -8,7 +8,7 @@ whitened by the window's covariance; the residuals of a model are combined with 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from whipple.diagnosis.causes import Cause
-from whipple.diagnosis.observations import Observation, compared_shapes, mode_targets, nearest_modes
+from whipple.diagnosis.observations import Observation, compared_shapes, mode_targets, nearest_modes_of_models
 from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
 from whipple.model.parameters import Bicycle
@@ -134,42 +134,49 @@ def window_whitening(observations: Sequence[Observation], bicycle: Bicycle,
     return Whitening(eigenvalue, index, shape, mode_targets(observations), measured_shapes, scales)
 
 
-def _residual_blocks(bicycle: Bicycle, observations: Sequence[Observation], whitening: Whitening
+def _residual_blocks(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening
                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.complex128]]:
-    """Return the whitened residuals at unit dispersion and the predicted eigenvalues.
+    """Return each model's whitened residuals at unit dispersion and predicted eigenvalues (a row each).
 
     Eigenvalue residuals are 2 per window, shape residuals 2 per window with a shape.
     """
     if len(observations) != len(whitening.eigenvalue):
         raise ValueError(f"{len(observations)} observations, whitening of {len(whitening.eigenvalue)}")
-    predicted, shapes = nearest_modes(bicycle, *whitening.targets)
+    predicted, shapes = nearest_modes_of_models(models, *whitening.targets)
     targets = whitening.targets[1] if whitening.bias is None else whitening.targets[1] - whitening.bias
-    difference = np.column_stack([targets.real - predicted.real, targets.imag - predicted.imag])
-    eigenvalue = np.einsum("nij,nj->ni", whitening.eigenvalue, difference).ravel()
-    index = whitening.shape_index
-    measured = whitening.measured_shapes
-    shape_difference = np.column_stack([(measured - shapes[index]).real, (measured - shapes[index]).imag])
-    shape = np.einsum("nij,nj->ni", whitening.shape, shape_difference.reshape(-1, 2)).ravel()
+    difference = np.stack([targets.real - predicted.real, targets.imag - predicted.imag], axis=-1)
+    eigenvalue = np.einsum("nij,knj->kni", whitening.eigenvalue, difference).reshape(len(models), -1)
+    shape_difference = whitening.measured_shapes - shapes[:, whitening.shape_index]
+    shape_difference = np.stack([shape_difference.real, shape_difference.imag], axis=-1)
+    shape = np.einsum("nij,knj->kni", whitening.shape, shape_difference).reshape(len(models), -1)
     return eigenvalue, shape, predicted
 
 
 def model_residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: Whitening
-               ) -> tuple[NDArray[np.float64], NDArray[np.complex128], tuple[float, float]]:
+                    ) -> tuple[NDArray[np.float64], NDArray[np.complex128], tuple[float, float]]:
     """Return all residuals, the predicted eigenvalues and each kind's robust chi-square.
 
     Each kind of residual is divided by its dispersion; the chi-squares are at unit dispersion
     (for :func:`_dispersions`).
     """
+    residuals, predicted, block_chi2 = models_residuals([bicycle], observations, whitening)
+    return residuals[0], predicted[0], block_chi2[0]
+
+
+def models_residuals(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening
+                     ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[float, float]]]:
+    """:func:`model_residuals` of several models at once: residuals and predictions a row per model."""
     # A trial value at the edge of a cause's bounds (a wheelbase or a wheel radius near 0) can
     # make the model singular; such a model is a misfit or a failed step of the fit, not
     # something to warn the user about.
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-        eigenvalue, shape, predicted = _residual_blocks(bicycle, observations, whitening)
+        eigenvalue, shape, predicted = _residual_blocks(models, observations, whitening)
     # A model whose weave vanishes at a window's speed has no shape to compare: count it as a
     # large, finite misfit rather than stopping the fit.
     eigenvalue, shape = (np.nan_to_num(block, nan=1e3, posinf=1e3, neginf=-1e3) for block in (eigenvalue, shape))
-    scaled = np.concatenate([eigenvalue / np.sqrt(whitening.scales[0]), shape / np.sqrt(whitening.scales[1])])
-    return scaled, predicted, (robust_chi2(eigenvalue), robust_chi2(shape))
+    scaled = np.concatenate([eigenvalue / np.sqrt(whitening.scales[0]), shape / np.sqrt(whitening.scales[1])],
+                            axis=1)
+    return scaled, predicted, [(robust_chi2(e), robust_chi2(s)) for e, s in zip(eigenvalue, shape, strict=True)]
 
 
 def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
@@ -185,11 +192,24 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     lower, upper = cause.limits
     scale = np.maximum(np.abs(np.array(cause.start)), (upper - lower) * 1e-3)
 
-    def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return model_residuals(cause.apply(bicycle, x * scale), observations, whitening)[0]
+    def misfits(points: list[NDArray[np.float64]]) -> list[NDArray[np.float64]]:
+        # The residuals at several points (values in their units) in one evaluation; one at a
+        # time where one of them fails, as without it (the failure then raised as before).
+        try:
+            return list(models_residuals([cause.apply(bicycle, _floats(values)) for values in points], observations,
+                                         whitening)[0])
+        except (np.linalg.LinAlgError, ValueError):
+            return [model_residuals(cause.apply(bicycle, _floats(values)), observations, whitening)[0]
+                    for values in points]
 
-    def chi2(values: Sequence[float]) -> float:
-        return robust_chi2(model_residuals(cause.apply(bicycle, values), observations, whitening)[0])
+    def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return misfits([x * scale])[0]
+
+    def chi2(points: list[NDArray[np.float64]]) -> list[float]:
+        try:
+            return [robust_chi2(r) for r in misfits(points)]
+        except (np.linalg.LinAlgError, ValueError):
+            return [_chi2_or_inf(misfits, point) for point in points]
 
     # Given starts first; the fixed ones only if every given start fails. The grid's best points
     # (:mod:`whipple.diagnosis.starts`) join the first round either way.
@@ -203,7 +223,10 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
             x0 = np.clip(start, lower, upper) / scale
             try:
                 result = least_squares(residual, x0, bounds=(lower / scale, upper / scale), x_scale="jac",
-                                       diff_step=1e-6, loss="soft_l1", f_scale=ROBUST_SCALE)
+                                       diff_step=1e-6, loss="soft_l1", f_scale=ROBUST_SCALE,
+                                       # SciPy maps a finite-difference Jacobian's evaluations with ``workers``:
+                                       # all of them at once here.
+                                       workers=lambda _, points: misfits([x * scale for x in points]))
             except (np.linalg.LinAlgError, ValueError):
                 continue
             if best is None or result.cost < best.cost:
@@ -224,6 +247,18 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
                     tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2,
                     residuals=final, pinned=pinned_values(cause, values), covariance=covariance, jacobian=jacobian)
+
+
+def _floats(values: NDArray[np.float64]) -> list[float]:
+    return [float(v) for v in values]
+
+
+def _chi2_or_inf(misfits: Callable[[list[NDArray[np.float64]]], list[NDArray[np.float64]]],
+                 values: NDArray[np.float64]) -> float:
+    try:
+        return robust_chi2(misfits([values])[0])
+    except (np.linalg.LinAlgError, ValueError):
+        return float("inf")
 
 
 def pinned_values(cause: Cause, values: Sequence[float] | NDArray[np.float64]) -> tuple[tuple[str, float], ...]:

@@ -155,13 +155,36 @@ def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArra
     nearest ``targets`` [1/s], and its eigenvector's ratio of two signals (MODE_SHAPE_STATES;
     NaN where ``signals`` is None).
     """
+    chosen, shapes = nearest_modes_of_models([bicycle], speeds, targets, signals)
+    return chosen[0], shapes[0]
+
+
+def nearest_modes_of_models(bicycles: Sequence[Bicycle], speeds: NDArray[np.float64],
+                            targets: NDArray[np.complex128], signals: Sequence[tuple[str, str] | None]
+                            ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """:func:`nearest_modes` of several bicycles at the same windows; each result (bicycles, windows).
+
+    Models with the states ``[q, q']`` only are solved together: one closed-form solve of all
+    their quartics costs little more than one model's, whose many small array operations are
+    what an evaluation costs (a fit's finite-difference Jacobian evaluates several models at
+    once). Other models are solved one by one.
+    """
     rows = np.array([n for n, pair in enumerate(signals) if pair is not None], dtype=int)
-    chosen, vectors = nearest_eigen(bicycle, bicycle.model_speed(speeds), targets, rows)
-    shapes = np.full(len(chosen), np.nan, dtype=complex)
+    true_speeds = [bicycle.model_speed(speeds) for bicycle in bicycles]
+    matrices = [second_order_matrices(bicycle, v) for bicycle, v in zip(bicycles, true_speeds, strict=True)]
+    if all(m is not None for m in matrices):
+        M, C, K = (np.stack([m[k] for m in matrices if m is not None]) for k in range(3))
+        chosen, vectors = _nearest_second_order(M[:, None], C, K, targets, rows)
+    else:
+        solved = [nearest_eigen(bicycle, v, targets, rows) for bicycle, v in zip(bicycles, true_speeds, strict=True)]
+        chosen = np.stack([values for values, _ in solved])
+        vectors = np.stack([vector[:, :4] for _, vector in solved])
+    shapes = np.full(chosen.shape, np.nan, dtype=complex)
     if len(rows):
         numerator = [MODE_SHAPE_STATES[signals[n][0]] for n in rows]  # type: ignore[index]
         denominator = [MODE_SHAPE_STATES[signals[n][1]] for n in rows]  # type: ignore[index]
-        shapes[rows] = vectors[np.arange(len(rows)), numerator] / vectors[np.arange(len(rows)), denominator]
+        along = np.arange(len(rows))
+        shapes[:, rows] = vectors[:, along, numerator] / vectors[:, along, denominator]
     return chosen, shapes
 
 
@@ -175,23 +198,35 @@ def nearest_eigen(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: A
     shape (len(rows), states).
     """
     matrices = second_order_matrices(bicycle, true_speeds)
-    if matrices is None:
-        values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(true_speeds))
-    else:
+    if matrices is not None:
         # The closed form of the 4-state models: a fraction of eig's cost at this size.
-        values = second_order_eigenvalues(*matrices)
+        return _nearest_second_order(*matrices, np.asarray(targets), rows)
+    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(true_speeds))
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)
     nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
     chosen = np.asarray(values[np.arange(len(nearest)), nearest], dtype=complex)
     if not len(rows):
-        return chosen, np.zeros((0, 4), dtype=complex)
-    if matrices is None:
-        vector = vectors[rows, :, nearest[rows]]
-        # The eigenvector of the upper-half-plane eigenvalue: conjugated where eig gave the lower.
-        return chosen, np.where(lower[rows, nearest[rows]][:, None], np.conj(vector), vector)
-    M, C, K = matrices
-    return chosen, second_order_eigenvectors(M, C[rows], K[rows], chosen[rows])
+        return chosen, np.zeros((0, vectors.shape[-1]), dtype=complex)
+    vector = vectors[rows, :, nearest[rows]]
+    # The eigenvector of the upper-half-plane eigenvalue: conjugated where eig gave the lower.
+    return chosen, np.where(lower[rows, nearest[rows]][:, None], np.conj(vector), vector)
+
+
+def _nearest_second_order(M: NDArray[np.float64], C: NDArray[np.float64], K: NDArray[np.float64],
+                          targets: NDArray[np.complex128], rows: NDArray[np.intp]
+                          ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """:func:`nearest_eigen` of ``M q'' + C q' + K q = 0``, C and K (..., windows, 2, 2).
+
+    Returns the eigenvalues (..., windows) and the eigenvectors of `rows` (..., len(rows), 4).
+    """
+    values = second_order_eigenvalues(M, C, K)
+    values = np.where(values.imag < 0, np.conj(values), values)
+    nearest = np.argmin(np.abs(values - targets[:, None]), axis=-1)
+    chosen = np.take_along_axis(values, nearest[..., None], axis=-1)[..., 0]
+    if not len(rows):
+        return chosen, np.zeros(chosen.shape[:-1] + (0, 4), dtype=complex)
+    return chosen, second_order_eigenvectors(M, C[..., rows, :, :], K[..., rows, :, :], chosen[..., rows])
 
 
 def _has_shape(observation: Observation) -> bool:

@@ -47,10 +47,12 @@ def quick_starts(cause: Cause) -> list[list[float]]:
     return [list(start), [float(v) for v in np.clip(start + 0.05 * (upper - lower), lower, upper)]]
 
 
-def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[NDArray[np.float64]]:
+def grid_starts(cause: Cause, chi2: Callable[[list[NDArray[np.float64]]], Sequence[float]]
+                ) -> list[NDArray[np.float64]]:
     """Return the ``GRID_STARTS`` points of a coarse grid over the bounds with the smallest ``chi2``.
 
-    ``chi2(values)``: the misfit of the cause at those values (robust chi-square). Only for
+    ``chi2(points)``: the misfit of the cause at each point's values (robust chi-square; not
+    finite where the cause cannot take them), all points evaluated at once. Only for
     causes with 2 to ``GRID_MAX_VALUES`` values (one value is well served by the fixed starts),
     or, for a refinement (``cause.refines``), the values it refines, the rest held at their start.
     A payload's position does nothing at zero mass, so fits started at the no-effect values,
@@ -65,16 +67,12 @@ def grid_starts(cause: Cause, chi2: Callable[[Sequence[float]], float]) -> list[
         return []
     lower, upper = cause.limits
     cells = (np.arange(GRID_POINTS) + 0.5) / GRID_POINTS
-    scored = []
+    points = []
     for fractions in itertools.product(cells, repeat=len(spanned)):
         point = np.array(cause.start, dtype=float)
         point[spanned] = lower[spanned] + (upper[spanned] - lower[spanned]) * np.array(fractions)
-        try:
-            misfit = chi2([float(v) for v in point])
-        except (np.linalg.LinAlgError, ValueError):
-            continue
-        if np.isfinite(misfit):
-            scored.append((misfit, point))
+        points.append(point)
+    scored = [(misfit, point) for misfit, point in zip(chi2(points), points, strict=True) if np.isfinite(misfit)]
     scored.sort(key=lambda entry: entry[0])
     return [point for _, point in scored[:GRID_STARTS]]
 

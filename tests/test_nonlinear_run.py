@@ -183,6 +183,8 @@ def test_coast_of_a_bicycle_that_falls_over_is_an_analysis_error(bike):
     forced = ForcedBicycle(bike)
     with pytest.raises(AnalysisError, match="falls over"):
         coast(forced, forced.upright(1.0, roll_rate=3.0), np.linspace(0.0, 10.0, 1001))
+    with pytest.raises(InputError, match="must increase"):
+        coast(forced, forced.upright(4.0), np.array([0.0, 0.2, 0.1]))
 
 
 def test_absent_pitch_inertias_are_estimated_and_reported(tmp_path):

@@ -233,6 +233,8 @@ def coast(forced: ForcedBicycle, state: NDArray[np.float64], times: NDArray[np.f
 
     Raises
     ------
+    InputError
+        The sample times do not increase.
     AnalysisError
         The integration fails (e.g. the bicycle falls over).
     """
@@ -240,6 +242,8 @@ def coast(forced: ForcedBicycle, state: NDArray[np.float64], times: NDArray[np.f
     start = np.asarray(state, dtype=float)
     if times.size < 2:
         return start[None, :].copy()
+    if not np.all(np.diff(times) > 0):
+        raise InputError("the coasting's sample times must increase")
     x = casadi.MX.sym("state", 10)
     derivative = forced.coasting_derivative(x)
     dae: dict[str, Any] = {"x": x, "ode": derivative}

@@ -192,24 +192,26 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     lower, upper = cause.limits
     scale = np.maximum(np.abs(np.array(cause.start)), (upper - lower) * 1e-3)
 
+    def one(values: NDArray[np.float64]) -> NDArray[np.float64]:
+        return model_residuals(cause.apply(bicycle, _floats(values)), observations, whitening)[0]
+
     def misfits(points: list[NDArray[np.float64]]) -> list[NDArray[np.float64]]:
         # The residuals at several points (values in their units) in one evaluation; one at a
-        # time where one of them fails, as without it (the failure then raised as before).
+        # time where one of them fails, so that the failure is raised as without it.
         try:
             return list(models_residuals([cause.apply(bicycle, _floats(values)) for values in points], observations,
                                          whitening)[0])
         except (np.linalg.LinAlgError, ValueError):
-            return [model_residuals(cause.apply(bicycle, _floats(values)), observations, whitening)[0]
-                    for values in points]
+            return [one(values) for values in points]
 
     def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return misfits([x * scale])[0]
+        return one(x * scale)
 
     def chi2(points: list[NDArray[np.float64]]) -> list[float]:
         try:
             return [robust_chi2(r) for r in misfits(points)]
         except (np.linalg.LinAlgError, ValueError):
-            return [_chi2_or_inf(misfits, point) for point in points]
+            return [_chi2_or_inf(one, point) for point in points]
 
     # Given starts first; the fixed ones only if every given start fails. The grid's best points
     # (:mod:`whipple.diagnosis.starts`) join the first round either way.
@@ -253,10 +255,10 @@ def _floats(values: NDArray[np.float64]) -> list[float]:
     return [float(v) for v in values]
 
 
-def _chi2_or_inf(misfits: Callable[[list[NDArray[np.float64]]], list[NDArray[np.float64]]],
-                 values: NDArray[np.float64]) -> float:
+def _chi2_or_inf(residual: Callable[[NDArray[np.float64]], NDArray[np.float64]], values: NDArray[np.float64]
+                 ) -> float:
     try:
-        return robust_chi2(misfits([values])[0])
+        return robust_chi2(residual(values))
     except (np.linalg.LinAlgError, ValueError):
         return float("inf")
 

@@ -176,7 +176,10 @@ def nearest_modes_of_models(bicycles: Sequence[Bicycle], speeds: NDArray[np.floa
         M, C, K = (np.stack([m[k] for m in matrices if m is not None]) for k in range(3))
         chosen, vectors = _nearest_second_order(M[:, None], C, K, targets, rows)
     else:
-        solved = [nearest_eigen(bicycle, v, targets, rows) for bicycle, v in zip(bicycles, true_speeds, strict=True)]
+        # Each model once, those with the states [q, q'] from the matrices already built.
+        solved = [_nearest_second_order(*m, targets, rows) if m is not None
+                  else _nearest_by_eig(bicycle, v, targets, rows)
+                  for bicycle, v, m in zip(bicycles, true_speeds, matrices, strict=True)]
         chosen = np.stack([values for values, _ in solved])
         vectors = np.stack([vector[:, :4] for _, vector in solved])
     shapes = np.full(chosen.shape, np.nan, dtype=complex)
@@ -201,6 +204,12 @@ def nearest_eigen(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: A
     if matrices is not None:
         # The closed form of the 4-state models: a fraction of eig's cost at this size.
         return _nearest_second_order(*matrices, np.asarray(targets), rows)
+    return _nearest_by_eig(bicycle, true_speeds, targets, rows)
+
+
+def _nearest_by_eig(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: ArrayLike,
+                    rows: NDArray[np.intp]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """:func:`nearest_eigen` by ``numpy.linalg.eig`` of the state matrices (a model with more states)."""
     values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(true_speeds))
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)

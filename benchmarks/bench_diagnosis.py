@@ -17,7 +17,7 @@ realistic size and position, diagnose them blind, and count the outcomes:
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
 [--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias] [--size-scale S] [--occam laplace]
-[--rigid-loads]``;
+[--rigid-loads] [--twin]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
@@ -33,7 +33,13 @@ the earlier form; by default models are compared through the fitting function). 
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
 (:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this
 repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE``
-tabulates a log (e.g. of a run cut short: trials run seed by seed across every case).
+tabulates a log (e.g. of a run cut short: trials run seed by seed across every case), with
+``--replace-from FILE`` the trials of another log in place of its own. ``--twin`` also
+diagnoses each trial's windows without noise (``hidden_effects.noise_free_twin``) and logs that
+outcome ninth; the column "given" then counts as right, besides the right names, the
+ambiguous verdicts with the truth among the contenders whose noise-free twin is ambiguous with
+the truth among them too: windows of those speeds and uncertainties cannot single out the
+truth however lucky the noise.
 """
 
 from __future__ import annotations
@@ -66,22 +72,22 @@ from whipple.model.parameters import load_bicycle  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool]
-           ) -> tuple[str, str, int, str, str, str, bool, float]:
-    bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads = arguments
+def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool, bool]) -> tuple:
+    bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads, twin = arguments
     # Experiments' knobs, set in the worker process that runs the trial.
     evidence.COMBINE_DISPERSION = combine_dispersion
     evidence.OCCAM = occam
     causes.RIGID_LOADS = rigid_loads
     try:
-        trial = run_trial(family, seed, bicycle, bias=bias, scale=scale)
+        trial = run_trial(family, seed, bicycle, bias=bias, scale=scale, twin=twin)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
     if family == "none" and outcome == "right":
         outcome = "said_none"  # the right answer here, kept apart from "said none" to an effect
-    return (bicycle, family, seed, trial.diagnosis.verdict, trial.diagnosis.cause, outcome, trial.covers(),
-            max(trial.diagnosis.scale, trial.diagnosis.shape_scale))
+    row = (bicycle, family, seed, trial.diagnosis.verdict, trial.diagnosis.cause, outcome, trial.covers(),
+           max(trial.diagnosis.scale, trial.diagnosis.shape_scale))
+    return (*row, trial.twin_outcome) if twin else row
 
 
 def _reclassified(r: tuple) -> tuple:
@@ -104,10 +110,18 @@ def _reclassified(r: tuple) -> tuple:
     return r
 
 
+def _given_data(r: tuple) -> str:
+    """A result's outcome, counted ``right`` where it is ambiguous with the truth among the
+    contenders and the noise-free twin of its windows is too (``--twin``; logged ninth)."""
+    unidentifiable = len(r) > 8 and r[8] == "ambiguous_truth"
+    return "right" if r[5] == "ambiguous_truth" and unidentifiable else r[5]
+
+
 def _row(label: str, rows: list, width: int = 28) -> str:
     n = len(rows)
     count = {outcome: sum(r[5] == outcome for r in rows) for outcome in (*OUTCOMES, "said_none", "ambiguous")}
     right = count["right"] + count["said_none"]
+    given = right + sum(r[5] == "ambiguous_truth" and _given_data(r) == "right" for r in rows)
     none = count["none"] + count["said_none"]
     covered = sum(r[6] for r in rows)
     others: dict[str, int] = {}
@@ -119,7 +133,8 @@ def _row(label: str, rows: list, width: int = 28) -> str:
     # A wrong name with the report's caveat that even the best model leaves residuals well
     # above their stated uncertainties (dispersion above 2).
     warned = sum(r[5] == "wrong" and r[7] > 2.0 for r in rows)
-    return (f"{label:<{width}}{n:>6}{right / n:>7.0%}{count['ambiguous_truth'] / n:>8.0%}{none / n:>7.0%}"
+    return (f"{label:<{width}}{n:>6}{right / n:>7.0%}{given / n:>7.0%}{count['ambiguous_truth'] / n:>8.0%}"
+            f"{none / n:>7.0%}"
             f"{count['wrong'] / n:>7.0%}{warned:>7}{covered / n:>9.0%}  {shown}")
 
 
@@ -185,6 +200,11 @@ def main() -> None:
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
+    parser.add_argument("--twin", action="store_true",
+                        help="also diagnose each trial's windows without noise (hidden_effects.noise_free_twin): "
+                             "whether the data could single out the truth at all")
+    parser.add_argument("--replace-from", type=Path,
+                        help="with --from-log: take each trial found in this log (e.g. a --twin rerun) from it")
     parser.add_argument("--trials", type=Path,
                         help="run only these trials (JSON lines [bicycle, family, seed], e.g. from changed_windows.py)")
     args = parser.parse_args()
@@ -192,6 +212,13 @@ def main() -> None:
         results = [_reclassified(tuple(json.loads(line)))
                    for line in args.from_log.read_text().splitlines() if line.strip()]
         print(f"{len(results)} trials from {args.from_log}")
+        if args.replace_from is not None:
+            rerun = {tuple(row[:3]): row for line in args.replace_from.read_text().splitlines() if line.strip()
+                     for row in [_reclassified(tuple(json.loads(line)))]}
+            changed = sum(tuple(r[:3]) in rerun and rerun[tuple(r[:3])][5] != r[5] for r in results)
+            results = [rerun.get(tuple(r[:3]), r) for r in results]
+            print(f"{sum(tuple(r[:3]) in rerun for r in results)} of them from {args.replace_from} "
+                  f"({changed} with another outcome than before)")
     else:
         # Seed by seed across every case, so that a run cut short still covers every case.
         jobs = [(bicycle, family, seed) for seed in range(args.first_seed, args.first_seed + args.seeds)
@@ -202,7 +229,7 @@ def main() -> None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]
         tasks = [(*job, args.fit_bias, args.size_scale, args.combine_dispersion, args.occam,
-                  args.rigid_loads) for job in jobs]
+                  args.rigid_loads, args.twin) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers
@@ -217,7 +244,7 @@ def main() -> None:
         elapsed = time.perf_counter() - started
         where = args.scheduler or f"{args.workers} local workers"
         print(f"{len(jobs)} trials in {elapsed:.0f} s ({where})")
-    header = (f"{'bicycle / family':<28}{'seeds':>6}{'right':>7}{'amb(T)':>8}{'none':>7}{'wrong':>7}"
+    header = (f"{'bicycle / family':<28}{'seeds':>6}{'right':>7}{'given':>7}{'amb(T)':>8}{'none':>7}{'wrong':>7}"
               f"{'warned':>7}{'covered':>9}  other verdicts")
     print(header)
     cases = sorted(dict.fromkeys((r[0], r[1]) for r in results), key=lambda case: _order(results, case))
@@ -245,6 +272,11 @@ def main() -> None:
           f"({wrong_inside / max(len(inside), 1):.1%}); where it is none of them: "
           f"{wrong - wrong_inside} of {len(outside)}")
     # Named right, or left open with the truth among the contenders (what the data can tell).
+    if any(len(r) > 8 for r in named):
+        given = _lowest_rate([(*r[:5], _given_data(r), *r[6:]) for r in named], ("right",))
+        twins = sum(len(r) > 8 and r[8] is not None for r in named)
+        print(f"right given what the windows can tell (ambiguous counted right where the noise-free twin is "
+              f"ambiguous too; {twins} trials with a twin): lowest {given[0]:.0%} ({given[1]})")
     open_or_right = _lowest_rate(named, ("right", "ambiguous_truth"))
     print(f"named right or ambiguous with the truth among the contenders: lowest {open_or_right[0]:.0%} "
           f"({open_or_right[1]})")

@@ -6,8 +6,9 @@ deviations, the reasons for a verdict that is not a confident name, and the valu
 leave open (:func:`whipple.diagnosis.identifiability.open_values`). Used to attribute the
 trials whose outcome changes between two versions (run it with each version on the path).
 
-Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...] [--size-scale S]`` (``S``: as
-in ``bench_diagnosis.py``, the hidden effect's size multiplied by S).
+Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...] [--size-scale S] [--twin]``
+(``S``: as in ``bench_diagnosis.py``, the hidden effect's size multiplied by S; ``--twin``: also
+the verdict on the same windows without noise, :func:`hidden_effects.noise_free_twin`).
 """
 
 from __future__ import annotations
@@ -27,11 +28,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("trials", nargs="+", metavar="BICYCLE:FAMILY:SEED")
     parser.add_argument("--size-scale", type=float, default=1.0, help="multiply the hidden effect's size by this")
+    parser.add_argument("--twin", action="store_true",
+                        help="also diagnose the same windows without noise (hidden_effects.noise_free_twin)")
     args = parser.parse_args()
     for trial_name in args.trials:
         try:
             bicycle, family, seed = trial_name.split(":")
-            trial = run_trial(family, int(seed), bicycle, scale=args.size_scale)
+            trial = run_trial(family, int(seed), bicycle, scale=args.size_scale, twin=args.twin)
         except ValueError as error:
             parser.error(f"{trial_name}: {error}")
         diagnosis = trial.diagnosis
@@ -46,6 +49,11 @@ def main() -> None:
         family_left = open_values(diagnosis.chosen, best) if diagnosis.chosen is not None and best else None
         if family_left is not None:
             print(f"  the data leave open: {family_left.sentence()}")
+        if trial.twin is not None:
+            twin = trial.twin
+            print(f"  without noise: verdict {twin.verdict} ({twin.cause}); outcome {trial.twin_outcome}")
+            for reason in twin.reasons:
+                print(f"    why not named: {reason}")
 
 
 if __name__ == "__main__":

@@ -35,7 +35,7 @@ import numpy as np
 
 from whipple.diagnosis.causes import cause_by_name
 from whipple.diagnosis.evidence import MARGIN, Diagnosis, diagnose_observations
-from whipple.diagnosis.observations import observations
+from whipple.diagnosis.observations import noise_free, observations
 from whipple.measurement.experiment import measure_run
 from whipple.measurement.runs import run_from_simulation
 from whipple.model.assembly import linear_model
@@ -107,6 +107,8 @@ class Trial:
     truth: dict[str, float]
     diagnosis: Diagnosis
     bicycle: str = "benchmark"
+    #: The same diagnosis of the same windows without noise (:func:`noise_free_twin`), if run.
+    twin: Diagnosis | None = None
 
     @property
     def expected(self) -> str | None:
@@ -179,6 +181,24 @@ class Trial:
         if verdict == "ambiguous":
             return "ambiguous_truth" if expected in self.contenders else "ambiguous"
         return "none"
+
+    @property
+    def twin_outcome(self) -> str | None:
+        """The outcome of the noise-free twin (None where it was not run).
+
+        ``right``: noise-free windows of these speeds and uncertainties single out the truth;
+        ``ambiguous_truth``: even they leave it among contenders that predict them alike, so
+        that ``ambiguous`` is all any diagnosis of these windows can honestly say.
+        """
+        return None if self.twin is None else replace(self, diagnosis=self.twin, twin=None).outcome
+
+    @property
+    def outcome_given_data(self) -> str:
+        """:attr:`outcome`, with an ambiguous verdict counted ``right`` where the twin shows that
+        the windows, even without noise, cannot tell the truth from its rivals."""
+        if self.outcome == "ambiguous_truth" and self.twin_outcome == "ambiguous_truth":
+            return "right"
+        return self.outcome
 
     def covers(self, sigmas: float = 2.0) -> bool:
         """The named cause's interval (value +/- sigmas std) covers every true value."""
@@ -382,8 +402,32 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None,
     return base, truth, runs
 
 
+def true_bicycle(cause: str, seed: int, base_name: str = "benchmark", scale: float = 1.0
+                 ) -> tuple[Bicycle, LinearModel | None]:
+    """The true bicycle of a trial, and its true model where the effect is outside the bicycle's
+    (:func:`hidden_bicycle`; the trial's first random draws are the hidden effect's)."""
+    base = load_bicycle(bicycle_source(base_name))
+    truth_bicycle, _, model = hidden_bicycle(base, cause, trial_rng(cause, seed), scale)
+    return truth_bicycle, model
+
+
+def noise_free_twin(trial: Trial, scale: float = 1.0, bias: bool = False) -> Diagnosis | None:
+    """Diagnose the trial's windows again with every observation replaced by the true model's
+    (:func:`whipple.diagnosis.observations.noise_free`): what the data could tell at best.
+
+    None where the truth is a model outside every bicycle (feedback of the roll damping or a
+    steer spring: its modes are not a bicycle's to predict; no candidate is right there anyway).
+    """
+    truth_bicycle, model = true_bicycle(trial.cause, trial.seed, trial.bicycle, scale)
+    if model is not None:
+        return None
+    base = load_bicycle(bicycle_source(trial.bicycle))
+    return diagnose_observations(base, noise_free(truth_bicycle, trial.diagnosis.observations), bias=bias,
+                                 estimate_spread=False)
+
+
 def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = True,
-              scale: float = 1.0) -> Trial:
+              scale: float = 1.0, twin: bool = False) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
     The controlled bicycle's windows leave out their first 0.3 s (its slow castering mode; see
@@ -395,7 +439,8 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, 
     settle = 0.0 if base.controller.is_empty() else 0.3
     measurements = [m for run in runs for m in measure_run(run, baseline="auto", settle=settle)]
     diagnosis = diagnose_observations(base, observations(measurements), bias=bias)
-    return Trial(cause, seed, truth, diagnosis, base_name)
+    trial = Trial(cause, seed, truth, diagnosis, base_name)
+    return replace(trial, twin=noise_free_twin(trial, scale)) if twin else trial
 
 
 def families(bicycle: str, two: bool = False) -> tuple[str, ...]:
@@ -419,5 +464,5 @@ def _supports(names: tuple[str, ...]) -> bool:
 
 
 __all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLER", "EXPECTED", "PHYSICAL", "TWO", "Trial", "box",
-           "cause_by_name", "cause_of_truth", "families", "hidden_bicycle", "hidden_causes", "run_trial",
-           "trial_runs", "two_effects", "with_body"]
+           "cause_by_name", "cause_of_truth", "families", "hidden_bicycle", "hidden_causes", "noise_free_twin",
+           "run_trial", "trial_runs", "true_bicycle", "two_effects", "with_body"]

@@ -9,7 +9,7 @@ speed where the weave forms.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -267,6 +267,22 @@ def compared_shapes(bicycle: Bicycle, observations: Sequence[Observation],
     matched = (predicted.imag > 0) & (np.abs(measured - predicted) < SHAPE_MATCH * np.abs(measured))
     return np.array([_has_shape(o) for o in observations], dtype=bool) & matched
 
+
+
+def noise_free(bicycle: Bicycle, observations: Sequence[Observation]) -> list[Observation]:
+    """Return the observations that ``bicycle``'s model would give at the same windows without noise.
+
+    Each window keeps its speed, its uncertainties and whether it has a mode shape; its
+    eigenvalue [1/s] and shape become those of the model's mode nearest the measured one. The
+    window's samples are dropped, so that a diagnosis compares models with these eigenvalues
+    directly. Diagnosing them asks what windows of these speeds and this noise could tell if
+    ``bicycle`` were true: a cause it cannot single out from them no amount of luck in the
+    noise makes identifiable.
+    """
+    eigenvalues, shapes = predicted_modes(bicycle, observations)
+    return [replace(o, eigenvalue=complex(eigenvalue), shape=complex(shape) if _has_shape(o) else o.shape,
+                    signals=None)
+            for o, eigenvalue, shape in zip(observations, eigenvalues, shapes, strict=True)]
 
 
 def speed_groups(observations: Sequence[Observation], gap: float = 0.3) -> list[list[int]]:

@@ -17,7 +17,7 @@ from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, combined_cause, common_family, describe_family, general_forms
 from whipple.diagnosis.fitting import fit_cause, pinned_values
 from whipple.diagnosis.gain import cause_gains, held_out_gain
-from whipple.diagnosis.observations import Observation, speed_groups
+from whipple.diagnosis.observations import Observation, noise_free, speed_groups
 from whipple.model.parameters import Bicycle, load_bicycle
 
 SPEEDS = np.repeat([3.5, 4.5, 5.5, 6.5, 7.5], 4)
@@ -51,6 +51,15 @@ def test_causes_that_predict_alike_give_an_ambiguous_verdict_naming_the_family()
     assert diagnosis.verdict == "ambiguous"
     assert {diagnosis.cause, *diagnosis.rivals} == {"steer_inertia", "parameter:IFxx"}
     assert diagnosis.family.startswith("extra inertia of the front assembly about the steer axis:")
+    # The reason says how many times as many windows would separate the two beyond the noise;
+    # windows that many times as many (noise-free, so that only their number changes) do.
+    fit_of = {fit.cause: fit for fit in diagnosis.fits}
+    factor = int(np.ceil(evidence.SEPARATION / evidence.separation(fit_of["steer_inertia"], fit_of["parameter:IFxx"])))
+    assert f"about {factor} times as many windows at these speeds" in diagnosis.reasons[0]
+    truth = bicycle.with_extensions(steer_inertia=0.04)
+    more = diagnose_observations(bicycle, noise_free(truth, _observations(truth, 0, np.repeat(SPEEDS, factor))), causes)
+    fit_of = {fit.cause: fit for fit in more.fits}
+    assert evidence.separation(fit_of["steer_inertia"], fit_of["parameter:IFxx"]) > 0.8 * evidence.SEPARATION
     # Without the mimic among the candidates, the same data name steer inertia.
     alone = diagnose_observations(bicycle, _observations(bicycle.with_extensions(steer_inertia=0.04), 0),
                                   [c for c in causes if c.name != "parameter:IFxx"])

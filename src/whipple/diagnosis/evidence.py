@@ -386,11 +386,12 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     if close:
         reasons.append(f"{', '.join(close)} within {margin:g} of the best evidence")
     # A pair holding the best cause predicting alike says its second cause is not needed.
-    alike = [fit.cause for fit in scored[1:] if fit.cause not in close
+    alike = [fit for fit in scored[1:] if fit.cause not in close
              and fit.evidence > best.evidence - CLOSE_EVIDENCE and best.cause not in components(fit.cause)
              and separation(best, fit) < SEPARATION]
     if alike:
-        reasons.append(f"{', '.join(alike)} predict(s) the observations within the noise of {best.cause}")
+        reasons.append(f"{', '.join(fit.cause for fit in alike)} predict(s) the observations within the noise of "
+                       f"{best.cause} ({_windows_to_tell(best, alike)})")
     if is_term(best.cause):
         value = f"{best.values[0]:+.3g} {best.units[0]}" if best.values else ""
         reasons.append(f"the error has the form of {term_words(best.cause)} {value}, which none of the physical "
@@ -407,8 +408,22 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
                        f"{np.sqrt(scales[1]):.1f} (mode shape) times its stated uncertainty off (median dispersion "
                        f"{scales[0]:.1f} and {scales[1]:.1f}): no candidate explains the data")
     if reasons:
-        return "ambiguous", best.cause, tuple(close + alike), tuple(reasons)
+        return "ambiguous", best.cause, tuple(close + [fit.cause for fit in alike]), tuple(reasons)
     return "named", best.cause, (), ()
+
+
+def _windows_to_tell(best: CauseFit, rivals: Sequence[CauseFit]) -> str:
+    """Say how many times as many windows would separate the closest rival from the best.
+
+    Separate: predictions apart by more than the noise. The separation grows in proportion to the
+    number of windows at the same speeds and noise; it must reach ``SEPARATION``. Identical
+    predictions (a special case of the best) no number of windows separates.
+    """
+    factor = SEPARATION / max(min(separation(best, fit) for fit in rivals), 1e-12)
+    if factor > 1e6:
+        return "no number of windows of this kind separates their predictions"
+    return (f"about {np.ceil(factor):.0f} times as many windows at these speeds would separate their "
+            "predictions beyond the noise")
 
 
 def _scored(causes: Sequence[Cause], base: CauseFit, fits: Sequence[CauseFit], n: int) -> list[CauseFit]:

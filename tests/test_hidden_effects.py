@@ -146,3 +146,14 @@ def test_hidden_effect_rates():
     for family in {trial.cause for trial in trials if EXPECTED[trial.cause] is not None} - {"none"}:
         right = [trial.outcome == "right" for trial in trials if trial.cause == family]
         assert sum(right) >= 0.9 * len(right), f"{family}: right in {sum(right)} of {len(right)}"
+
+
+def test_the_noise_free_twin_tells_forced_ambiguity_from_caution():
+    """The benchmark's steer inertia (seed 0) is left open against IFxx, and so are the same
+    windows without noise: an ambiguous verdict is all they allow, counted right given the data.
+    A trial named right has a twin that names the truth too."""
+    open_trial = run_trial("steer_inertia", 0, "benchmark", twin=True)
+    assert open_trial.outcome == "ambiguous_truth" and open_trial.twin_outcome == "ambiguous_truth"
+    assert "parameter:IFxx" in open_trial.twin.rivals and open_trial.outcome_given_data == "right"
+    named = run_trial("steer_damping", 0, "benchmark", twin=True)
+    assert named.outcome == named.twin_outcome == named.outcome_given_data == "right"

@@ -411,18 +411,20 @@ def true_bicycle(cause: str, seed: int, base_name: str = "benchmark", scale: flo
     return truth_bicycle, model
 
 
-def noise_free_twin(trial: Trial, scale: float = 1.0, bias: bool = False) -> Diagnosis | None:
+def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
     """Diagnose the trial's windows again with every observation replaced by the true model's
     (:func:`whipple.diagnosis.observations.noise_free`): what the data could tell at best.
 
-    None where the truth is a model outside every bicycle (feedback of the roll damping or a
-    steer spring: its modes are not a bicycle's to predict; no candidate is right there anyway).
+    The twin's windows have no samples, so models are compared with them directly (no fitting
+    function between: a perfect window fit). None where the truth is a model outside every
+    bicycle (the feedback of a roll damping or a steer spring, alone or as one of two effects):
+    :func:`~whipple.diagnosis.observations.noise_free` predicts a bicycle's modes.
     """
     truth_bicycle, model = true_bicycle(trial.cause, trial.seed, trial.bicycle, scale)
     if model is not None:
         return None
     base = load_bicycle(bicycle_source(trial.bicycle))
-    return diagnose_observations(base, noise_free(truth_bicycle, trial.diagnosis.observations), bias=bias,
+    return diagnose_observations(base, noise_free(truth_bicycle, trial.diagnosis.observations),
                                  estimate_spread=False)
 
 

@@ -58,6 +58,7 @@ from hidden_effects import (  # noqa: E402
     TWO,
     bicycle_source,
     families,
+    given_data,
     hidden_bicycle,
     hidden_causes,
     run_trial,
@@ -111,17 +112,16 @@ def _reclassified(r: tuple) -> tuple:
 
 
 def _given_data(r: tuple) -> str:
-    """A result's outcome, counted ``right`` where it is ambiguous with the truth among the
-    contenders and the noise-free twin of its windows is too (``--twin``; logged ninth)."""
-    unidentifiable = len(r) > 8 and r[8] == "ambiguous_truth"
-    return "right" if r[5] == "ambiguous_truth" and unidentifiable else r[5]
+    """A logged result's outcome as :func:`hidden_effects.given_data` counts it (the twin's
+    outcome is logged ninth, with ``--twin``)."""
+    return given_data(r[5], r[8] if len(r) > 8 else None)
 
 
 def _row(label: str, rows: list, width: int = 28) -> str:
     n = len(rows)
     count = {outcome: sum(r[5] == outcome for r in rows) for outcome in (*OUTCOMES, "said_none", "ambiguous")}
     right = count["right"] + count["said_none"]
-    given = right + sum(r[5] == "ambiguous_truth" and _given_data(r) == "right" for r in rows)
+    given = sum(_given_data(r) in ("right", "said_none") for r in rows)
     none = count["none"] + count["said_none"]
     covered = sum(r[6] for r in rows)
     others: dict[str, int] = {}

@@ -194,11 +194,8 @@ class Trial:
 
     @property
     def outcome_given_data(self) -> str:
-        """:attr:`outcome`, with an ambiguous verdict counted ``right`` where the twin shows that
-        the windows, even without noise, cannot tell the truth from its rivals."""
-        if self.outcome == "ambiguous_truth" and self.twin_outcome == "ambiguous_truth":
-            return "right"
-        return self.outcome
+        """:attr:`outcome`, counted as :func:`given_data` does."""
+        return given_data(self.outcome, self.twin_outcome)
 
     def covers(self, sigmas: float = 2.0) -> bool:
         """The named cause's interval (value +/- sigmas std) covers every true value."""
@@ -402,13 +399,11 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None,
     return base, truth, runs
 
 
-def true_bicycle(cause: str, seed: int, base_name: str = "benchmark", scale: float = 1.0
-                 ) -> tuple[Bicycle, LinearModel | None]:
-    """The true bicycle of a trial, and its true model where the effect is outside the bicycle's
-    (:func:`hidden_bicycle`; the trial's first random draws are the hidden effect's)."""
-    base = load_bicycle(bicycle_source(base_name))
-    truth_bicycle, _, model = hidden_bicycle(base, cause, trial_rng(cause, seed), scale)
-    return truth_bicycle, model
+def given_data(outcome: str, twin_outcome: str | None) -> str:
+    """A trial's outcome, with an ambiguous verdict counted ``right`` where its noise-free twin
+    is ambiguous with the truth among the contenders too: the windows, even without noise,
+    cannot tell the truth from its rivals."""
+    return "right" if outcome == twin_outcome == "ambiguous_truth" else outcome
 
 
 def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
@@ -420,10 +415,11 @@ def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
     bicycle (the feedback of a roll damping or a steer spring, alone or as one of two effects):
     :func:`~whipple.diagnosis.observations.noise_free` predicts a bicycle's modes.
     """
-    truth_bicycle, model = true_bicycle(trial.cause, trial.seed, trial.bicycle, scale)
+    base = load_bicycle(bicycle_source(trial.bicycle))
+    # The trial's first random draws are the hidden effect's.
+    truth_bicycle, _, model = hidden_bicycle(base, trial.cause, trial_rng(trial.cause, trial.seed), scale)
     if model is not None:
         return None
-    base = load_bicycle(bicycle_source(trial.bicycle))
     return diagnose_observations(base, noise_free(truth_bicycle, trial.diagnosis.observations),
                                  estimate_spread=False)
 
@@ -466,5 +462,5 @@ def _supports(names: tuple[str, ...]) -> bool:
 
 
 __all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLER", "EXPECTED", "PHYSICAL", "TWO", "Trial", "box",
-           "cause_by_name", "cause_of_truth", "families", "hidden_bicycle", "hidden_causes", "noise_free_twin",
-           "run_trial", "trial_runs", "true_bicycle", "two_effects", "with_body"]
+           "cause_by_name", "cause_of_truth", "families", "given_data", "hidden_bicycle", "hidden_causes",
+           "noise_free_twin", "run_trial", "trial_runs", "two_effects", "with_body"]

@@ -22,15 +22,16 @@ that are too small inflate every chi-square alike). ``none`` has evidence 0. The
 within ``SEPARATION`` of the best (:func:`separation`), or when even the best model leaves the
 typical window far off (:func:`typical_dispersion` above ``HIGH_DISPERSION``); otherwise
 ``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
-(:mod:`whipple.diagnosis.families`) and kept only when they beat every single cause by
-``margin``; a leading pair is reported, never named outright. Model terms (entries added to the
-linear equations, :mod:`whipple.diagnosis.model_terms`) compete like causes but are never paired;
-a leading term is never named either: it says what form the error has when no physical cause has it.
+(:mod:`whipple.diagnosis.families`; which pairs: :mod:`whipple.diagnosis.pair_search`) and
+kept only when they beat every single cause by ``margin``; a leading pair is reported, never
+named outright, and a pair of two other causes ahead of the best single cause by less than
+``margin`` makes its verdict ambiguous. Model terms (entries added to the linear equations,
+:mod:`whipple.diagnosis.model_terms`) compete like causes but are never paired; a leading term
+is never named either: it says what form the error has when no physical cause has it.
 """
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
@@ -40,11 +41,12 @@ from numpy.typing import NDArray
 from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
-from whipple.diagnosis.families import COMBINATION, combined_cause, components, describe_family
+from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
-from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2, window_whitening
+from whipple.diagnosis.fitting import CauseFit, fit_cause, robust_chi2, window_whitening
 from whipple.diagnosis.model_terms import candidates_with_terms, is_term, term_words
 from whipple.diagnosis.observations import Observation
+from whipple.diagnosis.pair_search import leading_pairs, screened_pairs
 from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
 from whipple.model.parameters import Bicycle
@@ -70,10 +72,9 @@ HIGH_DISPERSION = 5.0
 #: the freedom to stand in for two effects together (a payload's mass, fore-aft and vertical
 #: position): pairs are then tried even when it fits. In 150 hidden-effect trials with two
 #: effects, such a payload was the wrong confident name in 20 of 21 wrong verdicts; with pairs
-#: tried, 10 wrong verdicts remain (docs/diagnosis.md).
+#: tried, 10 wrong verdicts remained, fewer once the pair screens scored pairs as the evidence
+#: does and pairs leading by less than the margin became rivals (docs/diagnosis.md).
 FLEXIBLE_VALUES = 3
-#: How many leading single causes are tried in pairs (3 pairs).
-PAIR_CANDIDATES = 3
 #: Evidence for values that differ between the low and the high speeds (see
 #: :func:`speed_dependence`) above which a leading cause is not named: its form does not follow
 #: how the error changes with speed. The same odds as ``MARGIN`` (~7:1).
@@ -84,13 +85,6 @@ SPEED_DEPENDENCE = MARGIN
 #: among the candidates of 40 runs with a rack load (45), and the bias was most of a
 #: diagnosis' time (docs/diagnosis.md).
 BIAS_SCREEN = 100.0
-#: How many more pairs, the best by a screen of all pairs linearised at the base model, are tried.
-PAIR_SCREENED = 3
-#: How many more again, the best by a screen linearised away from the base model (at each
-#: cause's fitted values or an active point: a payload's position does nothing at zero mass).
-PAIR_SCREENED_AWAY = 3
-#: Fraction of a cause's bounds from its no-effect values to the screen's active point.
-SCREEN_ACTIVE = 0.1
 #: How the evidence charges a cause's fitted values: ``"bic"``, ln(n)/2 each (n residuals), or
 #: ``"laplace"``, the share of the cause's bounds its fit leaves open (:func:`occam_factor`). The
 #: second, tried over the 2,000 hidden-effect trials, named a wrong parameter right far more
@@ -241,9 +235,9 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         # are never paired, nor refinements (a rigid load: see families.cause_pairs).
         pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name) and cause.refines is None]
         members, member_fits = [causes[k] for k in pairable], [fits[k] for k in pairable]
-        started = _leading_pairs(members, _scored(members, base, member_fits, n))
-        started += _screened_pairs(bicycle, members, member_fits, observations, whitening,
-                                   {pair.name for pair, _ in started})
+        started = leading_pairs(members, _scored(members, base, member_fits, n))
+        started += screened_pairs(bicycle, members, member_fits, observations, whitening,
+                                   {pair.name for pair, _ in started}, (counts[0], scales))
         pairs = [pair for pair, _ in started]
         pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start] if quick else [start, list(pair.start)])
                      for pair, start in started]
@@ -266,7 +260,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         single = len(causes) - len(pairs)
         again = [[fit.values] if n_cause >= single else None for n_cause, fit in enumerate(fits)]
         base, fits = fit_all(bicycle, causes, observations, whitening, again, biases)
-    scored = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n)), margin)
+    scored, rival_pairs = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n)), margin)
     chosen = None
     compared: Sequence[Observation] = observations
     if scored:
@@ -283,7 +277,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         scored[0] = replace(fit, std=tuple(float(s) for s in spread))
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], counts, whitening.scales)
-    verdict, name, rivals, reasons = _verdict(scored, typical, named_threshold, margin)
+    verdict, name, rivals, reasons = _verdict(scored, typical, named_threshold, margin, rival_pairs)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
         dependence = speed_dependence(bicycle, chosen, compared, best.values, scales)
@@ -344,11 +338,25 @@ def _rescaled(fit: CauseFit, split: int, scales: tuple[float, float]) -> CauseFi
     return replace(fit, residuals=residuals, chi2=robust_chi2(residuals), jacobian=jacobian)
 
 
-def _clearly_better_pairs(scored: list[CauseFit], margin: float) -> list[CauseFit]:
-    """Drop the pairs of causes that do not beat every single cause by ``margin`` (not clearly better)."""
-    singles = [fit.evidence for fit in scored if COMBINATION not in fit.cause]
-    best_single = max(singles) if singles else -np.inf
-    return [fit for fit in scored if COMBINATION not in fit.cause or fit.evidence >= best_single + margin]
+def _clearly_better_pairs(scored: list[CauseFit], margin: float) -> tuple[list[CauseFit], list[CauseFit]]:
+    """Drop the pairs of causes that do not beat every single cause by ``margin`` (not clearly better).
+
+    Returns the fits kept, and the pairs dropped that have more evidence than the best single
+    cause without holding it: two other effects together that explain the observations better,
+    though not clearly (rivals of the single cause, which is then not the best-supported
+    explanation; a pair holding it only adds a second cause to it). A pair behind the single
+    cause is no rival: among the many pairs tried, one often comes within the margin by chance,
+    and counting those cost a loaded frame's right name in 5 of 130 hidden-effect trials
+    (docs/diagnosis.md, "Two effects together").
+    """
+    singles = [fit for fit in scored if COMBINATION not in fit.cause]
+    best_single = max(singles, key=lambda fit: fit.evidence) if singles else None
+    if best_single is None:
+        return scored, []
+    kept = [fit for fit in scored if COMBINATION not in fit.cause or fit.evidence >= best_single.evidence + margin]
+    rivals = [fit for fit in scored if COMBINATION in fit.cause and fit.evidence < best_single.evidence + margin
+              and fit.evidence > best_single.evidence and best_single.cause not in components(fit.cause)]
+    return kept, rivals
 
 
 def separation(first: CauseFit, second: CauseFit) -> float:
@@ -363,11 +371,14 @@ def separation(first: CauseFit, second: CauseFit) -> float:
     return float(0.5 * np.sum((first.residuals - second.residuals) ** 2))
 
 
-def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_threshold: float, margin: float
-             ) -> tuple[str, str, tuple[str, ...], tuple[str, ...]]:
+def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_threshold: float, margin: float,
+             rival_pairs: Sequence[CauseFit] = ()) -> tuple[str, str, tuple[str, ...], tuple[str, ...]]:
     """Return the verdict, the leading cause, the causes it cannot be told from, and why.
 
-    ``ambiguous`` when a runner-up is within ``margin`` of the best; when one within
+    ``ambiguous`` when a runner-up is within ``margin`` of the best; when a pair of two other
+    causes leads the best by less than ``margin`` (``rival_pairs``, from
+    :func:`_clearly_better_pairs`: two effects together would explain the observations as
+    well); when one within
     ``CLOSE_EVIDENCE`` predicts the observations within ``SEPARATION`` of the best (the data
     could not tell them apart whichever were true: a different prior or one more fitted value
     is then all that ranks them); when the best is a pair of causes (no single candidate
@@ -385,6 +396,10 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     close = [fit.cause for fit in scored[1:] if fit.evidence > best.evidence - margin]
     if close:
         reasons.append(f"{', '.join(close)} within {margin:g} of the best evidence")
+    pairs = [fit.cause for fit in rival_pairs] if COMBINATION not in best.cause else []
+    if pairs:
+        reasons.append(f"{', '.join(pairs)} (two causes together) has more evidence than {best.cause}, though by "
+                       f"less than {margin:g}: two effects acting together would explain the observations as well")
     # A pair holding the best cause predicting alike says its second cause is not needed.
     alike = [fit for fit in scored[1:] if fit.cause not in close
              and fit.evidence > best.evidence - CLOSE_EVIDENCE and best.cause not in components(fit.cause)
@@ -408,7 +423,7 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
                        f"{np.sqrt(scales[1]):.1f} (mode shape) times its stated uncertainty off (median dispersion "
                        f"{scales[0]:.1f} and {scales[1]:.1f}): no candidate explains the data")
     if reasons:
-        return "ambiguous", best.cause, tuple(close + [fit.cause for fit in alike]), tuple(reasons)
+        return "ambiguous", best.cause, tuple(close + pairs + [fit.cause for fit in alike]), tuple(reasons)
     return "named", best.cause, (), ()
 
 
@@ -458,100 +473,6 @@ def occam_factor(cause: Cause, fit: CauseFit, n: int) -> float:
     information = np.clip(np.linalg.eigvalsh(scaled.T @ scaled), 0.0, None)
     with np.errstate(divide="ignore"):
         return float(np.sum(np.minimum(floor, 0.5 * np.log(2.0 * np.pi / information))))
-
-
-def _leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[tuple[Cause, list[float]]]:
-    """Pairs of the ``PAIR_CANDIDATES`` leading causes (each in its best-supported form).
-
-    Each with its starting values: its members' fitted values.
-    """
-    order = sorted(range(len(causes)), key=lambda i: -scored[i].evidence)
-    leading: list[int] = []
-    for i in order:
-        if causes[i].name not in {causes[j].name for j in leading} and scored[i].evidence > 0.0:
-            leading.append(i)
-    return [(combined_cause(causes[i], causes[j]), [*scored[i].values, *scored[j].values])
-            for i, j in itertools.combinations(leading[:PAIR_CANDIDATES], 2)]
-
-
-def _screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
-                    observations: Sequence[Observation], whitening: Whitening,
-                    tried: set[str]) -> list[tuple[Cause, list[float]]]:
-    """Return the pairs, not in ``tried``, that best explain the residuals linearised.
-
-    ``PAIR_SCREENED`` pairs linearised at the base model: both members at their no-effect
-    values, scored by the least-squares step of both from the base model's residuals. Then
-    ``PAIR_SCREENED_AWAY`` more, linearised away from it: each member at one of three points,
-    its no-effect values, its values fitted alone or an active point (``SCREEN_ACTIVE`` of its
-    bounds away from the no-effect values), not both at the no-effect values; the effects are
-    taken to add up (a pair's residuals are those of its members at their points, less the base
-    model's once), and a pair is scored by the best of these combinations. Some values do
-    nothing at the no-effect values (a payload's position at zero mass): only the second screen
-    can move them. Each pair starts from its step, within bounds. Residual derivatives are
-    steps of 5% of a cause's bounds (0.5% away from the no-effect values). The true pair is
-    often not among the leading singles (docs/diagnosis.md, "Two causes together").
-    """
-    residual = model_residuals(bicycle, observations, whitening)[0]
-    points = []
-    for cause, fit in zip(causes, fits, strict=True):
-        lower, upper = cause.limits
-        active = np.clip(np.array(cause.start, dtype=float) + SCREEN_ACTIVE * (upper - lower), lower, upper)
-        active_residual = model_residuals(cause.apply(bicycle, [float(v) for v in active]), observations, whitening)[0]
-        points.append([
-            (np.array(cause.start, dtype=float), residual,
-             _residual_derivatives(bicycle, cause, observations, whitening, cause.start, residual, 0.05)),
-            (np.array(fit.values), fit.residuals,
-             _residual_derivatives(bicycle, cause, observations, whitening, fit.values, fit.residuals, 0.005)),
-            (active, active_residual,
-             _residual_derivatives(bicycle, cause, observations, whitening, active, active_residual, 0.005))])
-    at_base, away = [], []
-    for i, j in itertools.combinations(range(len(causes)), 2):
-        if causes[i].name == causes[j].name:
-            continue
-        pair = combined_cause(causes[i], causes[j])
-        linearised = []
-        for (origin_i, residual_i, columns_i), (origin_j, residual_j, columns_j) in itertools.product(points[i],
-                                                                                                    points[j]):
-            origin_residual = residual_i + residual_j - residual
-            jacobian = np.hstack([columns_i, columns_j])
-            step = np.linalg.lstsq(jacobian, -origin_residual, rcond=None)[0]
-            misfit = float(np.sum((origin_residual + jacobian @ step) ** 2))
-            linear = np.clip(np.concatenate([origin_i, origin_j]) + step, *pair.limits)
-            linearised.append((misfit, pair, [float(v) for v in linear]))
-        at_base.append(linearised[0])
-        away.append(min(linearised[1:], key=lambda entry: entry[0]))
-    chosen: list[tuple[Cause, list[float]]] = []
-    tried_members = {frozenset(components(name)) for name in tried}
-    for ranked, count in ((at_base, PAIR_SCREENED), (away, PAIR_SCREENED_AWAY)):
-        added = 0
-        for _, pair, start in sorted(ranked, key=lambda entry: entry[0]):
-            members = frozenset(components(pair.name))
-            if added == count:
-                break
-            if members not in tried_members:
-                chosen.append((pair, start))
-                tried_members.add(members)
-                added += 1
-    return chosen
-
-
-def _residual_derivatives(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
-                          whitening: Whitening, values: Sequence[float] | NDArray[np.float64],
-                          residual: NDArray[np.float64],
-                          fraction: float) -> NDArray[np.float64]:
-    """Return the derivative of the residuals by each of a cause's values at ``values`` (a column each).
-
-    A forward step of ``fraction`` of the value's bounds (backward at the upper bound).
-    """
-    origin = np.array(values, dtype=float)
-    columns = []
-    for i, (low, high) in enumerate(cause.bounds):
-        x = origin.copy()
-        step = fraction * (high - low)
-        x[i] = origin[i] + step if origin[i] + step <= high else origin[i] - step
-        changed = model_residuals(cause.apply(bicycle, [float(v) for v in x]), observations, whitening)[0]
-        columns.append((changed - residual) / (x[i] - origin[i]))
-    return np.column_stack(columns)
 
 
 def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:

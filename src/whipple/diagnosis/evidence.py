@@ -237,7 +237,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         members, member_fits = [causes[k] for k in pairable], [fits[k] for k in pairable]
         started = leading_pairs(members, _scored(members, base, member_fits, n))
         started += screened_pairs(bicycle, members, member_fits, observations, whitening,
-                                   {pair.name for pair, _ in started}, (counts[0], scales))
+                                  {pair.name for pair, _ in started}, (counts[0], scales))
         pairs = [pair for pair, _ in started]
         pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start] if quick else [start, list(pair.start)])
                      for pair, start in started]

@@ -47,9 +47,9 @@ def leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[t
 
 
 def screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
-                    observations: Sequence[Observation], whitening: Whitening,
-                    tried: set[str], dispersions: tuple[int, tuple[float, float]]
-                    ) -> list[tuple[Cause, list[float]]]:
+                   observations: Sequence[Observation], whitening: Whitening,
+                   tried: set[str], dispersions: tuple[int, tuple[float, float]]
+                   ) -> list[tuple[Cause, list[float]]]:
     """Return the pairs, not in ``tried``, that the evidence would favour, linearised.
 
     ``PAIR_SCREENED`` pairs linearised at the base model: both members at their no-effect

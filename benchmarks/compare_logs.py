@@ -4,7 +4,10 @@ Run: ``python benchmarks/compare_logs.py BEFORE.jsonl AFTER.jsonl [--merged OUT.
 logs are read under the current verdict rules (``bench_diagnosis._reclassified``); only trials
 present in both are compared. Prints the outcome counts of each log per family and every trial
 whose verdict, cause or outcome changed. ``--merged`` writes BEFORE with AFTER's trials in
-place of its own (AFTER a rerun of only the trials a change touched).
+place of its own (AFTER a rerun of only the trials a change touched); ``--twins LOG ...`` then
+gives each merged trial the outcome of its noise-free twin (ninth column) from these ``--twin``
+logs (a later log's in place of an earlier's), where that log's own outcome of the trial is the
+merged one: a twin diagnosed beside another outcome says nothing about this one.
 """
 
 from __future__ import annotations
@@ -29,6 +32,8 @@ def main() -> None:
     parser.add_argument("before", type=Path)
     parser.add_argument("after", type=Path)
     parser.add_argument("--merged", type=Path, help="write BEFORE with AFTER's trials replacing its own")
+    parser.add_argument("--twins", type=Path, nargs="+", default=[],
+                        help="with --merged: take each trial's twin outcome from these --twin logs where they agree")
     args = parser.parse_args()
     before, after = _read(args.before), _read(args.after)
     common = sorted(set(before) & set(after))
@@ -50,6 +55,10 @@ def main() -> None:
             print(f"  {key}: {old[3]} {old[4]} {old[5]} -> {new[3]} {new[4]} {new[5]}")
     if args.merged is not None:
         merged = {**before, **after}
+        for path in args.twins:
+            for key, twin in _read(path).items():
+                if key in merged and len(twin) > 8 and twin[5] == merged[key][5]:
+                    merged[key] = (*merged[key][:8], twin[8])
         keys = list(before) + [key for key in after if key not in before]
         args.merged.write_text("".join(json.dumps(merged[key]) + "\n" for key in keys))
         print(f"\n{len(keys)} trials written to {args.merged}")

@@ -1,7 +1,8 @@
 """Hidden-effect rates of the diagnosis, per bicycle and trial family.
 
-For every bicycle of the trials (benchmark, kooijman2008, BicycleParameters' Browser, and the
-controlled sbw2024 for controller effects) and every trial family it supports
+For every bicycle of the trials (benchmark, kooijman2008, BicycleParameters' Browser, and for
+controller effects the controlled sbw2024 and two riderless bicycles given its kind of
+controller, ``kooijman2008_sbw`` and ``browser_sbw``) and every trial family it supports
 (tests/hidden_effects.py), over many seeds: simulate runs with the effect hidden at a random
 realistic size and position, diagnose them blind, and count the outcomes:
 
@@ -32,8 +33,8 @@ compares each window's eigenvalue with the model's directly (``diagnose_observat
 the earlier form; by default models are compared through the fitting function). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
 (:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this
-repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE``
-tabulates a log (e.g. of a run cut short: trials run seed by seed across every case), with
+repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE [FILE ...]``
+tabulates logs together (e.g. of a run cut short: trials run seed by seed across every case), with
 ``--replace-from FILE`` the trials of another log in place of its own. ``--twin`` also
 diagnoses each trial's windows without noise (``hidden_effects.noise_free_twin``) and logs that
 outcome ninth; the column "given" then counts as right, besides the right names, the
@@ -53,22 +54,21 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from hidden_effects import (  # noqa: E402
     BICYCLES,
-    CONTROLLED,
+    CONTROLLED_BICYCLES,
     EXPECTED,
     TWO,
-    bicycle_source,
     families,
     given_data,
     hidden_bicycle,
     hidden_causes,
     run_trial,
+    trial_bicycle,
     trial_rng,
 )
 
 from whipple.diagnosis import causes, evidence  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
-from whipple.model.parameters import load_bicycle  # noqa: E402
 
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
@@ -155,7 +155,7 @@ def _lowest_rate(results: list, outcomes: tuple[str, ...]) -> tuple[float, str]:
 
 def _print_two_effects(rows: list) -> None:
     """Outcomes of the two-effect family, with each wrong confident name's two true effects."""
-    bases = {name: load_bicycle(bicycle_source(name)) for name in dict.fromkeys(r[0] for r in rows)}
+    bases = {name: trial_bicycle(name) for name in dict.fromkeys(r[0] for r in rows)}
     expected = {tuple(r[:3]): set(hidden_causes(hidden_bicycle(bases[r[0]], TWO, trial_rng(TWO, r[2]))[1]))
                 for r in rows}
     count = {outcome: sum(r[5] == outcome for r in rows) for outcome in ("right", "ambiguous_truth", "ambiguous",
@@ -180,11 +180,12 @@ def main() -> None:
     cluster = parser.add_mutually_exclusive_group()
     cluster.add_argument("--workers", type=int, default=2, help="local Dask worker processes")
     cluster.add_argument("--scheduler", help="address of an existing Dask scheduler")
-    parser.add_argument("--bicycles", nargs="*", default=[*BICYCLES, CONTROLLED])
+    parser.add_argument("--bicycles", nargs="*", default=[*BICYCLES, *CONTROLLED_BICYCLES])
     parser.add_argument("--families", nargs="*", default=None,
                         help="default: all single-effect families a bicycle supports (two_effects: only when listed)")
     parser.add_argument("--log", type=Path, help="append each trial's result to this JSON-lines file as it ends")
-    parser.add_argument("--from-log", type=Path, help="tabulate the trials of a log instead of running any")
+    parser.add_argument("--from-log", type=Path, nargs="+",
+                        help="tabulate the trials of these logs (together) instead of running any")
     parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
                         help="compare models through the fitting function (the default; --no-fit-bias: "
                              "diagnose_observations(bias=False))")
@@ -210,8 +211,8 @@ def main() -> None:
     args = parser.parse_args()
     if args.from_log is not None:
         results = [_reclassified(tuple(json.loads(line)))
-                   for line in args.from_log.read_text().splitlines() if line.strip()]
-        print(f"{len(results)} trials from {args.from_log}")
+                   for log in args.from_log for line in log.read_text().splitlines() if line.strip()]
+        print(f"{len(results)} trials from {', '.join(map(str, args.from_log))}")
         if args.replace_from is not None:
             rerun = {tuple(row[:3]): row for line in args.replace_from.read_text().splitlines() if line.strip()
                      for row in [_reclassified(tuple(json.loads(line)))]}

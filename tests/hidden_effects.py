@@ -90,6 +90,17 @@ BICYCLES = {"benchmark": "benchmark", "kooijman2008": "kooijman2008",
             "browser": str(_DATA / "BrowserBenchmark.txt")}
 #: The controlled bicycle (steer torque 2 (6.5 - v) times the roll rate).
 CONTROLLED = "sbw2024"
+#: Two more controlled bicycles for the controller families: riderless bicycles of the trials
+#: given a steer-into-lean controller like sbw2024's, so that the controller causes are tried on
+#: three bicycles. kooijman2008 takes sbw2024's law as it is; the Browser also a roll-angle term
+#: (1 N m/rad), without which its capsize mode grows at 5-6 m/s. Both are stable with an
+#: oscillating weave at every speed of CONTROLLED_SPEEDS (tests/test_hidden_effects.py).
+CONTROLLED_VARIANTS = {
+    "kooijman2008_sbw": ("kooijman2008", Controller(steer={"roll_rate": (13.0, -2.0)})),
+    "browser_sbw": (BICYCLES["browser"], Controller(steer={"roll": (1.0,), "roll_rate": (13.0, -2.0)})),
+}
+#: Every controlled bicycle of the trials.
+CONTROLLED_BICYCLES = (CONTROLLED, *CONTROLLED_VARIANTS)
 #: Speeds of the simulated runs [m/s] (several runs across 2-8 m/s).
 SPEEDS = (2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0)
 #: The controlled bicycle's speeds [m/s] (its controller is made for 2-6.5 m/s).
@@ -373,6 +384,15 @@ def bicycle_source(name: str) -> str:
     return BICYCLES.get(name, name)
 
 
+def trial_bicycle(name: str) -> Bicycle:
+    """The base bicycle of a trial: a key of BICYCLES, of CONTROLLED_VARIANTS (the bicycle with
+    its controller), CONTROLLED, or any bicycle ``load_bicycle`` reads."""
+    if name in CONTROLLED_VARIANTS:
+        source, controller = CONTROLLED_VARIANTS[name]
+        return load_bicycle(bicycle_source(source)).with_controller(controller)
+    return load_bicycle(bicycle_source(name))
+
+
 def trial_rng(cause: str, seed: int) -> np.random.Generator:
     """The random generator of a trial: its first draws are the hidden effect's (:func:`hidden_bicycle`)."""
     # Families added later go last, so that the earlier ones keep their random streams.
@@ -384,11 +404,10 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None,
     """Return ``(base, truth, runs)``: the base bicycle, the hidden effect's true values, and
     the simulated runs (one per speed) of a trial.
 
-    ``base_name`` is a key of :data:`BICYCLES`, the controlled bicycle, or any bicycle
-    ``load_bicycle`` reads; ``scale`` multiplies the effect's size (:func:`hidden_bicycle`).
+    ``base_name``: as :func:`trial_bicycle` takes it; ``scale`` multiplies the effect's size (:func:`hidden_bicycle`).
     """
     rng = trial_rng(cause, seed)
-    base = load_bicycle(bicycle_source(base_name))
+    base = trial_bicycle(base_name)
     if speeds is None:
         speeds = SPEEDS if base.controller.is_empty() else CONTROLLED_SPEEDS
     truth_bicycle, truth, model = hidden_bicycle(base, cause, rng, scale)
@@ -415,7 +434,7 @@ def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
     bicycle (the feedback of a roll damping or a steer spring, alone or as one of two effects):
     :func:`~whipple.diagnosis.observations.noise_free` predicts a bicycle's modes.
     """
-    base = load_bicycle(bicycle_source(trial.bicycle))
+    base = trial_bicycle(trial.bicycle)
     # The trial's first random draws are the hidden effect's.
     truth_bicycle, _, model = hidden_bicycle(base, trial.cause, trial_rng(trial.cause, trial.seed), scale)
     if model is not None:
@@ -442,12 +461,12 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, 
 
 
 def families(bicycle: str, two: bool = False) -> tuple[str, ...]:
-    """The trial families of a bicycle (a key of BICYCLES, or CONTROLLED) this model supports.
+    """The trial families of a bicycle (a key of BICYCLES, or of CONTROLLED_BICYCLES) this model supports.
 
     ``two``: also the family of two effects together (uncontrolled bicycles; not part of the
     rates the issue asks for, which are per single effect).
     """
-    if bicycle == CONTROLLED:
+    if bicycle in CONTROLLED_BICYCLES:
         return ("none", *CONTROLLER) if _supports(CONTROLLER) else ("none",)
     extra = ("motor",) if _supports(("motor",)) else ()
     return ("none", "steer_damping", "steer_inertia", "speed_scale", "payload", "tyre_compliance",
@@ -461,6 +480,7 @@ def _supports(names: tuple[str, ...]) -> bool:
     return all(any(f.name == fields[name][1] for f in dataclass_fields(fields[name][0])) for name in names)
 
 
-__all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLER", "EXPECTED", "PHYSICAL", "TWO", "Trial", "box",
+__all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLED_BICYCLES", "CONTROLLED_VARIANTS", "CONTROLLER", "EXPECTED",
+           "PHYSICAL", "TWO", "Trial", "box",
            "cause_by_name", "cause_of_truth", "families", "given_data", "hidden_bicycle", "hidden_causes",
-           "noise_free_twin", "run_trial", "trial_runs", "two_effects", "with_body"]
+           "noise_free_twin", "run_trial", "trial_bicycle", "trial_runs", "two_effects", "with_body"]

@@ -1,0 +1,124 @@
+"""Per speed, how many pushes of a trial bicycle give a usable window, and how far those windows sit from the model.
+
+For a bicycle of the hidden-effect trials (tests/hidden_effects.py) with no effect hidden:
+simulate runs at each trial speed (three pushes each, the trials' sensors and noise), fit their
+windows as the trials do (``baseline="auto"``, the controlled bicycles' 0.3 s settle) and
+compare each window's eigenvalue with what the bicycle's own model predicts for it (its weave
+plus the fitting function's bias on its own response, as the diagnosis compares every model).
+Printed per speed: usable windows per push, and the misfit of the real and imaginary part in
+standard deviations of the window's fit (with the diagnosis' 0.5% floor): median and RMS.
+Where the true model is compared, a median far from 0 is an error the windows make by
+themselves, which a diagnosis can only read as a cause. Also the median frequency error and
+the median frequency part of the fitting bias [1/s], and how many windows hold fewer than
+0.75 weave cycles *above the noise* (:func:`cycles_above_noise`; the package's quality check
+counts the whole window). Windows whose eigenvalue no mode of the model matches within 30% are
+left out, as in ``bench_fit_bias.py``. ``--bundled``: the cycles above the noise of the bundled
+treadmill runs' windows (fitted as ``whipple diagnose --bundled`` does).
+
+Run: ``python benchmarks/bench_window_speeds.py BICYCLE [BICYCLE ...] [--runs 20] [--bundled]``
+(``--runs``: runs per speed, each with its own noise).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+
+from hidden_effects import CONTROLLED_SPEEDS, PUSHES, SPEEDS, trial_bicycle  # noqa: E402
+
+from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
+from whipple.diagnosis.fitting import EIGENVALUE_FLOOR  # noqa: E402
+from whipple.diagnosis.observations import SHAPE_MATCH, observations, predicted_weave  # noqa: E402
+from whipple.measurement.bundled import bundled_runs  # noqa: E402
+from whipple.measurement.experiment import FitOptions, measure_run  # noqa: E402
+from whipple.measurement.runs import read_run, run_from_simulation  # noqa: E402
+from whipple.measurement.weavefit import WeaveFit  # noqa: E402
+from whipple.simulation.scenario import RunScenario  # noqa: E402
+from whipple.simulation.simulator import simulate_run  # noqa: E402
+
+#: Seeds of the runs start here, away from the trials' own.
+FIRST_SEED = 1000
+
+
+def cycles_above_noise(fit: WeaveFit) -> float:
+    """Weave cycles of a window while the fitted oscillation's envelope exceeds the residual's RMS.
+
+    The envelope starts at the amplitude of the first signal's oscillating part and decays (or
+    grows) at the fitted damping; a decaying one meets the noise after ln(amplitude / RMS) / |d|.
+    """
+    amplitude = float(np.hypot(*fit.coefficients[0, -2:]))
+    noise = float(fit.rms_residual[0])
+    length = fit.stop - fit.start
+    if fit.damping < 0.0 and noise > 0.0:
+        length = min(length, np.log(max(amplitude / noise, 1.0)) / -fit.damping)
+    return fit.frequency * length / (2 * np.pi)
+
+
+def misfits(name: str, speed: float, runs: int) -> dict[str, np.ndarray]:
+    """The usable windows of ``runs`` runs at ``speed`` [m/s]: whitened misfits (n, 2), frequency
+    errors and biases [1/s] (of the windows a mode matches) and every window's cycles above the noise."""
+    bicycle = trial_bicycle(name)
+    settle = 0.0 if bicycle.controller.is_empty() else 0.3
+    measurements = []
+    for k in range(runs):
+        scenario = RunScenario(speed=speed, seed=FIRST_SEED + k, n_pushes=PUSHES)
+        run = run_from_simulation(simulate_run(bicycle, scenario, name=f"run{k}"))
+        measurements += [m for m in measure_run(run, baseline="auto", settle=settle) if m.skipped is None]
+    found = observations(measurements)
+    cycles = np.array([cycles_above_noise(m.fit) for m in measurements if m.fit is not None])
+    if not found:
+        return {"z": np.zeros((0, 2)), "error": np.zeros(0), "bias": np.zeros(0), "cycles": cycles}
+    measured = np.array([o.eigenvalue for o in found])
+    bias = fitting_bias(bicycle, found)
+    predicted = predicted_weave(bicycle, found) + bias
+    keep = np.abs(measured - predicted) < SHAPE_MATCH * np.abs(predicted)
+    std = np.array([np.hypot(np.sqrt(np.diag(o.covariance)), EIGENVALUE_FLOOR * abs(o.eigenvalue)) for o in found])
+    difference = measured - predicted
+    return {"z": (np.column_stack([difference.real, difference.imag]) / std)[keep],
+            "error": difference.imag[keep], "bias": bias.imag[keep], "cycles": cycles}
+
+
+def bundled_cycles() -> np.ndarray:
+    """Cycles above the noise of the bundled treadmill runs' usable windows."""
+    measurements = [m for source in bundled_runs() for m in measure_run(read_run(source), None,
+                                                                        FitOptions(baseline="auto"))]
+    return np.array([cycles_above_noise(m.fit) for m in measurements if m.skipped is None and m.fit is not None])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("bicycles", nargs="+", metavar="BICYCLE")
+    parser.add_argument("--runs", type=int, default=20, help="runs per speed")
+    parser.add_argument("--bundled", action="store_true", help="also the bundled treadmill runs' windows")
+    args = parser.parse_args()
+    print(f"{'bicycle':<20}{'speed':>6}{'windows/pushes':>16}  misfit [std]: real median, rms; imag median, rms;"
+          f"  frequency error, bias [1/s] (medians);  windows < 0.75 cycles above the noise")
+    for name in args.bicycles:
+        try:
+            speeds = SPEEDS if trial_bicycle(name).controller.is_empty() else CONTROLLED_SPEEDS
+        except (OSError, ValueError) as error:
+            parser.error(f"{name}: {error}")
+        for speed in speeds:
+            found = misfits(name, speed, args.runs)
+            usable = f"{found['cycles'].size}/{args.runs * PUSHES}"
+            short = int(np.sum(found["cycles"] < 0.75))
+            z = found["z"]
+            if len(z) == 0:
+                print(f"{name:<20}{speed:>6.1f}{usable:>16}")
+                continue
+            median, rms = np.median(z, axis=0), np.sqrt(np.mean(z**2, axis=0))
+            print(f"{name:<20}{speed:>6.1f}{usable:>16}  {median[0]:+6.2f} {rms[0]:5.2f}; {median[1]:+6.2f} "
+                  f"{rms[1]:5.2f};  {np.median(found['error']):+6.3f} {np.median(found['bias']):+6.3f};  {short}")
+    if args.bundled:
+        cycles = bundled_cycles()
+        print(f"bundled treadmill runs: {cycles.size} windows; fewer than 0.75 cycles above the noise: "
+              f"{np.sum(cycles < 0.75)}, fewer than 1: {np.sum(cycles < 1.0)}")
+
+
+if __name__ == "__main__":
+    main()

@@ -18,7 +18,7 @@ realistic size and position, diagnose them blind, and count the outcomes:
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
 [--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias] [--size-scale S] [--occam laplace]
-[--rigid-loads] [--twin]``;
+[--rigid-loads] [--cycles-above-noise C] [--twin]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
@@ -27,7 +27,9 @@ named one of the two is right, named a third cause wrong); ``--combine-dispersio
 experiment: pairs of causes are tried when the best single cause leaves a dispersion above D
 (the package's rule: 2; 0 tries them always); ``--occam laplace`` is another: the evidence's
 Occam factor by the Laplace approximation within each cause's bounds
-(``whipple.diagnosis.evidence.OCCAM``); ``--rigid-loads`` another: the payloads' rigid-load form
+(``whipple.diagnosis.evidence.OCCAM``); ``--cycles-above-noise C`` another: windows holding
+fewer than C weave cycles above the noise are left out
+(``whipple.measurement.experiment.MIN_CYCLES_ABOVE_NOISE``); ``--rigid-loads`` another: the payloads' rigid-load form
 among the candidates (``whipple.diagnosis.causes.RIGID_LOADS``); ``--no-fit-bias``
 compares each window's eigenvalue with the model's directly (``diagnose_observations(bias=False)``,
 the earlier form; by default models are compared through the fitting function). The
@@ -69,13 +71,15 @@ from hidden_effects import (  # noqa: E402
 from whipple.diagnosis import causes, evidence  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
+from whipple.measurement import experiment  # noqa: E402
 
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool, bool]) -> tuple:
-    bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads, twin = arguments
+def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool, bool, float]) -> tuple:
+    bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads, twin, above_noise = arguments
     # Experiments' knobs, set in the worker process that runs the trial.
+    experiment.MIN_CYCLES_ABOVE_NOISE = above_noise
     evidence.COMBINE_DISPERSION = combine_dispersion
     evidence.OCCAM = occam
     causes.RIGID_LOADS = rigid_loads
@@ -198,6 +202,9 @@ def main() -> None:
     parser.add_argument("--rigid-loads", action="store_true",
                         help="experiment: the payloads' rigid-load form among the candidates "
                              "(whipple.diagnosis.causes.RIGID_LOADS)")
+    parser.add_argument("--cycles-above-noise", type=float, default=experiment.MIN_CYCLES_ABOVE_NOISE,
+                        help="experiment: leave out windows holding fewer weave cycles above the noise "
+                             "(whipple.measurement.experiment.MIN_CYCLES_ABOVE_NOISE; 0: off, the default)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
@@ -230,7 +237,7 @@ def main() -> None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]
         tasks = [(*job, args.fit_bias, args.size_scale, args.combine_dispersion, args.occam,
-                  args.rigid_loads, args.twin) for job in jobs]
+                  args.rigid_loads, args.twin, args.cycles_above_noise) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

@@ -10,8 +10,8 @@ standard deviations of the window's fit (with the diagnosis' 0.5% floor): median
 Where the true model is compared, a median far from 0 is an error the windows make by
 themselves, which a diagnosis can only read as a cause. Also the median frequency error and
 the median frequency part of the fitting bias [1/s], and how many windows hold fewer than
-0.75 weave cycles *above the noise* (:func:`cycles_above_noise`; the package's quality check
-counts the whole window). Windows whose eigenvalue no mode of the model matches within 30% are
+0.75 weave cycles *above the noise* (``WeaveFit.cycles_above_noise``; the package's quality
+check counts the whole window). Windows whose eigenvalue no mode of the model matches within 30% are
 left out, as in ``bench_fit_bias.py``. ``--bundled``: the cycles above the noise of the bundled
 treadmill runs' windows (fitted as ``whipple diagnose --bundled`` does).
 
@@ -37,26 +37,11 @@ from whipple.diagnosis.observations import SHAPE_MATCH, observations, predicted_
 from whipple.measurement.bundled import bundled_runs  # noqa: E402
 from whipple.measurement.experiment import FitOptions, measure_run  # noqa: E402
 from whipple.measurement.runs import read_run, run_from_simulation  # noqa: E402
-from whipple.measurement.weavefit import WeaveFit  # noqa: E402
 from whipple.simulation.scenario import RunScenario  # noqa: E402
 from whipple.simulation.simulator import simulate_run  # noqa: E402
 
 #: Seeds of the runs start here, away from the trials' own.
 FIRST_SEED = 1000
-
-
-def cycles_above_noise(fit: WeaveFit) -> float:
-    """Weave cycles of a window while the fitted oscillation's envelope exceeds the residual's RMS.
-
-    The envelope starts at the amplitude of the first signal's oscillating part and decays (or
-    grows) at the fitted damping; a decaying one meets the noise after ln(amplitude / RMS) / |d|.
-    """
-    amplitude = float(np.hypot(*fit.coefficients[0, -2:]))
-    noise = float(fit.rms_residual[0])
-    length = fit.stop - fit.start
-    if fit.damping < 0.0 and noise > 0.0:
-        length = min(length, np.log(max(amplitude / noise, 1.0)) / -fit.damping)
-    return fit.frequency * length / (2 * np.pi)
 
 
 def misfits(name: str, speed: float, runs: int) -> dict[str, np.ndarray]:
@@ -70,7 +55,7 @@ def misfits(name: str, speed: float, runs: int) -> dict[str, np.ndarray]:
         run = run_from_simulation(simulate_run(bicycle, scenario, name=f"run{k}"))
         measurements += [m for m in measure_run(run, baseline="auto", settle=settle) if m.skipped is None]
     found = observations(measurements)
-    cycles = np.array([cycles_above_noise(m.fit) for m in measurements if m.fit is not None])
+    cycles = np.array([m.fit.cycles_above_noise for m in measurements if m.fit is not None])
     if not found:
         return {"z": np.zeros((0, 2)), "error": np.zeros(0), "bias": np.zeros(0), "cycles": cycles}
     measured = np.array([o.eigenvalue for o in found])
@@ -87,7 +72,7 @@ def bundled_cycles() -> np.ndarray:
     """Cycles above the noise of the bundled treadmill runs' usable windows."""
     measurements = [m for source in bundled_runs() for m in measure_run(read_run(source), None,
                                                                         FitOptions(baseline="auto"))]
-    return np.array([cycles_above_noise(m.fit) for m in measurements if m.skipped is None and m.fit is not None])
+    return np.array([m.fit.cycles_above_noise for m in measurements if m.skipped is None and m.fit is not None])
 
 
 def main() -> None:

@@ -9,6 +9,11 @@ Run: ``python benchmarks/changed_windows.py OLD_WINDOWS.py [--seeds 50] [--first
 ``src/whipple/measurement/windows.py`` (e.g. ``git show REV:src/whipple/measurement/windows.py``).
 Prints one JSON line ``[bicycle, family, seed]`` per touched trial, for
 ``bench_diagnosis.py --trials``; on stderr the count and the touched speeds.
+
+``--cycles-above-noise C`` (instead of OLD_WINDOWS.py) lists the trials that the experimental
+window check ``whipple.measurement.experiment.MIN_CYCLES_ABOVE_NOISE = C`` touches: those with a
+usable window holding fewer than C weave cycles above the noise. ``--bicycles`` chooses the
+bicycles (default: the uncontrolled ones and sbw2024).
 """
 
 from __future__ import annotations
@@ -26,7 +31,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from hidden_effects import BICYCLES, CONTROLLED, families, trial_runs  # noqa: E402
 
 from whipple.measurement import windows as current  # noqa: E402
-from whipple.measurement.experiment import FitOptions  # noqa: E402
+from whipple.measurement.experiment import FitOptions, measure_run  # noqa: E402
 
 
 def _load(path: str):
@@ -55,24 +60,42 @@ def _touched(job: tuple[str, str, str, int]) -> tuple[str, str, int, list[float]
     return bicycle, family, seed, speeds
 
 
+def _short_above_noise(job: tuple[float, str, str, int]) -> tuple[str, str, int, list[float]]:
+    """The speeds [m/s] of a trial's runs with a usable window of fewer than the given cycles above the noise."""
+    minimum, bicycle, family, seed = job
+    base, _, runs = trial_runs(family, seed, bicycle)
+    settle = 0.0 if base.controller.is_empty() else 0.3
+    return bicycle, family, seed, [
+        float(np.median(run.speed())) for run in runs
+        if any(m.skipped is None and m.fit is not None and m.fit.cycles_above_noise < minimum
+               for m in measure_run(run, baseline="auto", settle=settle))]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("old_windows", help="the earlier windows.py")
+    parser.add_argument("old_windows", nargs="?", help="the earlier windows.py")
+    parser.add_argument("--cycles-above-noise", type=float,
+                        help="instead: the trials with a window of fewer weave cycles above the noise")
+    parser.add_argument("--bicycles", nargs="*", default=[*BICYCLES, CONTROLLED])
     parser.add_argument("--seeds", type=int, default=50)
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
-    jobs = [(args.old_windows, bicycle, family, seed)
+    if (args.old_windows is None) == (args.cycles_above_noise is None):
+        parser.error("give either OLD_WINDOWS.py or --cycles-above-noise")
+    first = args.old_windows if args.cycles_above_noise is None else args.cycles_above_noise
+    jobs = [(first, bicycle, family, seed)
             for seed in range(args.first_seed, args.first_seed + args.seeds)
-            for bicycle in (*BICYCLES, CONTROLLED) for family in families(bicycle)]
+            for bicycle in args.bicycles for family in families(bicycle)]
     touched = 0
+    check = _touched if args.cycles_above_noise is None else _short_above_noise
     with ProcessPoolExecutor(args.workers) as pool:
-        for bicycle, family, seed, speeds in pool.map(_touched, jobs, chunksize=4):
+        for bicycle, family, seed, speeds in pool.map(check, jobs, chunksize=4):
             if speeds:
                 touched += 1
                 print(json.dumps([bicycle, family, seed]), flush=True)
                 print(f"{bicycle} {family} {seed}: {speeds}", file=sys.stderr)
-    print(f"{touched} of {len(jobs)} trials have other windows", file=sys.stderr)
+    print(f"{touched} of {len(jobs)} trials touched", file=sys.stderr)
 
 
 if __name__ == "__main__":

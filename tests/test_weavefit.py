@@ -158,3 +158,32 @@ def test_bad_input():
         fit_weave(t, damped(t)[:-1])
     with pytest.raises(InputError, match="noise model"):
         fit_weave(t, damped(t), noise="pink")
+
+
+def test_cycles_above_noise_stop_where_the_envelope_meets_the_noise():
+    """A strongly damped oscillation in noise counts its periods until its envelope falls to the
+    noise's RMS (ln(A / sigma) / |d|), not over the whole window; a growing one over all of it."""
+    rng = np.random.default_rng(4)
+    time = np.arange(0.0, 3.0, 0.01)
+    amplitude, sigma, d, w = 1.0, 0.01, -3.0, 6.0
+    values = amplitude * np.exp(d * time) * np.cos(w * time) + rng.normal(0.0, sigma, time.size)
+    fit = fit_weave(time, values)
+    expected = w * np.log(amplitude / sigma) / -d / (2 * np.pi)
+    assert fit.cycles_above_noise == pytest.approx(expected, rel=0.05)
+    assert fit.cycles_above_noise < 0.6 * fit.cycles
+    growing = fit_weave(time, 0.01 * np.exp(0.5 * time) * np.cos(w * time) + rng.normal(0.0, 1e-4, time.size))
+    assert growing.cycles_above_noise == pytest.approx(growing.cycles)
+
+
+def test_the_experimental_check_leaves_out_a_window_mostly_noise(monkeypatch):
+    """Off by default; at 0.75 it turns down a window whose oscillation sinks into the noise
+    within half a period, though the window itself spans almost three."""
+    from whipple.measurement import experiment
+
+    rng = np.random.default_rng(5)
+    time = np.arange(0.0, 3.0, 0.01)
+    fit = fit_weave(time, np.exp(-8.0 * time) * np.cos(6.0 * time) + rng.normal(0.0, 0.01, time.size))
+    assert fit.cycles > 2.5 and fit.cycles_above_noise < 0.75
+    assert experiment._quality(fit) is None
+    monkeypatch.setattr(experiment, "MIN_CYCLES_ABOVE_NOISE", 0.75)
+    assert "above the noise" in experiment._quality(fit)

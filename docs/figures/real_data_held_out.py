@@ -1,6 +1,6 @@
 """Print the held-out numbers of docs/diagnosis.md's real-data section.
 
-Run from anywhere:  python docs/figures/real_data_held_out.py [--no-parameters]
+Run from anywhere:  python docs/figures/real_data_held_out.py [--no-parameters] [--cycles-above-noise C]
 
 On the bundled treadmill runs (sbw2024 with its controller):
 
@@ -17,7 +17,9 @@ On the bundled treadmill runs (sbw2024 with its controller):
    best predictors of ``--gain-by-cause`` (a payload with a controller delay), each fitted to all
    windows, by kind of residual (robust chi-square at unit dispersion).
 
-``--no-parameters`` restricts the candidates to the physical causes (no ``parameter:<key>``).
+``--no-parameters`` restricts the candidates to the physical causes (no ``parameter:<key>``);
+``--cycles-above-noise C`` (an experiment) leaves out the windows holding fewer than C weave
+cycles above the noise (``whipple.measurement.experiment.MIN_CYCLES_ABOVE_NOISE``).
 Every number is an RMS or median of |measured - predicted| weave eigenvalue [1/s].
 """
 
@@ -33,6 +35,7 @@ from whipple.diagnosis.families import combined_cause, general_forms
 from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
+from whipple.measurement import experiment
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import FitOptions, measure_run
 from whipple.measurement.runs import read_run
@@ -48,7 +51,9 @@ def _line(label: str, base: np.ndarray, extended: np.ndarray) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-parameters", action="store_true")
+    parser.add_argument("--cycles-above-noise", type=float, default=experiment.MIN_CYCLES_ABOVE_NOISE)
     args = parser.parse_args()
+    experiment.MIN_CYCLES_ABOVE_NOISE = args.cycles_above_noise
     bicycle = load_bicycle("sbw2024")
     runs = [read_run(source) for source in bundled_runs()]
     seen = observations([m for run in runs for m in measure_run(run, None, FitOptions(baseline="auto"))])

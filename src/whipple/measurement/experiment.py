@@ -26,6 +26,9 @@ from whipple.measurement.windows import Window, WindowSearch, find_windows
 MIN_R_SQUARED = 0.5
 #: Nor fits covering less of a weave period than this (cycles = w * length / 2 pi).
 MIN_CYCLES = 0.75
+#: An experiment, not the default (0: off): nor fits holding fewer periods than this while the
+#: oscillation stays above the noise (:attr:`WeaveFit.cycles_above_noise`).
+MIN_CYCLES_ABOVE_NOISE = 0.0
 #: With baseline "auto", windows of at least this many weave cycles get a quadratic baseline
 #: (enough data to separate the slow capsize mode from the weave); shorter ones the constant.
 AUTO_QUADRATIC_CYCLES = 2.0
@@ -337,6 +340,8 @@ def _quality(fit: WeaveFit) -> str | None:
         return f"poor fit (R^2 = {fit.r_squared:.2f} < {MIN_R_SQUARED})"
     if fit.cycles < MIN_CYCLES:
         return f"too short ({fit.cycles:.2f} weave cycles < {MIN_CYCLES})"
+    if MIN_CYCLES_ABOVE_NOISE and fit.cycles_above_noise < MIN_CYCLES_ABOVE_NOISE:
+        return f"too short above the noise ({fit.cycles_above_noise:.2f} weave cycles < {MIN_CYCLES_ABOVE_NOISE})"
     if not np.all(np.isfinite(fit.covariance)):
         return "eigenvalue covariance not finite"
     return None

@@ -120,6 +120,20 @@ class WeaveFit:
         """Number of oscillation periods in the window."""
         return self.frequency * (self.stop - self.start) / (2 * np.pi)
 
+    @property
+    def cycles_above_noise(self) -> float:
+        """Oscillation periods while the fitted envelope of the first signal exceeds its residual's RMS.
+
+        A decaying envelope of amplitude A meets the noise after ln(A / RMS) / |d|; past that the
+        window holds mostly noise, which can stretch a strongly damped window and bias its frequency
+        (docs/diagnosis.md, "The controller's causes on three controlled bicycles").
+        """
+        length = self.stop - self.start
+        amplitude, noise = float(np.hypot(*self.coefficients[0, -2:])), float(self.rms_residual[0])
+        if self.damping < 0.0 and noise > 0.0:
+            length = min(length, float(np.log(max(amplitude / noise, 1.0))) / -self.damping)
+        return self.frequency * length / (2 * np.pi)
+
     def curve(self, time: ArrayLike) -> NDArray[np.float64]:
         """Return the fitted curves at `time` [s], shape ``(k,) + shape(time)``."""
         tau = np.asarray(time, dtype=float) - self.start

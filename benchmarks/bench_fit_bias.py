@@ -30,16 +30,22 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from hidden_effects import hidden_bicycle, trial_rng, trial_runs  # noqa: E402
+from hidden_effects import hidden_bicycle, trial_rng, trial_runs, trial_settle  # noqa: E402
 
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR  # noqa: E402
-from whipple.diagnosis.observations import SHAPE_MATCH, observations, predicted_weave  # noqa: E402
+from whipple.diagnosis.observations import SHAPE_MATCH, Observation, observations, predicted_weave  # noqa: E402
 from whipple.measurement.experiment import measure_run  # noqa: E402
 from whipple.model.linear_terms import LinearTerms  # noqa: E402
 
 #: Trial families whose truth is a feedback torque, and the model term that is the same torque.
 FEEDBACK_TERMS = {"steer_spring": "K0_steer_steer", "roll_damping": "D_roll_roll"}
+
+
+def floored_std(found: list[Observation]) -> np.ndarray:
+    """Standard deviations [1/s] of each window's real and imaginary part, shape (n, 2), with the
+    diagnosis' floor (a share of |eigenvalue|) added in quadrature."""
+    return np.array([np.hypot(np.sqrt(np.diag(o.covariance)), EIGENVALUE_FLOOR * abs(o.eigenvalue)) for o in found])
 
 
 def dispersions(bicycle: str, family: str, seed: int) -> dict[str, tuple[float, float, int]]:
@@ -49,12 +55,11 @@ def dispersions(bicycle: str, family: str, seed: int) -> dict[str, tuple[float, 
     if model is not None:
         # The feedback -k x as the model term +k: the same model (tests/test_linear_terms.py).
         truth = base.with_extensions(linear_terms=LinearTerms.from_mapping({FEEDBACK_TERMS[family]: values[family]}))
-    settle = 0.0 if base.controller.is_empty() else 0.3
-    found = observations([m for run in runs for m in measure_run(run, baseline="auto", settle=settle)])
+    found = observations([m for run in runs for m in measure_run(run, baseline="auto", settle=trial_settle(base))])
     measured = np.array([o.eigenvalue for o in found])
     predicted = predicted_weave(truth, found)
     keep = np.abs(measured - predicted) < SHAPE_MATCH * np.abs(predicted)
-    std = np.array([np.hypot(np.sqrt(np.diag(o.covariance)), EIGENVALUE_FLOOR * abs(o.eigenvalue)) for o in found])
+    std = floored_std(found)
 
     def whitened(difference: np.ndarray) -> np.ndarray:
         return ((difference.real / std[:, 0]) ** 2 + (difference.imag / std[:, 1]) ** 2)[keep] / 2.0

@@ -10,7 +10,7 @@ standard deviations of the window's fit (with the diagnosis' 0.5% floor): median
 Where the true model is compared, a median far from 0 is an error the windows make by
 themselves, which a diagnosis can only read as a cause. Also the median frequency error and
 the median frequency part of the fitting bias [1/s], and how many windows hold fewer than
-0.75 weave cycles *above the noise* (``WeaveFit.cycles_above_noise``; the package's quality
+``MIN_CYCLES`` (0.75) weave cycles *above the noise* (``WeaveFit.cycles_above_noise``; the package's quality
 check counts the whole window). Windows whose eigenvalue no mode of the model matches within 30% are
 left out, as in ``bench_fit_bias.py``. ``--bundled``: the cycles above the noise of the bundled
 treadmill runs' windows (fitted as ``whipple diagnose --bundled`` does).
@@ -29,14 +29,15 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from hidden_effects import CONTROLLED_SPEEDS, PUSHES, SPEEDS, trial_bicycle  # noqa: E402
+from bench_fit_bias import floored_std  # noqa: E402
+from hidden_effects import PUSHES, trial_bicycle, trial_settle, trial_speeds  # noqa: E402
 
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
-from whipple.diagnosis.fitting import EIGENVALUE_FLOOR  # noqa: E402
 from whipple.diagnosis.observations import SHAPE_MATCH, observations, predicted_weave  # noqa: E402
 from whipple.measurement.bundled import bundled_runs  # noqa: E402
-from whipple.measurement.experiment import FitOptions, measure_run  # noqa: E402
+from whipple.measurement.experiment import MIN_CYCLES, FitOptions, measure_run  # noqa: E402
 from whipple.measurement.runs import read_run, run_from_simulation  # noqa: E402
+from whipple.model.parameters import Bicycle  # noqa: E402
 from whipple.simulation.scenario import RunScenario  # noqa: E402
 from whipple.simulation.simulator import simulate_run  # noqa: E402
 
@@ -44,11 +45,10 @@ from whipple.simulation.simulator import simulate_run  # noqa: E402
 FIRST_SEED = 1000
 
 
-def misfits(name: str, speed: float, runs: int) -> dict[str, np.ndarray]:
+def misfits(bicycle: Bicycle, speed: float, runs: int) -> dict[str, np.ndarray]:
     """The usable windows of ``runs`` runs at ``speed`` [m/s]: whitened misfits (n, 2), frequency
     errors and biases [1/s] (of the windows a mode matches) and every window's cycles above the noise."""
-    bicycle = trial_bicycle(name)
-    settle = 0.0 if bicycle.controller.is_empty() else 0.3
+    settle = trial_settle(bicycle)
     measurements = []
     for k in range(runs):
         scenario = RunScenario(speed=speed, seed=FIRST_SEED + k, n_pushes=PUSHES)
@@ -62,7 +62,7 @@ def misfits(name: str, speed: float, runs: int) -> dict[str, np.ndarray]:
     bias = fitting_bias(bicycle, found)
     predicted = predicted_weave(bicycle, found) + bias
     keep = np.abs(measured - predicted) < SHAPE_MATCH * np.abs(predicted)
-    std = np.array([np.hypot(np.sqrt(np.diag(o.covariance)), EIGENVALUE_FLOOR * abs(o.eigenvalue)) for o in found])
+    std = floored_std(found)
     difference = measured - predicted
     return {"z": (np.column_stack([difference.real, difference.imag]) / std)[keep],
             "error": difference.imag[keep], "bias": bias.imag[keep], "cycles": cycles}
@@ -82,16 +82,16 @@ def main() -> None:
     parser.add_argument("--bundled", action="store_true", help="also the bundled treadmill runs' windows")
     args = parser.parse_args()
     print(f"{'bicycle':<20}{'speed':>6}{'windows/pushes':>16}  misfit [std]: real median, rms; imag median, rms;"
-          f"  frequency error, bias [1/s] (medians);  windows < 0.75 cycles above the noise")
+          f"  frequency error, bias [1/s] (medians);  windows < {MIN_CYCLES} cycles above the noise")
     for name in args.bicycles:
         try:
-            speeds = SPEEDS if trial_bicycle(name).controller.is_empty() else CONTROLLED_SPEEDS
+            bicycle = trial_bicycle(name)
         except (OSError, ValueError) as error:
             parser.error(f"{name}: {error}")
-        for speed in speeds:
-            found = misfits(name, speed, args.runs)
+        for speed in trial_speeds(bicycle):
+            found = misfits(bicycle, speed, args.runs)
             usable = f"{found['cycles'].size}/{args.runs * PUSHES}"
-            short = int(np.sum(found["cycles"] < 0.75))
+            short = int(np.sum(found["cycles"] < MIN_CYCLES))
             z = found["z"]
             if len(z) == 0:
                 print(f"{name:<20}{speed:>6.1f}{usable:>16}")
@@ -101,8 +101,8 @@ def main() -> None:
                   f"{rms[1]:5.2f};  {np.median(found['error']):+6.3f} {np.median(found['bias']):+6.3f};  {short}")
     if args.bundled:
         cycles = bundled_cycles()
-        print(f"bundled treadmill runs: {cycles.size} windows; fewer than 0.75 cycles above the noise: "
-              f"{np.sum(cycles < 0.75)}, fewer than 1: {np.sum(cycles < 1.0)}")
+        print(f"bundled treadmill runs: {cycles.size} windows; fewer than {MIN_CYCLES} cycles above the noise: "
+              f"{np.sum(cycles < MIN_CYCLES)}, fewer than 1: {np.sum(cycles < 1.0)}")
 
 
 if __name__ == "__main__":

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from hidden_effects import BICYCLES, CONTROLLED, families, trial_runs  # noqa: E402
+from hidden_effects import BICYCLES, CONTROLLED, families, trial_runs, trial_settle  # noqa: E402
 
 from whipple.measurement import windows as current  # noqa: E402
 from whipple.measurement.experiment import FitOptions, measure_run  # noqa: E402
@@ -64,11 +64,10 @@ def _short_above_noise(job: tuple[float, str, str, int]) -> tuple[str, str, int,
     """The speeds [m/s] of a trial's runs with a usable window of fewer than the given cycles above the noise."""
     minimum, bicycle, family, seed = job
     base, _, runs = trial_runs(family, seed, bicycle)
-    settle = 0.0 if base.controller.is_empty() else 0.3
     return bicycle, family, seed, [
         float(np.median(run.speed())) for run in runs
         if any(m.skipped is None and m.fit is not None and m.fit.cycles_above_noise < minimum
-               for m in measure_run(run, baseline="auto", settle=settle))]
+               for m in measure_run(run, baseline="auto", settle=trial_settle(base)))]
 
 
 def main() -> None:

@@ -393,6 +393,17 @@ def trial_bicycle(name: str) -> Bicycle:
     return load_bicycle(bicycle_source(name))
 
 
+def trial_speeds(bicycle: Bicycle) -> tuple[float, ...]:
+    """The speeds [m/s] of a trial's runs: :data:`CONTROLLED_SPEEDS` for a controlled bicycle, else :data:`SPEEDS`."""
+    return SPEEDS if bicycle.controller.is_empty() else CONTROLLED_SPEEDS
+
+
+def trial_settle(bicycle: Bicycle) -> float:
+    """Seconds [s] a trial's windows leave out at their start: 0.3 for a controlled bicycle (its
+    slow castering mode; docs/diagnosis.md, ``--settle``), else none."""
+    return 0.0 if bicycle.controller.is_empty() else 0.3
+
+
 def trial_rng(cause: str, seed: int) -> np.random.Generator:
     """The random generator of a trial: its first draws are the hidden effect's (:func:`hidden_bicycle`)."""
     # Families added later go last, so that the earlier ones keep their random streams.
@@ -409,7 +420,7 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None,
     rng = trial_rng(cause, seed)
     base = trial_bicycle(base_name)
     if speeds is None:
-        speeds = SPEEDS if base.controller.is_empty() else CONTROLLED_SPEEDS
+        speeds = trial_speeds(base)
     truth_bicycle, truth, model = hidden_bicycle(base, cause, rng, scale)
     runs = []
     for k, speed in enumerate(speeds):
@@ -447,14 +458,13 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, 
               scale: float = 1.0, twin: bool = False) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
-    The controlled bicycle's windows leave out their first 0.3 s (its slow castering mode; see
-    docs/diagnosis.md, ``--settle``). ``bias``: the diagnosis compares models through the
+    The controlled bicycles' windows leave out their first seconds (:func:`trial_settle`).
+    ``bias``: the diagnosis compares models through the
     fitting function (the default of ``diagnose_observations``); ``scale`` multiplies the
     effect's size (:func:`hidden_bicycle`).
     """
     base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
-    settle = 0.0 if base.controller.is_empty() else 0.3
-    measurements = [m for run in runs for m in measure_run(run, baseline="auto", settle=settle)]
+    measurements = [m for run in runs for m in measure_run(run, baseline="auto", settle=trial_settle(base))]
     diagnosis = diagnose_observations(base, observations(measurements), bias=bias)
     trial = Trial(cause, seed, truth, diagnosis, base_name)
     return replace(trial, twin=noise_free_twin(trial, scale)) if twin else trial
@@ -483,4 +493,5 @@ def _supports(names: tuple[str, ...]) -> bool:
 __all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLED_BICYCLES", "CONTROLLED_VARIANTS", "CONTROLLER", "EXPECTED",
            "PHYSICAL", "TWO", "Trial", "box",
            "cause_by_name", "cause_of_truth", "families", "given_data", "hidden_bicycle", "hidden_causes",
-           "noise_free_twin", "run_trial", "trial_bicycle", "trial_runs", "two_effects", "with_body"]
+           "noise_free_twin", "run_trial", "trial_bicycle", "trial_runs", "trial_settle", "trial_speeds",
+           "two_effects", "with_body"]

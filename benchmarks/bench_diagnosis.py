@@ -27,17 +27,18 @@ named one of the two is right, named a third cause wrong); ``--combine-dispersio
 experiment: pairs of causes are tried when the best single cause leaves a dispersion above D
 (the package's rule: 2; 0 tries them always); ``--occam laplace`` is another: the evidence's
 Occam factor by the Laplace approximation within each cause's bounds
-(``whipple.diagnosis.evidence.OCCAM``); ``--cycles-above-noise C`` another: windows holding
-fewer than C weave cycles above the noise are left out
-(``whipple.measurement.experiment.MIN_CYCLES_ABOVE_NOISE``); ``--rigid-loads`` another: the payloads' rigid-load form
-among the candidates (``whipple.diagnosis.causes.RIGID_LOADS``); ``--no-fit-bias``
+(``whipple.diagnosis.evidence.OCCAM``); ``--cycles-above-noise C`` leaves out the windows
+holding fewer than C weave cycles above the noise (``FitOptions.min_cycles_above_noise``; the
+package's 0.75 by default, 0: the rates before that check); ``--rigid-loads`` an experiment: the
+payloads' rigid-load form among the candidates (``whipple.diagnosis.causes.RIGID_LOADS``); ``--no-fit-bias``
 compares each window's eigenvalue with the model's directly (``diagnose_observations(bias=False)``,
 the earlier form; by default models are compared through the fitting function). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
 (:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this
 repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE [FILE ...]``
 tabulates logs together (e.g. of a run cut short: trials run seed by seed across every case), with
-``--replace-from FILE`` the trials of another log in place of its own. ``--twin`` also
+``--replace-from FILE [FILE ...]`` the trials of other logs in place of its own (a later log's over
+an earlier's). ``--twin`` also
 diagnoses each trial's windows without noise (``hidden_effects.noise_free_twin``) and logs that
 outcome ninth; the column "given" then counts as right, besides the right names, the
 ambiguous verdicts with the truth among the contenders whose noise-free twin is ambiguous with
@@ -71,7 +72,7 @@ from hidden_effects import (  # noqa: E402
 from whipple.diagnosis import causes, evidence  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
-from whipple.measurement import experiment  # noqa: E402
+from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
 
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
@@ -79,12 +80,11 @@ OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool, bool, float]) -> tuple:
     bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads, twin, above_noise = arguments
     # Experiments' knobs, set in the worker process that runs the trial.
-    experiment.MIN_CYCLES_ABOVE_NOISE = above_noise
     evidence.COMBINE_DISPERSION = combine_dispersion
     evidence.OCCAM = occam
     causes.RIGID_LOADS = rigid_loads
     try:
-        trial = run_trial(family, seed, bicycle, bias=bias, scale=scale, twin=twin)
+        trial = run_trial(family, seed, bicycle, bias=bias, scale=scale, twin=twin, min_cycles_above_noise=above_noise)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
@@ -202,17 +202,18 @@ def main() -> None:
     parser.add_argument("--rigid-loads", action="store_true",
                         help="experiment: the payloads' rigid-load form among the candidates "
                              "(whipple.diagnosis.causes.RIGID_LOADS)")
-    parser.add_argument("--cycles-above-noise", type=float, default=experiment.MIN_CYCLES_ABOVE_NOISE,
-                        help="experiment: leave out windows holding fewer weave cycles above the noise "
-                             "(whipple.measurement.experiment.MIN_CYCLES_ABOVE_NOISE; 0: off, the default)")
+    parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE,
+                        help="leave out windows holding fewer weave cycles above the noise "
+                             f"(FitOptions.min_cycles_above_noise; default {MIN_CYCLES_ABOVE_NOISE:g}, 0: off)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
     parser.add_argument("--twin", action="store_true",
                         help="also diagnose each trial's windows without noise (hidden_effects.noise_free_twin): "
                              "whether the data could single out the truth at all")
-    parser.add_argument("--replace-from", type=Path,
-                        help="with --from-log: take each trial found in this log (e.g. a --twin rerun) from it")
+    parser.add_argument("--replace-from", type=Path, nargs="+",
+                        help="with --from-log: take each trial found in these logs (e.g. a --twin rerun) from "
+                             "them, a later log's over an earlier's")
     parser.add_argument("--trials", type=Path,
                         help="run only these trials (JSON lines [bicycle, family, seed], e.g. from changed_windows.py)")
     args = parser.parse_args()
@@ -220,12 +221,12 @@ def main() -> None:
         results = [_reclassified(tuple(json.loads(line)))
                    for log in args.from_log for line in log.read_text().splitlines() if line.strip()]
         print(f"{len(results)} trials from {', '.join(map(str, args.from_log))}")
-        if args.replace_from is not None:
-            rerun = {tuple(row[:3]): row for line in args.replace_from.read_text().splitlines() if line.strip()
+        for replacement in args.replace_from or ():
+            rerun = {tuple(row[:3]): row for line in replacement.read_text().splitlines() if line.strip()
                      for row in [_reclassified(tuple(json.loads(line)))]}
             changed = sum(tuple(r[:3]) in rerun and rerun[tuple(r[:3])][5] != r[5] for r in results)
             results = [rerun.get(tuple(r[:3]), r) for r in results]
-            print(f"{sum(tuple(r[:3]) in rerun for r in results)} of them from {args.replace_from} "
+            print(f"{sum(tuple(r[:3]) in rerun for r in results)} of them from {replacement} "
                   f"({changed} with another outcome than before)")
     else:
         # Seed by seed across every case, so that a run cut short still covers every case.

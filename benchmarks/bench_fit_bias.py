@@ -30,7 +30,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from hidden_effects import hidden_bicycle, trial_rng, trial_runs, trial_settle  # noqa: E402
+from hidden_effects import hidden_bicycle, trial_options, trial_rng, trial_runs  # noqa: E402
 
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR  # noqa: E402
@@ -55,7 +55,7 @@ def dispersions(bicycle: str, family: str, seed: int) -> dict[str, tuple[float, 
     if model is not None:
         # The feedback -k x as the model term +k: the same model (tests/test_linear_terms.py).
         truth = base.with_extensions(linear_terms=LinearTerms.from_mapping({FEEDBACK_TERMS[family]: values[family]}))
-    found = observations([m for run in runs for m in measure_run(run, baseline="auto", settle=trial_settle(base))])
+    found = observations([m for run in runs for m in measure_run(run, None, trial_options(base))])
     measured = np.array([o.eigenvalue for o in found])
     predicted = predicted_weave(truth, found)
     keep = np.abs(measured - predicted) < SHAPE_MATCH * np.abs(predicted)

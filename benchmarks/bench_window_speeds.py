@@ -10,13 +10,15 @@ standard deviations of the window's fit (with the diagnosis' 0.5% floor): median
 Where the true model is compared, a median far from 0 is an error the windows make by
 themselves, which a diagnosis can only read as a cause. Also the median frequency error and
 the median frequency part of the fitting bias [1/s], and how many windows hold fewer than
-``MIN_CYCLES`` (0.75) weave cycles *above the noise* (``WeaveFit.cycles_above_noise``; the package's quality
-check counts the whole window). Windows whose eigenvalue no mode of the model matches within 30% are
-left out, as in ``bench_fit_bias.py``. ``--bundled``: the cycles above the noise of the bundled
-treadmill runs' windows (fitted as ``whipple diagnose --bundled`` does).
+``MIN_CYCLES`` (0.75) weave cycles *above the noise* (``WeaveFit.cycles_above_noise``). The
+package leaves those out by default (``FitOptions.min_cycles_above_noise``); ``--cycles-above-noise 0``
+shows the windows as they were before that check. Windows whose eigenvalue no mode of the model
+matches within 30% are left out, as in ``bench_fit_bias.py``. ``--bundled``: the cycles above the
+noise of the bundled treadmill runs' windows (fitted as ``whipple diagnose --bundled`` does, but
+without that check, to count the windows it leaves out).
 
-Run: ``python benchmarks/bench_window_speeds.py BICYCLE [BICYCLE ...] [--runs 20] [--bundled]``
-(``--runs``: runs per speed, each with its own noise).
+Run: ``python benchmarks/bench_window_speeds.py BICYCLE [BICYCLE ...] [--runs 20] [--bundled]
+[--cycles-above-noise C]`` (``--runs``: runs per speed, each with its own noise).
 """
 
 from __future__ import annotations
@@ -30,12 +32,12 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from bench_fit_bias import floored_std  # noqa: E402
-from hidden_effects import PUSHES, trial_bicycle, trial_settle, trial_speeds  # noqa: E402
+from hidden_effects import PUSHES, trial_bicycle, trial_options, trial_speeds  # noqa: E402
 
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
 from whipple.diagnosis.observations import SHAPE_MATCH, observations, predicted_weave  # noqa: E402
 from whipple.measurement.bundled import bundled_runs  # noqa: E402
-from whipple.measurement.experiment import MIN_CYCLES, FitOptions, measure_run  # noqa: E402
+from whipple.measurement.experiment import MIN_CYCLES, MIN_CYCLES_ABOVE_NOISE, FitOptions, measure_run  # noqa: E402
 from whipple.measurement.runs import read_run, run_from_simulation  # noqa: E402
 from whipple.model.parameters import Bicycle  # noqa: E402
 from whipple.simulation.scenario import RunScenario  # noqa: E402
@@ -45,15 +47,15 @@ from whipple.simulation.simulator import simulate_run  # noqa: E402
 FIRST_SEED = 1000
 
 
-def misfits(bicycle: Bicycle, speed: float, runs: int) -> dict[str, np.ndarray]:
+def misfits(bicycle: Bicycle, speed: float, runs: int, min_cycles_above_noise: float) -> dict[str, np.ndarray]:
     """The usable windows of ``runs`` runs at ``speed`` [m/s]: whitened misfits (n, 2), frequency
     errors and biases [1/s] (of the windows a mode matches) and every window's cycles above the noise."""
-    settle = trial_settle(bicycle)
+    options = trial_options(bicycle, min_cycles_above_noise)
     measurements = []
     for k in range(runs):
         scenario = RunScenario(speed=speed, seed=FIRST_SEED + k, n_pushes=PUSHES)
         run = run_from_simulation(simulate_run(bicycle, scenario, name=f"run{k}"))
-        measurements += [m for m in measure_run(run, baseline="auto", settle=settle) if m.skipped is None]
+        measurements += [m for m in measure_run(run, None, options) if m.skipped is None]
     found = observations(measurements)
     cycles = np.array([m.fit.cycles_above_noise for m in measurements if m.fit is not None])
     if not found:
@@ -69,9 +71,9 @@ def misfits(bicycle: Bicycle, speed: float, runs: int) -> dict[str, np.ndarray]:
 
 
 def bundled_cycles() -> np.ndarray:
-    """Cycles above the noise of the bundled treadmill runs' usable windows."""
-    measurements = [m for source in bundled_runs() for m in measure_run(read_run(source), None,
-                                                                        FitOptions(baseline="auto"))]
+    """Cycles above the noise of the bundled treadmill runs' usable windows (before that check)."""
+    options = FitOptions(baseline="auto", min_cycles_above_noise=0.0)
+    measurements = [m for source in bundled_runs() for m in measure_run(read_run(source), None, options)]
     return np.array([m.fit.cycles_above_noise for m in measurements if m.skipped is None and m.fit is not None])
 
 
@@ -80,6 +82,9 @@ def main() -> None:
     parser.add_argument("bicycles", nargs="+", metavar="BICYCLE")
     parser.add_argument("--runs", type=int, default=20, help="runs per speed")
     parser.add_argument("--bundled", action="store_true", help="also the bundled treadmill runs' windows")
+    parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE,
+                        help="leave out the trials' windows holding fewer weave cycles above the noise "
+                             "(FitOptions.min_cycles_above_noise; default the package's, 0: off)")
     args = parser.parse_args()
     print(f"{'bicycle':<20}{'speed':>6}{'windows/pushes':>16}  misfit [std]: real median, rms; imag median, rms;"
           f"  frequency error, bias [1/s] (medians);  windows < {MIN_CYCLES} cycles above the noise")
@@ -89,7 +94,7 @@ def main() -> None:
         except (OSError, ValueError) as error:
             parser.error(f"{name}: {error}")
         for speed in trial_speeds(bicycle):
-            found = misfits(bicycle, speed, args.runs)
+            found = misfits(bicycle, speed, args.runs, args.cycles_above_noise)
             usable = f"{found['cycles'].size}/{args.runs * PUSHES}"
             short = int(np.sum(found["cycles"] < MIN_CYCLES))
             z = found["z"]

@@ -10,8 +10,8 @@ Run: ``python benchmarks/changed_windows.py OLD_WINDOWS.py [--seeds 50] [--first
 Prints one JSON line ``[bicycle, family, seed]`` per touched trial, for
 ``bench_diagnosis.py --trials``; on stderr the count and the touched speeds.
 
-``--cycles-above-noise C`` (instead of OLD_WINDOWS.py) lists the trials that the experimental
-window check ``whipple.measurement.experiment.MIN_CYCLES_ABOVE_NOISE = C`` touches: those with a
+``--cycles-above-noise C`` (instead of OLD_WINDOWS.py) lists the trials that the
+window check ``FitOptions(min_cycles_above_noise=C)`` touches, measured without it: those with a
 usable window holding fewer than C weave cycles above the noise. ``--bicycles`` chooses the
 bicycles (default: the uncontrolled ones and sbw2024).
 """
@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from hidden_effects import BICYCLES, CONTROLLED, families, trial_runs, trial_settle  # noqa: E402
+from hidden_effects import BICYCLES, CONTROLLED, families, trial_options, trial_runs  # noqa: E402
 
 from whipple.measurement import windows as current  # noqa: E402
 from whipple.measurement.experiment import FitOptions, measure_run  # noqa: E402
@@ -67,7 +67,7 @@ def _short_above_noise(job: tuple[float, str, str, int]) -> tuple[str, str, int,
     return bicycle, family, seed, [
         float(np.median(run.speed())) for run in runs
         if any(m.skipped is None and m.fit is not None and m.fit.cycles_above_noise < minimum
-               for m in measure_run(run, baseline="auto", settle=trial_settle(base)))]
+               for m in measure_run(run, None, trial_options(base, min_cycles_above_noise=0.0)))]
 
 
 def main() -> None:

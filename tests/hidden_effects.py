@@ -36,7 +36,7 @@ import numpy as np
 from whipple.diagnosis.causes import cause_by_name
 from whipple.diagnosis.evidence import MARGIN, Diagnosis, diagnose_observations
 from whipple.diagnosis.observations import noise_free, observations
-from whipple.measurement.experiment import measure_run
+from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE, FitOptions, measure_run
 from whipple.measurement.runs import run_from_simulation
 from whipple.model.assembly import linear_model
 from whipple.model.bodies import Body, combine, frame_body
@@ -404,6 +404,12 @@ def trial_settle(bicycle: Bicycle) -> float:
     return 0.0 if bicycle.controller.is_empty() else 0.3
 
 
+def trial_options(bicycle: Bicycle, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE) -> FitOptions:
+    """How a trial's windows are fitted: the automatic baseline, the bicycle's settle time
+    (:func:`trial_settle`), and the package's check of cycles above the noise unless another is given."""
+    return FitOptions(baseline="auto", settle=trial_settle(bicycle), min_cycles_above_noise=min_cycles_above_noise)
+
+
 def trial_rng(cause: str, seed: int) -> np.random.Generator:
     """The random generator of a trial: its first draws are the hidden effect's (:func:`hidden_bicycle`)."""
     # Families added later go last, so that the earlier ones keep their random streams.
@@ -455,16 +461,19 @@ def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
 
 
 def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = True,
-              scale: float = 1.0, twin: bool = False) -> Trial:
+              scale: float = 1.0, twin: bool = False,
+              min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
     The controlled bicycles' windows leave out their first seconds (:func:`trial_settle`).
     ``bias``: the diagnosis compares models through the
     fitting function (the default of ``diagnose_observations``); ``scale`` multiplies the
-    effect's size (:func:`hidden_bicycle`).
+    effect's size (:func:`hidden_bicycle`); ``min_cycles_above_noise`` is the windows' check
+    (:class:`~whipple.measurement.experiment.FitOptions`).
     """
     base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
-    measurements = [m for run in runs for m in measure_run(run, baseline="auto", settle=trial_settle(base))]
+    options = trial_options(base, min_cycles_above_noise)
+    measurements = [m for run in runs for m in measure_run(run, None, options)]
     diagnosis = diagnose_observations(base, observations(measurements), bias=bias)
     trial = Trial(cause, seed, truth, diagnosis, base_name)
     return replace(trial, twin=noise_free_twin(trial, scale)) if twin else trial
@@ -493,5 +502,6 @@ def _supports(names: tuple[str, ...]) -> bool:
 __all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLED_BICYCLES", "CONTROLLED_VARIANTS", "CONTROLLER", "EXPECTED",
            "PHYSICAL", "TWO", "Trial", "box",
            "cause_by_name", "cause_of_truth", "families", "given_data", "hidden_bicycle", "hidden_causes",
-           "noise_free_twin", "run_trial", "trial_bicycle", "trial_runs", "trial_settle", "trial_speeds",
+           "noise_free_twin", "run_trial", "trial_bicycle", "trial_options", "trial_runs", "trial_settle",
+           "trial_speeds",
            "two_effects", "with_body"]

@@ -150,6 +150,14 @@ def test_two_runs_of_one_name_are_named_with_their_files(run_file, tmp_path, cap
     copy.write_bytes(run_file.read_bytes())
     capsys.readouterr()
     _one_line_error(capsys, 2, main(["fit", str(run_file), str(copy)]), str(run_file), str(copy))
+    _one_line_error(capsys, 2, main(["diagnose", str(run_file), str(copy), "--bicycle", "benchmark"]),
+                    str(run_file), str(copy))
+
+
+@pytest.mark.parametrize("cycles", ["-1", "nan"])
+def test_a_window_check_out_of_range(run_file, capsys, cycles):
+    _one_line_error(capsys, 2, main(["fit", str(run_file), f"--min-cycles-above-noise={cycles}"]),
+                    "cycles above the noise must be between 0 and 100")
 
 
 def test_corrupt_gzip_low_sample_rates_empty_speed_and_huge_cells(run_file, tmp_path, capsys):

@@ -175,15 +175,22 @@ def test_cycles_above_noise_stop_where_the_envelope_meets_the_noise():
     assert growing.cycles_above_noise == pytest.approx(growing.cycles)
 
 
-def test_the_experimental_check_leaves_out_a_window_mostly_noise(monkeypatch):
-    """Off by default; at 0.75 it turns down a window whose oscillation sinks into the noise
-    within half a period, though the window itself spans almost three."""
+def test_the_window_check_leaves_out_a_window_mostly_noise():
+    """By default it turns down a window whose oscillation sinks into the noise within half a
+    period, though the window itself spans almost three; 0 turns the check off."""
     from whipple.measurement import experiment
 
     rng = np.random.default_rng(5)
     time = np.arange(0.0, 3.0, 0.01)
     fit = fit_weave(time, np.exp(-8.0 * time) * np.cos(6.0 * time) + rng.normal(0.0, 0.01, time.size))
     assert fit.cycles > 2.5 and fit.cycles_above_noise < 0.75
-    assert experiment._quality(fit) is None
-    monkeypatch.setattr(experiment, "MIN_CYCLES_ABOVE_NOISE", 0.75)
-    assert "above the noise" in experiment._quality(fit)
+    assert "above the noise" in experiment._quality(fit, experiment.FitOptions().min_cycles_above_noise)
+    assert experiment._quality(fit, 0.0) is None
+
+
+@pytest.mark.parametrize("cycles", [-0.5, float("nan"), 1e3])
+def test_a_check_of_cycles_above_the_noise_out_of_range_is_refused(cycles):
+    from whipple.measurement import experiment
+
+    with pytest.raises(InputError, match="cycles above the noise"):
+        experiment.FitOptions(min_cycles_above_noise=cycles)

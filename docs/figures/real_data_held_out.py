@@ -18,8 +18,9 @@ On the bundled treadmill runs (sbw2024 with its controller):
    windows, by kind of residual (robust chi-square at unit dispersion).
 
 ``--no-parameters`` restricts the candidates to the physical causes (no ``parameter:<key>``);
-``--cycles-above-noise C`` (an experiment) leaves out the windows holding fewer than C weave
-cycles above the noise (``whipple.measurement.experiment.MIN_CYCLES_ABOVE_NOISE``).
+``--cycles-above-noise C`` leaves out the windows holding fewer than C weave cycles above the
+noise (``FitOptions.min_cycles_above_noise``; default the package's 0.75, 0: the windows before
+that check).
 Every number is an RMS or median of |measured - predicted| weave eigenvalue [1/s].
 """
 
@@ -35,9 +36,8 @@ from whipple.diagnosis.families import combined_cause, general_forms
 from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
-from whipple.measurement import experiment
 from whipple.measurement.bundled import bundled_runs
-from whipple.measurement.experiment import FitOptions, measure_run
+from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE, FitOptions, measure_run
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import load_bicycle
 
@@ -51,12 +51,12 @@ def _line(label: str, base: np.ndarray, extended: np.ndarray) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-parameters", action="store_true")
-    parser.add_argument("--cycles-above-noise", type=float, default=experiment.MIN_CYCLES_ABOVE_NOISE)
+    parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE)
     args = parser.parse_args()
-    experiment.MIN_CYCLES_ABOVE_NOISE = args.cycles_above_noise
+    options = FitOptions(baseline="auto", min_cycles_above_noise=args.cycles_above_noise)
     bicycle = load_bicycle("sbw2024")
     runs = [read_run(source) for source in bundled_runs()]
-    seen = observations([m for run in runs for m in measure_run(run, None, FitOptions(baseline="auto"))])
+    seen = observations([m for run in runs for m in measure_run(run, None, options)])
     causes = candidate_causes(bicycle, include_parameters=not args.no_parameters)
     print(f"{len(seen)} windows; candidates: {'physical causes only' if args.no_parameters else 'all'}")
 

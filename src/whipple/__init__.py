@@ -47,7 +47,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "whipple.stability.sweep": ("read_parameter_table", "sweep"),
     "whipple.simulation.scenario": ("RunScenario", "Push", "Sensor", "Sensors"),
     "whipple.simulation.simulator": ("SimulatedRun", "simulate_run", "write_run_csv"),
-    "whipple.measurement.runs": ("Run", "read_run", "run_from_simulation"),
+    "whipple.measurement.runs": ("Run", "check_distinct_names", "read_run", "run_from_simulation"),
     "whipple.measurement.windows": ("Window", "find_windows"),
     "whipple.measurement.weavefit": ("WeaveFit", "fit_weave", "fit_window"),
     "whipple.measurement.experiment": ("FitOptions", "RunMeasurement", "WindowMeasurement", "measure_run"),

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE
 from whipple.number_text import parse_integer, parse_number
 
 
@@ -63,3 +64,10 @@ def add_rider_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--rider", metavar="FILE",
                         help="BicycleParameters rider file (<Rider><Bicycle>Benchmark.txt): the rider's body, "
                              "joined to the rear frame as a rigid rider")
+
+
+def add_window_check_argument(parser: argparse.ArgumentParser) -> None:
+    """Add ``--min-cycles-above-noise`` (:attr:`whipple.measurement.experiment.FitOptions.min_cycles_above_noise`)."""
+    parser.add_argument("--min-cycles-above-noise", type=number, default=MIN_CYCLES_ABOVE_NOISE, metavar="CYCLES",
+                        help="leave out windows holding fewer weave cycles than this while the oscillation stands "
+                             "above the noise (default %(default)s; 0: no such check, as in the seed paper)")

@@ -19,7 +19,7 @@ import sys
 from pathlib import Path
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, number
+from whipple.cli.arguments import add_rider_argument, add_window_check_argument, bicycle_inputs, integer, number
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
@@ -29,7 +29,7 @@ from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import FitOptions, measure_run
 from whipple.measurement.reference_windows import read_windows
-from whipple.measurement.runs import read_run
+from whipple.measurement.runs import check_distinct_names, read_run
 from whipple.model.parameters import load_bicycle, write_bicycle_toml
 
 
@@ -55,6 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="leave the first SECONDS of every window out of the eigenvalue fits (default 0, as "
                              "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
                              "measured speeds (see docs/diagnosis.md)")
+    add_window_check_argument(parser)
     parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
                         help="compare each model with the windows through the fitting function: its eigenvalue plus "
                              "the bias the fit shows on the model's own response (default; --no-fit-bias compares "
@@ -72,7 +73,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     check_cluster_options(args.scheduler, args.workers)
-    options = FitOptions(baseline=args.baseline, settle=args.settle)
+    options = FitOptions(baseline=args.baseline, settle=args.settle,
+                         min_cycles_above_noise=args.min_cycles_above_noise)
     sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
     if not sources:
         raise InputError("no run files given (name files, or use --bundled)")
@@ -86,6 +88,7 @@ def run(args: argparse.Namespace) -> int:
                   inputs, {"--report": args.report})
     bicycle = load_bicycle(args.bicycle, rider=args.rider)
     runs = [read_run(source, args.layout) for source in sources]
+    check_distinct_names(runs)
     windows = read_windows(args.windows, runs) if args.windows is not None else None
     measurements = [m for run_ in runs for m in measure_run(run_, windows, options)]
     report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters,

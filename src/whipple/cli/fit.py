@@ -6,8 +6,9 @@ separable least squares, and the speed range of each window is the linear regres
 speed over it. One line per window: run, window number, start and stop [s], speed range
 [m/s], eigenvalue d + i w [1/s] with standard deviations, R^2, and with --bicycle the model's
 weave eigenvalue at the window's mean speed (divided by the bicycle's speed_scale: measured
-speed = speed_scale * true speed). Stretches the window finder rejected and windows that
-cannot be fitted are listed as skipped, with the reason.
+speed = speed_scale * true speed). Stretches the window finder rejected, windows that cannot
+be fitted and fits too poor to use (R^2 under 0.5, under 0.75 weave cycle in all or above the
+noise, see --min-cycles-above-noise) are listed as skipped, with the reason.
 
 --bundled adds the measured runs shipped with whipple (a steer-by-wire bicycle on a treadmill;
 fit them with --bicycle sbw2024) and compares the automatic windows with the windows picked
@@ -29,14 +30,14 @@ from typing import Any
 import numpy as np
 
 from whipple.atomic import refuse_input_overwrite, write_text_atomic
-from whipple.cli.arguments import add_rider_argument
+from whipple.cli.arguments import add_rider_argument, add_window_check_argument
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_reference_windows, bundled_runs
 from whipple.measurement.experiment import CSV_COLUMNS, FitOptions, RunMeasurement, measure_run, measure_window
 from whipple.measurement.plots import fit_figures
 from whipple.measurement.reference_windows import compare_windows, read_windows
-from whipple.measurement.runs import read_run
+from whipple.measurement.runs import check_distinct_names, read_run
 from whipple.measurement.windows import Window
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import Bicycle, load_bicycle
@@ -75,6 +76,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="covariance of the eigenvalue: white residuals, Newey-West for "
                              "autocorrelated ones, or Newey-West when the residual's lag-1 "
                              "autocorrelation is significant (default auto)")
+    add_window_check_argument(parser)
     parser.add_argument("--bicycle", metavar="PARAMS",
                         help="bicycle file or built-in name: list its model weave eigenvalue "
                              "at each window's speed")
@@ -99,11 +101,7 @@ def run(args: argparse.Namespace) -> int:
     runs = [read_run(path, layout=args.layout) for path in args.runs]
     if args.bundled:
         runs += [read_run(entry) for entry in bundled_runs()]
-    names = [r.name for r in runs]
-    twice = sorted({name for name in names if names.count(name) > 1})
-    if twice:
-        files = " and ".join([str(r.source) for r in runs if r.name == twice[0]][:2])
-        raise InputError(f"two runs are named {twice[0]} ({files}; windows and figures go by run name)")
+    check_distinct_names(runs)
 
     def windows_file(value: str | None) -> tuple[Window, ...] | None:
         if value is None:
@@ -121,7 +119,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--rider needs --bicycle (the bicycle the rider sits on)")
     bicycle = load_bicycle(args.bicycle, rider=args.rider) if args.bicycle else None
 
-    options = FitOptions(signals=signals, baseline=args.baseline, noise=args.noise, shape_signal=None)
+    options = FitOptions(signals=signals, baseline=args.baseline, noise=args.noise, shape_signal=None,
+                         min_cycles_above_noise=args.min_cycles_above_noise)
     measured = [measure_run(run_, chosen, options) for run_ in runs]
     models = _model_eigenvalues(measured, bicycle)
     _print_table(measured, models)

@@ -4,7 +4,8 @@ This is the one measurement loop behind ``whipple fit`` and ``whipple diagnose``
 of a run (found automatically, or read from a windows file) either yields a fitted eigenvalue
 at a speed range, or is rejected with a reason; stretches the window finder turned down are
 listed too. A fitted window that is too poor to use as an observation (low R^2, under a weave
-cycle) keeps its fit and says why in ``quality``.
+cycle, or under 0.75 of one while the oscillation stands above the noise) keeps its fit and
+says why in ``quality``.
 """
 
 from __future__ import annotations
@@ -26,9 +27,10 @@ from whipple.measurement.windows import Window, WindowSearch, find_windows
 MIN_R_SQUARED = 0.5
 #: Nor fits covering less of a weave period than this (cycles = w * length / 2 pi).
 MIN_CYCLES = 0.75
-#: An experiment, not the default (0: off): nor fits holding fewer periods than this while the
-#: oscillation stays above the noise (:attr:`WeaveFit.cycles_above_noise`).
-MIN_CYCLES_ABOVE_NOISE = 0.0
+#: Nor, by default (:attr:`FitOptions.min_cycles_above_noise`), fits holding fewer periods than
+#: this while the oscillation stays above the noise (:attr:`WeaveFit.cycles_above_noise`): past
+#: that a strongly damped window holds mostly noise, which stretches it and biases its frequency.
+MIN_CYCLES_ABOVE_NOISE = 0.75
 #: With baseline "auto", windows of at least this many weave cycles get a quadratic baseline
 #: (enough data to separate the slow capsize mode from the weave); shorter ones the constant.
 AUTO_QUADRATIC_CYCLES = 2.0
@@ -64,6 +66,10 @@ class FitOptions:
         Seconds [s] left out at the start of each window: a window starts at the end of a
         push, while the fast castering mode still moves the bicycle, which the fitting
         function does not hold. The seed paper fits from the push's end (0).
+    min_cycles_above_noise : float
+        A fit holding fewer weave periods than this while its decaying envelope stays above the
+        residual's RMS (:attr:`~whipple.measurement.weavefit.WeaveFit.cycles_above_noise`) is not
+        used as an observation; 0 turns the check off (as the seed paper, which has none).
     """
 
     signals: tuple[str, ...] = ("roll_rate",)
@@ -71,6 +77,7 @@ class FitOptions:
     noise: str = "auto"
     shape_signal: str | None = "steer_angle"
     settle: float = 0.0
+    min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE
 
     def __post_init__(self) -> None:
         if self.baseline != "auto" and self.baseline not in BASELINES:
@@ -79,6 +86,9 @@ class FitOptions:
             raise InputError("no signal to fit")
         if not 0.0 <= self.settle < 10.0:  # also rejects NaN
             raise InputError(f"settle time must be between 0 and 10 s, got {self.settle}")
+        if not 0.0 <= self.min_cycles_above_noise <= 100.0:  # also rejects NaN
+            raise InputError("the least number of weave cycles above the noise must be between 0 and 100, "
+                             f"got {self.min_cycles_above_noise}")
 
 
 @dataclass(frozen=True)
@@ -238,7 +248,7 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None, options: FitO
         stretches are listed as rejected windows.
     options : FitOptions, optional
         How to fit; keyword ``settings`` (``signals``, ``baseline``, ``noise``,
-        ``shape_signal``, ``settle``) override its fields.
+        ``shape_signal``, ``settle``, ``min_cycles_above_noise``) override its fields.
 
     Returns
     -------
@@ -315,7 +325,7 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
             fit = fit_window(run, fitted, options.signals, options.noise, "quadratic")
     except InputError as error:
         return WindowMeasurement(run, window, None, speeds, error.problem)
-    quality = _quality(fit)
+    quality = _quality(fit, options.min_cycles_above_noise)
     shape = None
     signal = options.shape_signal
     if quality is None and signal is not None and signal in run.signals and signal not in options.signals:
@@ -334,14 +344,14 @@ def _gap_in(run: Run, window: Window, names: Sequence[str], speed: np.ndarray) -
     return f"window spans a gap in {', '.join(empty)} (samples without a value): not fitted across it"
 
 
-def _quality(fit: WeaveFit) -> str | None:
+def _quality(fit: WeaveFit, min_cycles_above_noise: float) -> str | None:
     """Why a fit is too poor to be an observation, or None."""
     if fit.r_squared < MIN_R_SQUARED:
         return f"poor fit (R^2 = {fit.r_squared:.2f} < {MIN_R_SQUARED})"
     if fit.cycles < MIN_CYCLES:
         return f"too short ({fit.cycles:.2f} weave cycles < {MIN_CYCLES})"
-    if MIN_CYCLES_ABOVE_NOISE and fit.cycles_above_noise < MIN_CYCLES_ABOVE_NOISE:
-        return f"too short above the noise ({fit.cycles_above_noise:.2f} weave cycles < {MIN_CYCLES_ABOVE_NOISE})"
+    if fit.cycles_above_noise < min_cycles_above_noise:
+        return f"too short above the noise ({fit.cycles_above_noise:.2f} weave cycles < {min_cycles_above_noise:g})"
     if not np.all(np.isfinite(fit.covariance)):
         return "eigenvalue covariance not finite"
     return None

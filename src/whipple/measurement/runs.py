@@ -11,6 +11,7 @@ from __future__ import annotations
 import gzip
 import re
 import zlib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Protocol
@@ -18,7 +19,7 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.errors import RunFileError
+from whipple.errors import InputError, RunFileError
 from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
 from whipple.measurement.speedometer import speedometer_speed
 from whipple.number_text import may_hold_other_numbers, parse_number
@@ -121,6 +122,15 @@ def run_from_simulation(simulated: SimulatedRun) -> Run:
     return Run(name=simulated.name, source=f"<simulated {simulated.name}>", time=simulated.time,
                signals=dict(simulated.signals), metadata=dict(simulated.metadata),
                sample_rate=simulated.sample_rate)
+
+
+def check_distinct_names(runs: Sequence[Run]) -> None:
+    """Refuse runs sharing a name: windows files, tables and figures name a run by it."""
+    names = [run.name for run in runs]
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if twice:
+        files = " and ".join([str(run.source) for run in runs if run.name == twice[0]][:2])
+        raise InputError(f"two runs are named {twice[0]} ({files}; windows and figures go by run name)")
 
 
 def read_run(

@@ -9,7 +9,11 @@ from the window's fit with the diagnosis' 0.5% floor), and its median over windo
 - own bias: less the fitting function's bias on the true model's own response
   (:func:`whipple.diagnosis.fit_bias.fitting_bias`), as the diagnosis compares every model;
 - base bias: less the bias computed for the base model instead (what one correction for all
-  models would give).
+  models would give);
+- at the truth: less the true model's bias with the modal amplitudes fitted at its own weave
+  (``fitting_bias(..., amplitudes="model")``): what the bias is when the model is right. The
+  diagnosis cannot use it (for a wrong model the other modes would absorb its error); the gap
+  between "own bias" and this column is what the diagnosis' fixed point misses.
 
 Near 1 the truth fits its windows to their noise; the diagnosis' verdicts depend on it (a true
 cause that leaves chi2/n of 9 is flagged as "values that change with speed" or "no candidate
@@ -17,7 +21,9 @@ explains the data"). Windows whose eigenvalue no mode of the true model matches 
 left out (a catch, noise), as the diagnosis leaves their shapes out. A truth given as feedback
 (steer_spring, roll_damping) is the base bicycle with the same torque as a model term.
 
-Run: ``python benchmarks/bench_fit_bias.py BICYCLE:FAMILY:SEED [...]``
+Run: ``python benchmarks/bench_fit_bias.py BICYCLE:FAMILY:SEED [...] [--windows]`` (``--windows``: each
+window's measured and true eigenvalue and both biases too; ``--fixed-point-start model``: an
+experiment, ``whipple.diagnosis.fit_bias.FIXED_POINT_START``).
 """
 
 from __future__ import annotations
@@ -32,6 +38,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from hidden_effects import hidden_bicycle, trial_options, trial_rng, trial_runs  # noqa: E402
 
+from whipple.diagnosis import fit_bias  # noqa: E402
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR  # noqa: E402
 from whipple.diagnosis.observations import SHAPE_MATCH, Observation, observations, predicted_weave  # noqa: E402
@@ -48,8 +55,9 @@ def floored_std(found: list[Observation]) -> np.ndarray:
     return np.array([np.hypot(np.sqrt(np.diag(o.covariance)), EIGENVALUE_FLOOR * abs(o.eigenvalue)) for o in found])
 
 
-def dispersions(bicycle: str, family: str, seed: int) -> dict[str, tuple[float, float, int]]:
-    """Return chi2/n and median whitened misfit of the true model's windows: raw, own bias, base bias."""
+def dispersions(bicycle: str, family: str, seed: int, windows: bool = False) -> dict[str, tuple[float, float, int]]:
+    """Return chi2/n and median whitened misfit of the true model's windows: raw, own bias, base
+    bias, at the truth's weave. ``windows``: also print each window's numbers [1/s]."""
     base, _, runs = trial_runs(family, seed, bicycle)
     truth, values, model = hidden_bicycle(base, family, trial_rng(family, seed))
     if model is not None:
@@ -65,7 +73,12 @@ def dispersions(bicycle: str, family: str, seed: int) -> dict[str, tuple[float, 
         return ((difference.real / std[:, 0]) ** 2 + (difference.imag / std[:, 1]) ** 2)[keep] / 2.0
 
     results = {}
-    biases = {"raw": 0.0, "own bias": fitting_bias(truth, found), "base bias": fitting_bias(base, found)}
+    biases = {"raw": 0.0, "own bias": fitting_bias(truth, found), "base bias": fitting_bias(base, found),
+              "at the truth": fitting_bias(truth, found, amplitudes="model")}
+    if windows:
+        for n in np.flatnonzero(keep):
+            print(f"  {found[n].speed:5.2f} m/s: measured {measured[n]:.3f}, true weave {predicted[n]:.3f}, bias: own "
+                  f"{biases['own bias'][n]:.3f}, at the truth's weave {biases['at the truth'][n]:.3f}")
     for name, bias in biases.items():
         values = whitened(measured - predicted - bias)
         results[name] = (float(values.mean()), float(np.median(values)), int(keep.sum()))
@@ -75,18 +88,24 @@ def dispersions(bicycle: str, family: str, seed: int) -> dict[str, tuple[float, 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("trials", nargs="+", metavar="BICYCLE:FAMILY:SEED")
+    parser.add_argument("--windows", action="store_true", help="also each window's eigenvalue and biases")
+    parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START,
+                        help="experiment: where the fixed point of the own bias starts "
+                             "(whipple.diagnosis.fit_bias.FIXED_POINT_START)")
     args = parser.parse_args()
-    print(f"{'trial':<34}{'windows':>8}  chi2/n raw / own bias / base bias   (median)")
+    fit_bias.FIXED_POINT_START = args.fixed_point_start
+    columns = ("raw", "own bias", "base bias", "at the truth")
+    print(f"{'trial':<34}{'windows':>8}  chi2/n {' / '.join(columns)}   (median)")
     for name in args.trials:
         try:
             bicycle, family, seed = name.split(":")
-            results = dispersions(bicycle, family, int(seed))
+            results = dispersions(bicycle, family, int(seed), args.windows)
         except ValueError as error:
             parser.error(f"{name}: {error}")
         count = results["raw"][2]
-        means = " / ".join(f"{results[key][0]:.2f}" for key in ("raw", "own bias", "base bias"))
-        medians = " / ".join(f"{results[key][1]:.2f}" for key in ("raw", "own bias", "base bias"))
-        print(f"{name:<34}{count:>8}  {means:<33}({medians})")
+        means = " / ".join(f"{results[key][0]:.2f}" for key in columns)
+        medians = " / ".join(f"{results[key][1]:.2f}" for key in columns)
+        print(f"{name:<34}{count:>8}  {means:<40}({medians})")
 
 
 if __name__ == "__main__":

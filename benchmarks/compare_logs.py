@@ -8,6 +8,8 @@ place of its own (AFTER a rerun of only the trials a change touched); ``--twins 
 gives each merged trial the outcome of its noise-free twin (ninth column) from these ``--twin``
 logs (a later log's in place of an earlier's), where that log's own outcome of the trial is the
 merged one: a twin diagnosed beside another outcome says nothing about this one.
+``--replace-from LOG ...`` reads BEFORE with the trials of these logs in place of its own (the
+rates of record are a log with reruns, as in ``bench_diagnosis.py --replace-from``).
 """
 
 from __future__ import annotations
@@ -31,11 +33,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("before", type=Path)
     parser.add_argument("after", type=Path)
+    parser.add_argument("--replace-from", type=Path, nargs="+", default=[],
+                        help="read BEFORE with each of its trials found in these logs in its place (a later "
+                             "log's over an earlier's), as bench_diagnosis.py --replace-from")
     parser.add_argument("--merged", type=Path, help="write BEFORE with AFTER's trials replacing its own")
     parser.add_argument("--twins", type=Path, nargs="+", default=[],
                         help="with --merged: take each trial's twin outcome from these --twin logs where they agree")
     args = parser.parse_args()
     before, after = _read(args.before), _read(args.after)
+    for path in args.replace_from:
+        before.update({key: row for key, row in _read(path).items() if key in before})
     common = sorted(set(before) & set(after))
     print(f"{len(common)} trials in both logs")
     families = list(dict.fromkeys(key[1] for key in common))

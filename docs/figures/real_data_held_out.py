@@ -1,6 +1,7 @@
 """Print the held-out numbers of docs/diagnosis.md's real-data section.
 
 Run from anywhere:  python docs/figures/real_data_held_out.py [--no-parameters] [--cycles-above-noise C]
+[--fixed-point-start model]
 
 On the bundled treadmill runs (sbw2024 with its controller):
 
@@ -20,7 +21,8 @@ On the bundled treadmill runs (sbw2024 with its controller):
 ``--no-parameters`` restricts the candidates to the physical causes (no ``parameter:<key>``);
 ``--cycles-above-noise C`` leaves out the windows holding fewer than C weave cycles above the
 noise (``FitOptions.min_cycles_above_noise``; default the package's 0.75, 0: the windows before
-that check).
+that check). ``--fixed-point-start model`` is an experiment: the fitting bias' fixed point starts
+from each model's weave (``whipple.diagnosis.fit_bias.FIXED_POINT_START``).
 Every number is an RMS or median of |measured - predicted| weave eigenvalue [1/s].
 """
 
@@ -30,6 +32,7 @@ import argparse
 
 import numpy as np
 
+from whipple.diagnosis import fit_bias
 from whipple.diagnosis.causes import candidate_causes
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import combined_cause, general_forms
@@ -52,7 +55,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-parameters", action="store_true")
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE)
+    parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START)
     args = parser.parse_args()
+    fit_bias.FIXED_POINT_START = args.fixed_point_start  # an experiment's knob
     options = FitOptions(baseline="auto", min_cycles_above_noise=args.cycles_above_noise)
     bicycle = load_bicycle("sbw2024")
     runs = [read_run(source) for source in bundled_runs()]

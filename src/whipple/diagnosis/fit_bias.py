@@ -37,9 +37,14 @@ from whipple.model.parameters import Bicycle
 #: Steps of the fixed point that finds a window's own weave eigenvalue (each a refit; the
 #: bias changes by a small fraction of itself per step).
 FIXED_POINT_STEPS = 3
+#: An experiment, not the default ("measured"): the fixed point starts from the model's weave
+#: ("model") instead of the window's measured eigenvalue (docs/diagnosis.md, "What the fixed
+#: point misses").
+FIXED_POINT_START = "measured"
 
 
-def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArray[np.complex128]:
+def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation],
+                 amplitudes: str = "own") -> NDArray[np.complex128]:
     """Return, per observation, the fitting function's bias [1/s] on the bicycle model's own response.
 
     Zero where a window's samples are unknown (:attr:`Observation.signals` is None), where a
@@ -47,7 +52,15 @@ def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArr
     within ``SHAPE_MATCH`` of the measured eigenvalue, or where the refit fails or moves
     further than that (then the window's fit is no weave of this model to correct). All
     windows are refitted at once (:func:`~whipple.measurement.refit.refit_weaves`).
+
+    ``amplitudes``: ``"own"`` (what the diagnosis uses) fits the modal amplitudes with the
+    weave at the window's own eigenvalue (the module's fixed point); ``"model"`` with the
+    model's weave. The latter is exact where the model is the truth, but lets the other modes
+    absorb any other model's error; benchmarks use it on the true model of a simulated trial
+    to see how much of the bias the fixed point misses (``benchmarks/bench_fit_bias.py``).
     """
+    if amplitudes not in ("own", "model"):
+        raise ValueError(f"amplitudes must be 'own' or 'model', got {amplitudes!r}")
     bias = np.zeros(len(observations), dtype=complex)
     known = [n for n, o in enumerate(observations)
              if o.signals is not None and all(name in MODE_SHAPE_STATES for name in o.signals.names)]
@@ -62,7 +75,7 @@ def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArr
     for window in windows:
         groups.setdefault((len(window.signals.names), window.pair.size), []).append(window)
     for members in groups.values():
-        for window, found in zip(members, _Stack(members).bias(), strict=True):
+        for window, found in zip(members, _Stack(members).bias(at_own=amplitudes == "own"), strict=True):
             if np.isfinite(found) and abs(found) <= SHAPE_MATCH * abs(window.weave):
                 bias[window.index] = found
     return bias
@@ -190,14 +203,23 @@ class _Stack:
                                 [window.signals.baseline for window in windows])[0]
         return np.where(finite, refitted, np.nan)
 
-    def bias(self) -> NDArray[np.complex128]:
-        """Return each window's fitting bias [1/s]: NaN where a response or refit failed."""
+    def bias(self, at_own: bool = True) -> NDArray[np.complex128]:
+        """Return each window's fitting bias [1/s]: NaN where a response or refit failed.
+
+        ``at_own``: modal amplitudes fitted with the window's own weave (else the model's).
+        """
         found = np.full(len(self.windows), np.nan, dtype=complex)
         members = np.flatnonzero(self.usable)
+        if not at_own and members.size:
+            weaves = np.array([self.windows[int(n)].weave for n in members])
+            found[members] = self._refits(members, weaves, weaves, weaves) - weaves
+        if not at_own:
+            return found
         measured = np.array([window.measured for window in self.windows])
         # The window's own weave: the eigenvalue whose response (with the other modes as the
         # window holds them) the fitted function reports as the measured one.
-        own = measured[members]
+        own = (measured[members] if FIXED_POINT_START == "measured" else
+               np.array([self.windows[int(n)].weave for n in members], dtype=complex))
         for _ in range(FIXED_POINT_STEPS):
             if members.size == 0:
                 return found

@@ -35,11 +35,28 @@ def _observations(bicycle, speeds, sensors=QUIET, seed=3):
     return observations([m for run in runs for m in measure_run(run, baseline="auto")])
 
 
-def test_the_bias_of_the_true_model_explains_the_fitted_eigenvalues():
+@pytest.fixture(scope="module")
+def steer_damper():
+    """Noise-free windows at 5, 6 and 8 m/s of kooijman2008 with a steer damper: the base
+    bicycle, the damped one, and the windows."""
+    base = load_bicycle("kooijman2008")
+    bicycle = base.with_extensions(steer_damping=1.1)
+    return base, bicycle, _observations(bicycle, (5.0, 6.0, 8.0))
+
+
+def _misfit(model, found, amplitudes="own"):
+    """Median |measured - model weave - model's bias| [1/s] over the windows whose eigenvalue the model's weave
+    matches within 30%."""
+    measured = np.array([o.eigenvalue for o in found])
+    deviation = measured - predicted_weave(model, found)
+    keep = np.abs(deviation) < 0.3 * np.abs(measured)
+    return np.median(np.abs(deviation - fitting_bias(model, found, amplitudes=amplitudes))[keep])
+
+
+def test_the_bias_of_the_true_model_explains_the_fitted_eigenvalues(steer_damper):
     # Noise-free runs of a bicycle with a steer damper: the fitted weave eigenvalues differ from
     # the model's by the fitting function's bias alone, which the model's own response predicts.
-    bicycle = load_bicycle("kooijman2008").with_extensions(steer_damping=1.1)
-    found = _observations(bicycle, (5.0, 6.0, 8.0))
+    _, bicycle, found = steer_damper
     weave = predicted_weave(bicycle, found)
     deviation = np.array([o.eigenvalue for o in found]) - weave
     weave_windows = np.abs(deviation) < 0.3 * np.abs(weave)
@@ -61,45 +78,27 @@ def test_the_bias_depends_on_the_model():
     assert np.median(np.abs(deviation - other)) > 10 * np.median(np.abs(deviation - own))
 
 
-def test_amplitudes_at_the_model_weave_are_exact_for_the_truth_and_swallow_a_wrong_model_error():
+def test_amplitudes_at_the_model_weave_are_exact_for_the_truth_and_swallow_a_wrong_model_error(steer_damper):
     # Why the diagnosis fits the modal amplitudes at the window's own weave, and what that costs:
     # at the model's weave the truth's bias is exact, but a wrong model's error is partly taken
     # for bias by the other modes.
-    base = load_bicycle("kooijman2008")
-    bicycle = base.with_extensions(steer_damping=1.1)
-    found = _observations(bicycle, (5.0, 6.0, 8.0))
-    measured = np.array([o.eigenvalue for o in found])
-
-    def misfit(model, amplitudes):
-        deviation = measured - predicted_weave(model, found)
-        keep = np.abs(deviation) < 0.3 * np.abs(measured)
-        return np.median(np.abs(deviation - fitting_bias(model, found, amplitudes=amplitudes))[keep])
-
-    assert misfit(bicycle, "model") < 0.1 * misfit(bicycle, "own")
-    assert misfit(base, "model") < 0.8 * misfit(base, "own")
+    base, bicycle, found = steer_damper
+    assert _misfit(bicycle, found, "model") < 0.1 * _misfit(bicycle, found, "own")
+    assert _misfit(base, found, "model") < 0.8 * _misfit(base, found, "own")
     with pytest.raises(ValueError, match="amplitudes"):
         fitting_bias(bicycle, found, amplitudes="window")
 
 
-def test_the_experimental_start_of_the_fixed_point_from_the_model_weave(monkeypatch):
+def test_the_experimental_start_of_the_fixed_point_from_the_model_weave(steer_damper, monkeypatch):
     # Started from the model's weave, the fixed point leaves the truth closer to its windows and
     # keeps nearly all of a wrong model's error (97% here; amplitudes fitted at the model's
     # weave keep two thirds of it).
     from whipple.diagnosis import fit_bias as module
 
-    base = load_bicycle("kooijman2008")
-    bicycle = base.with_extensions(steer_damping=1.1)
-    found = _observations(bicycle, (5.0, 6.0, 8.0))
-    measured = np.array([o.eigenvalue for o in found])
-
-    def misfit(model):
-        deviation = measured - predicted_weave(model, found)
-        keep = np.abs(deviation) < 0.3 * np.abs(measured)
-        return np.median(np.abs(deviation - fitting_bias(model, found))[keep])
-
-    from_measured = misfit(bicycle), misfit(base)
+    base, bicycle, found = steer_damper
+    from_measured = _misfit(bicycle, found), _misfit(base, found)
     monkeypatch.setattr(module, "FIXED_POINT_START", "model")
-    from_model = misfit(bicycle), misfit(base)
+    from_model = _misfit(bicycle, found), _misfit(base, found)
     assert from_model[0] < from_measured[0]
     assert from_model[1] >= 0.9 * from_measured[1]
 

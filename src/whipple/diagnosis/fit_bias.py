@@ -210,25 +210,20 @@ class _Stack:
         """
         found = np.full(len(self.windows), np.nan, dtype=complex)
         members = np.flatnonzero(self.usable)
-        if not at_own and members.size:
-            weaves = np.array([self.windows[int(n)].weave for n in members])
-            found[members] = self._refits(members, weaves, weaves, weaves) - weaves
-        if not at_own:
-            return found
         measured = np.array([window.measured for window in self.windows])
+        weaves = np.array([window.weave for window in self.windows])
         # The window's own weave: the eigenvalue whose response (with the other modes as the
         # window holds them) the fitted function reports as the measured one.
-        own = (measured[members] if FIXED_POINT_START == "measured" else
-               np.array([self.windows[int(n)].weave for n in members], dtype=complex))
-        for _ in range(FIXED_POINT_STEPS):
+        own = measured[members] if FIXED_POINT_START == "measured" else weaves[members]
+        for _ in range(FIXED_POINT_STEPS if at_own else 0):
             if members.size == 0:
-                return found
+                break
             refitted = self._refits(members, own, own, own)
             kept = np.isfinite(refitted)
             members, own = members[kept], measured[members[kept]] - (refitted[kept] - own[kept])
+        model = weaves[members]
         if members.size:
-            weaves = np.array([self.windows[int(n)].weave for n in members])
-            found[members] = self._refits(members, own, weaves, weaves) - weaves
+            found[members] = self._refits(members, own if at_own else model, model, model) - model
         return found
 
 

@@ -18,7 +18,7 @@ realistic size and position, diagnose them blind, and count the outcomes:
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
 [--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias] [--size-scale S] [--occam laplace]
-[--rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--twin]``;
+[--rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate,steer_angle] [--twin]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
@@ -32,7 +32,8 @@ holding fewer than C weave cycles above the noise (``FitOptions.min_cycles_above
 package's 0.75 by default, 0: the rates before that check); ``--rigid-loads`` an experiment: the
 payloads' rigid-load form among the candidates (``whipple.diagnosis.causes.RIGID_LOADS``); ``--fixed-point-start model``
 another: the fitting bias' fixed point starts from each model's weave
-(``whipple.diagnosis.fit_bias.FIXED_POINT_START``); ``--no-fit-bias``
+(``whipple.diagnosis.fit_bias.FIXED_POINT_START``); ``--signals`` the signals fitted jointly in
+every window (``whipple diagnose --signals``; the roll rate alone by default); ``--no-fit-bias``
 compares each window's eigenvalue with the model's directly (``diagnose_observations(bias=False)``,
 the earlier form; by default models are compared through the fitting function). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
@@ -79,15 +80,17 @@ from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool, bool, float, str]) -> tuple:
-    bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads, twin, above_noise, start = arguments
+def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool, bool, float, str, tuple[str, ...]]) -> tuple:
+    (bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads, twin, above_noise, start,
+     signals) = arguments
     # Experiments' knobs, set in the worker process that runs the trial.
     fit_bias.FIXED_POINT_START = start
     evidence.COMBINE_DISPERSION = combine_dispersion
     evidence.OCCAM = occam
     causes.RIGID_LOADS = rigid_loads
     try:
-        trial = run_trial(family, seed, bicycle, bias=bias, scale=scale, twin=twin, min_cycles_above_noise=above_noise)
+        trial = run_trial(family, seed, bicycle, bias=bias, scale=scale, twin=twin, min_cycles_above_noise=above_noise,
+                          signals=signals)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
@@ -211,6 +214,8 @@ def main() -> None:
     parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START,
                         help="experiment: where the fitting bias' fixed point starts "
                              "(whipple.diagnosis.fit_bias.FIXED_POINT_START)")
+    parser.add_argument("--signals", default="roll_rate",
+                        help="signals fitted jointly in every window (whipple diagnose --signals; default roll_rate)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
@@ -244,7 +249,8 @@ def main() -> None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]
         tasks = [(*job, args.fit_bias, args.size_scale, args.combine_dispersion, args.occam,
-                  args.rigid_loads, args.twin, args.cycles_above_noise, args.fixed_point_start) for job in jobs]
+                  args.rigid_loads, args.twin, args.cycles_above_noise, args.fixed_point_start,
+                  tuple(args.signals.split(","))) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

@@ -17,8 +17,12 @@ matches within 30% are left out, as in ``bench_fit_bias.py``. ``--bundled``: the
 noise of the bundled treadmill runs' windows (fitted as ``whipple diagnose --bundled`` does, but
 without that check, to count the windows it leaves out).
 
+The last columns: the median standard deviation of the windows' real and imaginary part [1/s]
+(with the floor), to compare how sharp the windows are with ``--signals roll_rate,steer_angle``
+(both signals fitted jointly, as ``whipple diagnose --signals``) and without.
+
 Run: ``python benchmarks/bench_window_speeds.py BICYCLE [BICYCLE ...] [--runs 20] [--bundled]
-[--cycles-above-noise C]`` (``--runs``: runs per speed, each with its own noise).
+[--cycles-above-noise C] [--signals roll_rate,steer_angle]`` (``--runs``: runs per speed, each with its own noise).
 """
 
 from __future__ import annotations
@@ -47,10 +51,12 @@ from whipple.simulation.simulator import simulate_run  # noqa: E402
 FIRST_SEED = 1000
 
 
-def misfits(bicycle: Bicycle, speed: float, runs: int, min_cycles_above_noise: float) -> dict[str, np.ndarray]:
+def misfits(bicycle: Bicycle, speed: float, runs: int, min_cycles_above_noise: float,
+            signals: tuple[str, ...] = ("roll_rate",)) -> dict[str, np.ndarray]:
     """The usable windows of ``runs`` runs at ``speed`` [m/s]: whitened misfits (n, 2), frequency
-    errors and biases [1/s] (of the windows a mode matches) and every window's cycles above the noise."""
-    options = trial_options(bicycle, min_cycles_above_noise)
+    errors and biases [1/s] and standard deviations (n, 2) [1/s] (of the windows a mode matches)
+    and every window's cycles above the noise; ``signals`` fitted jointly."""
+    options = trial_options(bicycle, min_cycles_above_noise, signals)
     measurements = []
     for k in range(runs):
         scenario = RunScenario(speed=speed, seed=FIRST_SEED + k, n_pushes=PUSHES)
@@ -59,7 +65,8 @@ def misfits(bicycle: Bicycle, speed: float, runs: int, min_cycles_above_noise: f
     found = observations(measurements)
     cycles = np.array([m.fit.cycles_above_noise for m in measurements if m.fit is not None])
     if not found:
-        return {"z": np.zeros((0, 2)), "error": np.zeros(0), "bias": np.zeros(0), "cycles": cycles}
+        return {"z": np.zeros((0, 2)), "error": np.zeros(0), "bias": np.zeros(0), "std": np.zeros((0, 2)),
+                "cycles": cycles}
     measured = np.array([o.eigenvalue for o in found])
     bias = fitting_bias(bicycle, found)
     predicted = predicted_weave(bicycle, found) + bias
@@ -67,7 +74,7 @@ def misfits(bicycle: Bicycle, speed: float, runs: int, min_cycles_above_noise: f
     std = floored_std(found)
     difference = measured - predicted
     return {"z": (np.column_stack([difference.real, difference.imag]) / std)[keep],
-            "error": difference.imag[keep], "bias": bias.imag[keep], "cycles": cycles}
+            "error": difference.imag[keep], "bias": bias.imag[keep], "std": std[keep], "cycles": cycles}
 
 
 def bundled_cycles() -> np.ndarray:
@@ -85,16 +92,19 @@ def main() -> None:
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE,
                         help="leave out the trials' windows holding fewer weave cycles above the noise "
                              "(FitOptions.min_cycles_above_noise; default the package's, 0: off)")
+    parser.add_argument("--signals", default="roll_rate",
+                        help="signals fitted jointly in every window (whipple diagnose --signals; default roll_rate)")
     args = parser.parse_args()
     print(f"{'bicycle':<20}{'speed':>6}{'windows/pushes':>16}  misfit [std]: real median, rms; imag median, rms;"
-          f"  frequency error, bias [1/s] (medians);  windows < {MIN_CYCLES} cycles above the noise")
+          f"  frequency error, bias [1/s] (medians);  windows < {MIN_CYCLES} cycles above the noise;"
+          "  std real, imag [1/s] (medians)")
     for name in args.bicycles:
         try:
             bicycle = trial_bicycle(name)
         except (OSError, ValueError) as error:
             parser.error(f"{name}: {error}")
         for speed in trial_speeds(bicycle):
-            found = misfits(bicycle, speed, args.runs, args.cycles_above_noise)
+            found = misfits(bicycle, speed, args.runs, args.cycles_above_noise, tuple(args.signals.split(",")))
             usable = f"{found['cycles'].size}/{args.runs * PUSHES}"
             short = int(np.sum(found["cycles"] < MIN_CYCLES))
             z = found["z"]
@@ -103,7 +113,8 @@ def main() -> None:
                 continue
             median, rms = np.median(z, axis=0), np.sqrt(np.mean(z**2, axis=0))
             print(f"{name:<20}{speed:>6.1f}{usable:>16}  {median[0]:+6.2f} {rms[0]:5.2f}; {median[1]:+6.2f} "
-                  f"{rms[1]:5.2f};  {np.median(found['error']):+6.3f} {np.median(found['bias']):+6.3f};  {short}")
+                  f"{rms[1]:5.2f};  {np.median(found['error']):+6.3f} {np.median(found['bias']):+6.3f};  {short};  "
+                  f"{np.median(found['std'][:, 0]):.3f} {np.median(found['std'][:, 1]):.3f}")
     if args.bundled:
         cycles = bundled_cycles()
         print(f"bundled treadmill runs: {cycles.size} windows; fewer than {MIN_CYCLES} cycles above the noise: "

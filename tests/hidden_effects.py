@@ -404,10 +404,13 @@ def trial_settle(bicycle: Bicycle) -> float:
     return 0.0 if bicycle.controller.is_empty() else 0.3
 
 
-def trial_options(bicycle: Bicycle, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE) -> FitOptions:
+def trial_options(bicycle: Bicycle, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE,
+                  signals: tuple[str, ...] = ("roll_rate",)) -> FitOptions:
     """How a trial's windows are fitted: the automatic baseline, the bicycle's settle time
-    (:func:`trial_settle`), and the package's check of cycles above the noise unless another is given."""
-    return FitOptions(baseline="auto", settle=trial_settle(bicycle), min_cycles_above_noise=min_cycles_above_noise)
+    (:func:`trial_settle`), and the package's check of cycles above the noise unless another is
+    given; ``signals``: fitted jointly (``whipple diagnose --signals``; the roll rate alone by default)."""
+    return FitOptions(signals=signals, baseline="auto", settle=trial_settle(bicycle),
+                      min_cycles_above_noise=min_cycles_above_noise)
 
 
 def trial_rng(cause: str, seed: int) -> np.random.Generator:
@@ -461,18 +464,18 @@ def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
 
 
 def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = True,
-              scale: float = 1.0, twin: bool = False,
-              min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE) -> Trial:
+              scale: float = 1.0, twin: bool = False, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE,
+              signals: tuple[str, ...] = ("roll_rate",)) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
     The controlled bicycles' windows leave out their first seconds (:func:`trial_settle`).
     ``bias``: the diagnosis compares models through the
     fitting function (the default of ``diagnose_observations``); ``scale`` multiplies the
-    effect's size (:func:`hidden_bicycle`); ``min_cycles_above_noise`` is the windows' check
-    (:class:`~whipple.measurement.experiment.FitOptions`).
+    effect's size (:func:`hidden_bicycle`); ``min_cycles_above_noise`` is the windows' check and
+    ``signals`` the signals fitted jointly (:class:`~whipple.measurement.experiment.FitOptions`).
     """
     base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
-    options = trial_options(base, min_cycles_above_noise)
+    options = trial_options(base, min_cycles_above_noise, signals)
     measurements = [m for run in runs for m in measure_run(run, None, options)]
     diagnosis = diagnose_observations(base, observations(measurements), bias=bias)
     trial = Trial(cause, seed, truth, diagnosis, base_name)

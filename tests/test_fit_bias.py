@@ -164,11 +164,27 @@ def test_refitting_many_windows_at_once_gives_each_windows_own_refit():
     for n in range(4):
         alone = refit_weave(times[n], values[n], starts[n], baselines[n])
         assert together[n] == pytest.approx(alone, abs=1e-12)
-        if n != 2:  # the full fit weighs two signals its own way
+        if n != 2:  # the full fit weighs two signals by their residuals (the test above)
             assert together[n] == pytest.approx(fit_weave(times[n], values[n], baseline=baselines[n]).eigenvalue,
                                                 abs=1e-5)
         assert failures[n] is None
     assert np.isnan(together[4]) and "constant" in failures[4]
+
+
+def test_a_refit_of_several_signals_with_the_fits_weights_reaches_the_fits_optimum():
+    # Two signals of different noise, the second with more of a fast mode: the full fit weighs
+    # them by their residuals, so a refit weighing them by their spreads lands elsewhere.
+    rng = np.random.default_rng(11)
+    time = np.arange(0.0, 3.0, 0.01)
+    weave = np.exp(-0.5 * time) * np.sin(4.0 * time + 0.3)
+    signals = np.vstack([weave + 0.2 * np.exp(-10.0 * time) + 0.01 * rng.standard_normal(time.size),
+                         0.4 * np.exp(-0.5 * time) * np.sin(4.0 * time + 1.1) + 0.3 * np.exp(-10.0 * time)
+                         + 0.05 * rng.standard_normal(time.size)])
+    fit = fit_weave(time, signals, ("roll_rate", "steer_angle"))
+    assert len(fit.signal_weights) == 2
+    start = fit.eigenvalue + complex(0.05, -0.1)
+    assert refit_weave(time, signals, start, weights=fit.signal_weights) == pytest.approx(fit.eigenvalue, abs=1e-5)
+    assert abs(refit_weave(time, signals, start) - fit.eigenvalue) > 1e-3
 
 
 def test_diagnosis_through_the_fitting_function_estimates_the_truth_better():
@@ -191,13 +207,21 @@ def test_diagnose_cli_compares_through_the_fitting_function_by_default(tmp_path,
     for k, speed in enumerate((4.0, 5.0, 6.0, 7.0)):
         run = simulate_run(truth, RunScenario(speed=speed, seed=10 + k), name=f"run{k}")
         paths.append(str(write_run_csv(run, tmp_path / f"run{k}.csv")))
-    for option, applied in (([], True), (["--no-fit-bias"], False)):
+    spread = {}
+    joint = ["--signals", "roll_rate,steer_angle"]
+    for option, applied in (([], True), (["--no-fit-bias"], False), (joint, True)):
         out = tmp_path / "d.json"
         assert main(["diagnose", *paths, "--bicycle", "benchmark", *option, "--json", str(out)]) == 0
         data = json.loads(out.read_text())
         assert data["fit_bias"] is applied
         assert data["verdict"] == "named" and data["cause"] == "steer_damping"
         assert abs(data["estimate"]["steer_damping"]["value"] - 0.8) < 0.2
+        spread[" ".join(option)] = data["estimate"]["steer_damping"]["std"]
+    # The steer angle's weave, fitted jointly with the roll rate, sharpens every eigenvalue.
+    assert spread[" ".join(joint)] < spread[""]
+    for signals, problem in ((",", "--signals names no signal"), ("roll_rate,steer_rat", "no steer_rat signal")):
+        assert main(["diagnose", *paths, "--bicycle", "benchmark", "--signals", signals]) == 2
+        assert problem in capsys.readouterr().err
 
 
 def test_observations_without_samples_are_compared_directly():

@@ -1,7 +1,7 @@
 """Print the held-out numbers of docs/diagnosis.md's real-data section.
 
 Run from anywhere:  python docs/figures/real_data_held_out.py [--no-parameters] [--cycles-above-noise C]
-[--fixed-point-start model]
+[--fixed-point-start model] [--signals roll_rate,steer_angle]
 
 On the bundled treadmill runs (sbw2024 with its controller):
 
@@ -22,7 +22,8 @@ On the bundled treadmill runs (sbw2024 with its controller):
 ``--cycles-above-noise C`` leaves out the windows holding fewer than C weave cycles above the
 noise (``FitOptions.min_cycles_above_noise``; default the package's 0.75, 0: the windows before
 that check). ``--fixed-point-start model`` is an experiment: the fitting bias' fixed point starts
-from each model's weave (``whipple.diagnosis.fit_bias.FIXED_POINT_START``).
+from each model's weave (``whipple.diagnosis.fit_bias.FIXED_POINT_START``); ``--signals`` the
+signals fitted jointly in every window (``whipple diagnose --signals``; the roll rate by default).
 Every number is an RMS or median of |measured - predicted| weave eigenvalue [1/s].
 """
 
@@ -56,9 +57,11 @@ def main() -> None:
     parser.add_argument("--no-parameters", action="store_true")
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE)
     parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START)
+    parser.add_argument("--signals", default="roll_rate", help="signals fitted jointly (whipple diagnose --signals)")
     args = parser.parse_args()
     fit_bias.FIXED_POINT_START = args.fixed_point_start  # an experiment's knob
-    options = FitOptions(baseline="auto", min_cycles_above_noise=args.cycles_above_noise)
+    options = FitOptions(signals=tuple(args.signals.split(",")), baseline="auto",
+                         min_cycles_above_noise=args.cycles_above_noise)
     bicycle = load_bicycle("sbw2024")
     runs = [read_run(source) for source in bundled_runs()]
     seen = observations([m for run in runs for m in measure_run(run, None, options)])

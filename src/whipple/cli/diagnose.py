@@ -19,7 +19,15 @@ import sys
 from pathlib import Path
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import add_rider_argument, add_window_check_argument, bicycle_inputs, integer, number
+from whipple.cli.arguments import (
+    add_rider_argument,
+    add_signals_argument,
+    add_window_check_argument,
+    bicycle_inputs,
+    integer,
+    number,
+    signal_names,
+)
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
@@ -56,6 +64,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
                              "measured speeds (see docs/diagnosis.md)")
     add_window_check_argument(parser)
+    add_signals_argument(parser, "; e.g. roll_rate,steer_angle: the steer angle's weave sharpens the eigenvalue "
+                                 "(the first signal is the mode shape's reference; see docs/diagnosis.md)")
     parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
                         help="compare each model with the windows through the fitting function: its eigenvalue plus "
                              "the bias the fit shows on the model's own response (default; --no-fit-bias compares "
@@ -73,7 +83,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     check_cluster_options(args.scheduler, args.workers)
-    options = FitOptions(baseline=args.baseline, settle=args.settle,
+    options = FitOptions(signals=signal_names(args.signals), baseline=args.baseline, settle=args.settle,
                          min_cycles_above_noise=args.min_cycles_above_noise)
     sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
     if not sources:

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from whipple.atomic import refuse_input_overwrite, write_text_atomic
-from whipple.cli.arguments import add_rider_argument, add_window_check_argument
+from whipple.cli.arguments import add_rider_argument, add_signals_argument, add_window_check_argument, signal_names
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_reference_windows, bundled_runs
@@ -66,8 +66,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--compare", metavar="FILE",
                         help="windows file to compare the automatic windows with (they are "
                              "still the ones fitted); 'bundled' as for --windows")
-    parser.add_argument("--signals", default="roll_rate", metavar="NAME[,NAME...]",
-                        help="signals fitted jointly, sharing one eigenvalue (default roll_rate)")
+    add_signals_argument(parser)
     parser.add_argument("--baseline", choices=("constant", "linear", "quadratic"), default="constant",
                         help="non-oscillating part of the fitted function: the seed paper's "
                              "constant c1 (default), or a polynomial in time that also absorbs "
@@ -91,9 +90,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     if not args.runs and not args.bundled:
         raise InputError("no runs: name run files, or use --bundled for the runs shipped with whipple")
-    signals = tuple(name.strip() for name in args.signals.split(",") if name.strip())
-    if not signals:
-        raise InputError("--signals names no signal")
+    signals = signal_names(args.signals)
     inputs = [*args.runs, *(f for f in (args.windows, args.compare, args.bicycle, args.rider, args.layout)
                             if f and f != BUNDLED)]
     check_outputs({"--json": args.json, "--csv": args.csv}, inputs, {"--plot": args.plot})

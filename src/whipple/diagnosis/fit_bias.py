@@ -139,6 +139,12 @@ class _Stack:
             self.mask[row, :signals.time.size] = 1.0
             targets[row, :, :signals.time.size] = signals.values
         self.spreads = np.std(targets, axis=2, where=self.mask[:, None, :].astype(bool))
+        for row, window in enumerate(windows):
+            if window.signals.weights is not None:
+                # The signals as the window's fit weighed them (several signals: by their
+                # residuals), in the modal amplitudes' fit as in the refit.
+                with np.errstate(divide="ignore"):
+                    self.spreads[row] = 1.0 / window.signals.weights
         rows = np.array([window.vectors[[MODE_SHAPE_STATES[name] for name in window.signals.names]]
                          for window in windows])
         others = np.array([np.setdiff1d(np.arange(window.values.size), window.pair) for window in windows])
@@ -154,7 +160,8 @@ class _Stack:
             self.fixed = np.concatenate([self._mode_columns(np.arange(len(windows)), other_values,
                                                             np.take_along_axis(rows, others[:, None, :], axis=2)),
                                          offsets.reshape(len(windows), count * length, count)], axis=2)
-        self.usable = (self.spreads > 0).all(axis=1) & np.isfinite(self.fixed).all(axis=(1, 2))
+        self.usable = (((self.spreads > 0) & np.isfinite(self.spreads)).all(axis=1)
+                       & np.isfinite(self.fixed).all(axis=(1, 2)))
 
     def _mode_columns(self, members: NDArray[np.intp], modes: NDArray[np.complex128],
                       rows: NDArray[np.complex128]) -> NDArray[np.float64]:
@@ -200,7 +207,8 @@ class _Stack:
         curves, finite = self.responses(members, fitted, weaves)
         windows = [self.windows[int(n)] for n in members]
         refitted = refit_weaves([window.signals.time for window in windows], curves, starts,
-                                [window.signals.baseline for window in windows])[0]
+                                [window.signals.baseline for window in windows],
+                                [window.signals.weights for window in windows])[0]
         return np.where(finite, refitted, np.nan)
 
     def bias(self, at_own: bool = True) -> NDArray[np.complex128]:

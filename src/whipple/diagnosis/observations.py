@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from whipple.measurement.experiment import WindowMeasurement
+from whipple.measurement.weavefit import WeaveFit
 from whipple.model.assembly import linear_model, second_order_matrices
 from whipple.model.parameters import Bicycle
 from whipple.stability.quartic import second_order_eigenvalues, second_order_eigenvectors
@@ -35,12 +36,17 @@ class WindowSignals:
     baseline : str
         The fitted function's non-oscillating part
         (:data:`~whipple.measurement.weavefit.BASELINES`).
+    weights : ndarray, shape (k,), or None
+        Each signal's weight in a joint fit [1/signal unit]
+        (:attr:`~whipple.measurement.weavefit.WeaveFit.signal_weights`); None: the inverse of
+        its spread over the window (one signal, or samples from elsewhere).
     """
 
     time: NDArray[np.float64]
     values: NDArray[np.float64]
     names: tuple[str, ...]
     baseline: str
+    weights: NDArray[np.float64] | None = None
 
 
 @dataclass(frozen=True)
@@ -308,7 +314,16 @@ def observation(measurement: WindowMeasurement) -> Observation:
                        None if shape is None else np.asarray(shape.covariance, dtype=float),
                        ("steer_angle", "roll_rate") if shape is None else (shape.signal, shape.reference),
                        WindowSignals(measurement.fit.time, measurement.fit.measured, measurement.fit.signal_names,
-                                     measurement.fit.baseline))
+                                     measurement.fit.baseline, _joint_weights(measurement.fit)))
+
+
+def _joint_weights(fit: WeaveFit) -> NDArray[np.float64] | None:
+    """Return a joint fit's signal weights, or None for one signal.
+
+    One signal's weight only scales it; the refits then weigh it by its spread, as before joint
+    fits kept their weights, to the last bit.
+    """
+    return np.asarray(fit.signal_weights, dtype=float) if len(fit.signal_weights) > 1 else None
 
 
 def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]:

@@ -59,9 +59,10 @@ class FitOptions:
     noise : str
         Covariance estimate of the eigenvalue (``auto``, ``white`` or ``correlated``).
     shape_signal : str or None
-        Where the run holds this signal (and it is not among ``signals``), each usable window
-        also gets the weave's mode shape: that signal's amplitude relative to the first of
-        ``signals`` (:func:`whipple.measurement.mode_shape.amplitude_ratio`).
+        Where the run holds this signal (and it is not the first of ``signals``), each usable
+        window also gets the weave's mode shape: that signal's amplitude relative to the first
+        of ``signals`` (:func:`whipple.measurement.mode_shape.amplitude_ratio`). It may be one
+        of the jointly fitted ``signals``: the ratio is then fitted at their shared eigenvalue.
     settle : float
         Seconds [s] left out at the start of each window: a window starts at the end of a
         push, while the fast castering mode still moves the bicycle, which the fitting
@@ -328,7 +329,7 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
     quality = _quality(fit, options.min_cycles_above_noise)
     shape = None
     signal = options.shape_signal
-    if quality is None and signal is not None and signal in run.signals and signal not in options.signals:
+    if quality is None and signal is not None and signal in run.signals and signal != options.signals[0]:
         shape = _mode_shape(run, fit, signal, max(SETTLE - (fit.start - window.start), 0.0))
     return WindowMeasurement(run, window, fit, speeds, None, quality, shape)
 

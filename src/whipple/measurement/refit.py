@@ -29,7 +29,8 @@ REFIT_STEPS = 20
 HALVINGS = 30
 
 
-def refit_weave(time: ArrayLike, values: ArrayLike, start: complex, baseline: str = "constant") -> complex:
+def refit_weave(time: ArrayLike, values: ArrayLike, start: complex, baseline: str = "constant",
+                weights: ArrayLike | None = None) -> complex:
     """Return the eigenvalue ``fit_weave`` reaches from a start near it, without its search for starts.
 
     Parameters
@@ -42,6 +43,11 @@ def refit_weave(time: ArrayLike, values: ArrayLike, start: complex, baseline: st
         Starting eigenvalue d + i w [1/s].
     baseline : str
         As in :func:`~whipple.measurement.weavefit.fit_weave`.
+    weights : array_like, shape (k,), optional
+        Each signal's weight [1/signal unit], e.g. a fit's
+        :attr:`~whipple.measurement.weavefit.WeaveFit.signal_weights`; by default the inverse
+        of its spread (what ``fit_weave`` uses for one signal; for several it reweights them
+        by their residuals, so a refit of its samples needs its weights to reach its optimum).
 
     Raises
     ------
@@ -49,14 +55,16 @@ def refit_weave(time: ArrayLike, values: ArrayLike, start: complex, baseline: st
         If a signal is constant or the optimum holds under half a period of oscillation.
     """
     eigenvalues, failures = refit_weaves([np.asarray(time, dtype=float)], [np.asarray(values, dtype=float)],
-                                         np.array([start]), [baseline])
+                                         np.array([start]), [baseline],
+                                         None if weights is None else [np.asarray(weights, dtype=float)])
     if failures[0] is not None:
         raise NoOscillationError(failures[0])
     return complex(eigenvalues[0])
 
 
 def refit_weaves(times: Sequence[NDArray[np.float64]], values: Sequence[NDArray[np.float64]],
-                 starts: NDArray[np.complex128], baselines: Sequence[str]
+                 starts: NDArray[np.complex128], baselines: Sequence[str],
+                 weights: Sequence[NDArray[np.float64] | None] | None = None
                  ) -> tuple[NDArray[np.complex128], list[str | None]]:
     """Refit many windows at once: :func:`refit_weave` for each, without raising.
 
@@ -70,6 +78,8 @@ def refit_weaves(times: Sequence[NDArray[np.float64]], values: Sequence[NDArray[
         Each window's starting eigenvalue [1/s].
     baselines : sequence of str
         Each window's baseline.
+    weights : sequence of (ndarray, shape (k_i,), or None), optional
+        Each window's signal weights, as :func:`refit_weave` takes them (None: the inverse spreads).
 
     Returns
     -------
@@ -85,6 +95,12 @@ def refit_weaves(times: Sequence[NDArray[np.float64]], values: Sequence[NDArray[
     failures: list[str | None] = [None] * len(times)
     signals = [np.atleast_2d(np.asarray(v, dtype=float)) for v in values]
     spreads = [y.std(axis=1) for y in signals]
+    given = [None] * len(signals) if weights is None else list(weights)
+    if len(given) != len(signals):
+        raise ValueError(f"{len(given)} weights for {len(signals)} windows")
+    with np.errstate(divide="ignore"):
+        scales = [1.0 / spread if weight is None else np.asarray(weight, dtype=float)
+                  for spread, weight in zip(spreads, given, strict=True)]
     groups: dict[tuple[int, int], list[int]] = {}
     for n, (y, spread, baseline) in enumerate(zip(signals, spreads, baselines, strict=True)):
         if not (spread > 0).all():
@@ -93,7 +109,7 @@ def refit_weaves(times: Sequence[NDArray[np.float64]], values: Sequence[NDArray[
             groups.setdefault((BASELINES[baseline], y.shape[0]), []).append(n)
     for (degree, _), members in groups.items():
         taus = [np.asarray(times[n], dtype=float) - float(times[n][0]) for n in members]
-        weighted = [(signals[n] / spreads[n][:, None]).T for n in members]
+        weighted = [(signals[n] * scales[n][:, None]).T for n in members]
         bounds = np.array([window_bounds(tau) for tau in taus])
         start = np.array([[starts[n].real, abs(starts[n].imag)] for n in members])
         with np.errstate(over="ignore", invalid="ignore"):

@@ -79,6 +79,10 @@ class WeaveFit:
         Lag-1 autocorrelation of the residual (0 for white noise).
     n_samples : int
         Samples per signal.
+    signal_weights : tuple of float
+        The weight of each signal in the fit [1/signal unit]: the inverse of its spread over
+        the window, for several signals the inverse of its residual RMS (what a refit of the
+        same samples must use to reach the same optimum, :mod:`whipple.measurement.refit`).
     """
 
     eigenvalue: complex
@@ -98,6 +102,7 @@ class WeaveFit:
     rms_residual: tuple[float, ...]
     residual_correlation: float
     n_samples: int
+    signal_weights: tuple[float, ...] = ()
 
     @property
     def damping(self) -> float:
@@ -369,6 +374,7 @@ def _result(
         rms_residual=tuple(float(v) for v in np.sqrt(np.mean((y - fitted) ** 2, axis=1))),
         residual_correlation=float(rho),
         n_samples=int(n),
+        signal_weights=tuple(float(v) for v in weights),
     )
 
 

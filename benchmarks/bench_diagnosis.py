@@ -72,6 +72,7 @@ from hidden_effects import (  # noqa: E402
     trial_rng,
 )
 
+from whipple.cli.arguments import signal_names  # noqa: E402
 from whipple.diagnosis import causes, evidence, fit_bias  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
@@ -214,7 +215,7 @@ def main() -> None:
     parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START,
                         help="experiment: where the fitting bias' fixed point starts "
                              "(whipple.diagnosis.fit_bias.FIXED_POINT_START)")
-    parser.add_argument("--signals", default="roll_rate",
+    parser.add_argument("--signals", type=signal_names, default=("roll_rate",),
                         help="signals fitted jointly in every window (whipple diagnose --signals; default roll_rate)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
@@ -250,7 +251,7 @@ def main() -> None:
             jobs = [job for job in jobs if job in listed]
         tasks = [(*job, args.fit_bias, args.size_scale, args.combine_dispersion, args.occam,
                   args.rigid_loads, args.twin, args.cycles_above_noise, args.fixed_point_start,
-                  tuple(args.signals.split(","))) for job in jobs]
+                  args.signals) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

@@ -38,6 +38,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from bench_fit_bias import floored_std  # noqa: E402
 from hidden_effects import PUSHES, trial_bicycle, trial_options, trial_speeds  # noqa: E402
 
+from whipple.cli.arguments import signal_names  # noqa: E402
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
 from whipple.diagnosis.observations import SHAPE_MATCH, observations, predicted_weave  # noqa: E402
 from whipple.measurement.bundled import bundled_runs  # noqa: E402
@@ -92,7 +93,7 @@ def main() -> None:
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE,
                         help="leave out the trials' windows holding fewer weave cycles above the noise "
                              "(FitOptions.min_cycles_above_noise; default the package's, 0: off)")
-    parser.add_argument("--signals", default="roll_rate",
+    parser.add_argument("--signals", type=signal_names, default=("roll_rate",),
                         help="signals fitted jointly in every window (whipple diagnose --signals; default roll_rate)")
     args = parser.parse_args()
     print(f"{'bicycle':<20}{'speed':>6}{'windows/pushes':>16}  misfit [std]: real median, rms; imag median, rms;"
@@ -104,7 +105,7 @@ def main() -> None:
         except (OSError, ValueError) as error:
             parser.error(f"{name}: {error}")
         for speed in trial_speeds(bicycle):
-            found = misfits(bicycle, speed, args.runs, args.cycles_above_noise, tuple(args.signals.split(",")))
+            found = misfits(bicycle, speed, args.runs, args.cycles_above_noise, args.signals)
             usable = f"{found['cycles'].size}/{args.runs * PUSHES}"
             short = int(np.sum(found["cycles"] < MIN_CYCLES))
             z = found["z"]

@@ -33,6 +33,7 @@ import argparse
 
 import numpy as np
 
+from whipple.cli.arguments import signal_names
 from whipple.diagnosis import fit_bias
 from whipple.diagnosis.causes import candidate_causes
 from whipple.diagnosis.evidence import diagnose_observations
@@ -57,10 +58,11 @@ def main() -> None:
     parser.add_argument("--no-parameters", action="store_true")
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE)
     parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START)
-    parser.add_argument("--signals", default="roll_rate", help="signals fitted jointly (whipple diagnose --signals)")
+    parser.add_argument("--signals", type=signal_names, default=("roll_rate",),
+                        help="signals fitted jointly (whipple diagnose --signals)")
     args = parser.parse_args()
     fit_bias.FIXED_POINT_START = args.fixed_point_start  # an experiment's knob
-    options = FitOptions(signals=tuple(args.signals.split(",")), baseline="auto",
+    options = FitOptions(signals=args.signals, baseline="auto",
                          min_cycles_above_noise=args.cycles_above_noise)
     bicycle = load_bicycle("sbw2024")
     runs = [read_run(source) for source in bundled_runs()]

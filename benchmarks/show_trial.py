@@ -6,7 +6,8 @@ deviations, the reasons for a verdict that is not a confident name, and the valu
 leave open (:func:`whipple.diagnosis.identifiability.open_values`). Used to attribute the
 trials whose outcome changes between two versions (run it with each version on the path).
 
-Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...] [--size-scale S] [--twin]``
+Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...] [--size-scale S] [--twin]
+[--signals roll_rate,steer_angle]``
 (``S``: as in ``bench_diagnosis.py``, the hidden effect's size multiplied by S; ``--twin``: also
 the verdict on the same windows without noise, :func:`hidden_effects.noise_free_twin`).
 """
@@ -21,6 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from hidden_effects import run_trial  # noqa: E402
 
+from whipple.cli.arguments import signal_names  # noqa: E402
 from whipple.diagnosis.identifiability import open_values  # noqa: E402
 
 
@@ -30,11 +32,14 @@ def main() -> None:
     parser.add_argument("--size-scale", type=float, default=1.0, help="multiply the hidden effect's size by this")
     parser.add_argument("--twin", action="store_true",
                         help="also diagnose the same windows without noise (hidden_effects.noise_free_twin)")
+    parser.add_argument("--signals", type=signal_names, default=("roll_rate",),
+                        help="signals fitted jointly in every window (whipple diagnose --signals)")
     args = parser.parse_args()
     for trial_name in args.trials:
         try:
             bicycle, family, seed = trial_name.split(":")
-            trial = run_trial(family, int(seed), bicycle, scale=args.size_scale, twin=args.twin)
+            trial = run_trial(family, int(seed), bicycle, scale=args.size_scale, twin=args.twin,
+                              signals=args.signals)
         except ValueError as error:
             parser.error(f"{trial_name}: {error}")
         diagnosis = trial.diagnosis

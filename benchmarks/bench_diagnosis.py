@@ -18,7 +18,7 @@ realistic size and position, diagnose them blind, and count the outcomes:
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
 [--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias] [--size-scale S] [--occam laplace]
-[--rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate,steer_angle] [--twin]``;
+[--rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate] [--twin]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
@@ -33,7 +33,9 @@ package's 0.75 by default, 0: the rates before that check); ``--rigid-loads`` an
 payloads' rigid-load form among the candidates (``whipple.diagnosis.causes.RIGID_LOADS``); ``--fixed-point-start model``
 another: the fitting bias' fixed point starts from each model's weave
 (``whipple.diagnosis.fit_bias.FIXED_POINT_START``); ``--signals`` the signals fitted jointly in
-every window (``whipple diagnose --signals``; the roll rate alone by default); ``--no-fit-bias``
+every window (``whipple diagnose --signals``; by default as ``whipple diagnose`` fits the trials'
+runs, the roll rate with the steer angle; ``roll_rate``: alone, as the rates before 2026-11-29,
+latest); ``--no-fit-bias``
 compares each window's eigenvalue with the model's directly (``diagnose_observations(bias=False)``,
 the earlier form; by default models are compared through the fitting function). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
@@ -81,7 +83,10 @@ from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-def _trial(arguments: tuple[str, str, int, bool, float, float, str, bool, bool, float, str, tuple[str, ...]]) -> tuple:
+Arguments = tuple[str, str, int, bool, float, float, str, bool, bool, float, str, tuple[str, ...] | None]
+
+
+def _trial(arguments: Arguments) -> tuple:
     (bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads, twin, above_noise, start,
      signals) = arguments
     # Experiments' knobs, set in the worker process that runs the trial.
@@ -215,8 +220,9 @@ def main() -> None:
     parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START,
                         help="experiment: where the fitting bias' fixed point starts "
                              "(whipple.diagnosis.fit_bias.FIXED_POINT_START)")
-    parser.add_argument("--signals", type=signal_names, default=("roll_rate",),
-                        help="signals fitted jointly in every window (whipple diagnose --signals; default roll_rate)")
+    parser.add_argument("--signals", type=signal_names, default=None,
+                        help="signals fitted jointly in every window (whipple diagnose --signals; default: as whipple "
+                             "diagnose chooses, roll_rate,steer_angle for the trials' runs)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")

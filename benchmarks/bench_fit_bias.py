@@ -23,7 +23,8 @@ left out (a catch, noise), as the diagnosis leaves their shapes out. A truth giv
 
 Run: ``python benchmarks/bench_fit_bias.py BICYCLE:FAMILY:SEED [...] [--windows]`` (``--windows``: each
 window's measured and true eigenvalue and both biases too; ``--fixed-point-start model``: an
-experiment, ``whipple.diagnosis.fit_bias.FIXED_POINT_START``).
+experiment, ``whipple.diagnosis.fit_bias.FIXED_POINT_START``; ``--signals roll_rate``: the roll rate alone,
+as the docs' figures before 2026-11-29, latest, were measured).
 """
 
 from __future__ import annotations
@@ -38,11 +39,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from hidden_effects import hidden_bicycle, trial_options, trial_rng, trial_runs  # noqa: E402
 
+from whipple.cli.arguments import signal_names  # noqa: E402
 from whipple.diagnosis import fit_bias  # noqa: E402
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR  # noqa: E402
 from whipple.diagnosis.observations import SHAPE_MATCH, Observation, observations, predicted_weave  # noqa: E402
-from whipple.measurement.experiment import measure_run  # noqa: E402
+from whipple.measurement.experiment import JOINT_SIGNALS, measure_run  # noqa: E402
 from whipple.model.linear_terms import LinearTerms  # noqa: E402
 
 #: Trial families whose truth is a feedback torque, and the model term that is the same torque.
@@ -55,15 +57,17 @@ def floored_std(found: list[Observation]) -> np.ndarray:
     return np.array([np.hypot(np.sqrt(np.diag(o.covariance)), EIGENVALUE_FLOOR * abs(o.eigenvalue)) for o in found])
 
 
-def dispersions(bicycle: str, family: str, seed: int, windows: bool = False) -> dict[str, tuple[float, float, int]]:
+def dispersions(bicycle: str, family: str, seed: int, windows: bool = False,
+                signals: tuple[str, ...] = JOINT_SIGNALS) -> dict[str, tuple[float, float, int]]:
     """Return chi2/n and median whitened misfit of the true model's windows: raw, own bias, base
-    bias, at the truth's weave. ``windows``: also print each window's numbers [1/s]."""
+    bias, at the truth's weave. ``windows``: also print each window's numbers [1/s]; ``signals``:
+    fitted jointly in every window."""
     base, _, runs = trial_runs(family, seed, bicycle)
     truth, values, model = hidden_bicycle(base, family, trial_rng(family, seed))
     if model is not None:
         # The feedback -k x as the model term +k: the same model (tests/test_linear_terms.py).
         truth = base.with_extensions(linear_terms=LinearTerms.from_mapping({FEEDBACK_TERMS[family]: values[family]}))
-    found = observations([m for run in runs for m in measure_run(run, None, trial_options(base))])
+    found = observations([m for run in runs for m in measure_run(run, None, trial_options(base, signals=signals))])
     measured = np.array([o.eigenvalue for o in found])
     predicted = predicted_weave(truth, found)
     keep = np.abs(measured - predicted) < SHAPE_MATCH * np.abs(predicted)
@@ -92,6 +96,9 @@ def main() -> None:
     parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START,
                         help="experiment: where the fixed point of the own bias starts "
                              "(whipple.diagnosis.fit_bias.FIXED_POINT_START)")
+    parser.add_argument("--signals", type=signal_names, default=JOINT_SIGNALS,
+                        help="signals fitted jointly in every window (default roll_rate,steer_angle, as whipple "
+                             "diagnose fits the trials' runs; docs' figures before 2026-11-29, latest: roll_rate)")
     args = parser.parse_args()
     fit_bias.FIXED_POINT_START = args.fixed_point_start
     columns = ("raw", "own bias", "base bias", "at the truth")
@@ -99,7 +106,7 @@ def main() -> None:
     for name in args.trials:
         try:
             bicycle, family, seed = name.split(":")
-            results = dispersions(bicycle, family, int(seed), args.windows)
+            results = dispersions(bicycle, family, int(seed), args.windows, args.signals)
         except ValueError as error:
             parser.error(f"{name}: {error}")
         count = results["raw"][2]

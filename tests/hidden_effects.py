@@ -36,7 +36,13 @@ import numpy as np
 from whipple.diagnosis.causes import cause_by_name
 from whipple.diagnosis.evidence import MARGIN, Diagnosis, diagnose_observations
 from whipple.diagnosis.observations import noise_free, observations
-from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE, FitOptions, measure_run
+from whipple.measurement.experiment import (
+    JOINT_SIGNALS,
+    MIN_CYCLES_ABOVE_NOISE,
+    FitOptions,
+    diagnosis_signals,
+    measure_run,
+)
 from whipple.measurement.runs import run_from_simulation
 from whipple.model.assembly import linear_model
 from whipple.model.bodies import Body, combine, frame_body
@@ -405,10 +411,11 @@ def trial_settle(bicycle: Bicycle) -> float:
 
 
 def trial_options(bicycle: Bicycle, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE,
-                  signals: tuple[str, ...] = ("roll_rate",)) -> FitOptions:
+                  signals: tuple[str, ...] = JOINT_SIGNALS) -> FitOptions:
     """How a trial's windows are fitted: the automatic baseline, the bicycle's settle time
     (:func:`trial_settle`), and the package's check of cycles above the noise unless another is
-    given; ``signals``: fitted jointly (``whipple diagnose --signals``; the roll rate alone by default)."""
+    given; ``signals``: fitted jointly (``whipple diagnose --signals``; by default the roll rate
+    and the steer angle, as ``whipple diagnose`` fits the trials' runs, which measure both)."""
     return FitOptions(signals=signals, baseline="auto", settle=trial_settle(bicycle),
                       min_cycles_above_noise=min_cycles_above_noise)
 
@@ -465,17 +472,18 @@ def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
 
 def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = True,
               scale: float = 1.0, twin: bool = False, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE,
-              signals: tuple[str, ...] = ("roll_rate",)) -> Trial:
+              signals: tuple[str, ...] | None = None) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
     The controlled bicycles' windows leave out their first seconds (:func:`trial_settle`).
     ``bias``: the diagnosis compares models through the
     fitting function (the default of ``diagnose_observations``); ``scale`` multiplies the
     effect's size (:func:`hidden_bicycle`); ``min_cycles_above_noise`` is the windows' check and
-    ``signals`` the signals fitted jointly (:class:`~whipple.measurement.experiment.FitOptions`).
+    ``signals`` the signals fitted jointly (:class:`~whipple.measurement.experiment.FitOptions`;
+    by default those ``whipple diagnose`` chooses, :func:`~whipple.measurement.experiment.diagnosis_signals`).
     """
     base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
-    options = trial_options(base, min_cycles_above_noise, signals)
+    options = trial_options(base, min_cycles_above_noise, diagnosis_signals(runs) if signals is None else signals)
     measurements = [m for run in runs for m in measure_run(run, None, options)]
     diagnosis = diagnose_observations(base, observations(measurements), bias=bias)
     trial = Trial(cause, seed, truth, diagnosis, base_name)

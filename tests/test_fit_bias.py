@@ -208,8 +208,8 @@ def test_diagnose_cli_compares_through_the_fitting_function_by_default(tmp_path,
         run = simulate_run(truth, RunScenario(speed=speed, seed=10 + k), name=f"run{k}")
         paths.append(str(write_run_csv(run, tmp_path / f"run{k}.csv")))
     spread = {}
-    joint = ["--signals", "roll_rate,steer_angle"]
-    for option, applied in (([], True), (["--no-fit-bias"], False), (joint, True)):
+    roll_rate_alone = ["--signals", "roll_rate"]
+    for option, applied in (([], True), (["--no-fit-bias"], False), (roll_rate_alone, True)):
         out = tmp_path / "d.json"
         assert main(["diagnose", *paths, "--bicycle", "benchmark", *option, "--json", str(out)]) == 0
         data = json.loads(out.read_text())
@@ -217,8 +217,11 @@ def test_diagnose_cli_compares_through_the_fitting_function_by_default(tmp_path,
         assert data["verdict"] == "named" and data["cause"] == "steer_damping"
         assert abs(data["estimate"]["steer_damping"]["value"] - 0.8) < 0.2
         spread[" ".join(option)] = data["estimate"]["steer_damping"]["std"]
-    # The steer angle's weave, fitted jointly with the roll rate, sharpens every eigenvalue.
-    assert spread[" ".join(joint)] < spread[""]
+        fitted = "roll_rate" if option == roll_rate_alone else "roll_rate, steer_angle"
+        assert f"(4 runs; fitted: {fitted})" in capsys.readouterr().out
+    # The runs measure the steer angle, so by default its weave is fitted jointly with the roll
+    # rate, which sharpens every eigenvalue.
+    assert spread[""] < spread[" ".join(roll_rate_alone)]
     for signals, problem in ((",", "--signals names no signal"), ("roll_rate,steer_rat", "no steer_rat signal")):
         assert main(["diagnose", *paths, "--bicycle", "benchmark", "--signals", signals]) == 2
         assert problem in capsys.readouterr().err

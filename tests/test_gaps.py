@@ -17,7 +17,7 @@ import pytest
 
 from whipple.cli import main
 from whipple.measurement.bundled import bundled_runs
-from whipple.measurement.experiment import measure_run
+from whipple.measurement.experiment import diagnosis_signals, measure_run
 from whipple.measurement.runs import read_run
 
 HEADER = "sil_command,speed,lean_angle,lean_rate,hand_angle,fork_angle,fork_rate,lean_torque,hand_torque," \
@@ -137,3 +137,19 @@ def test_negative_speeds_are_never_fitted(lines, tmp_path, capsys):
     assert main(["diagnose", str(path), "--bicycle", "sbw2024"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "only 0 usable window(s)" in err and "most often skipped: negative speed" in err
+
+
+def test_the_diagnosis_fits_the_steer_angle_only_where_it_loses_no_window(lines, tmp_path):
+    full = read_run(_write(tmp_path / "full.log", lines))
+    assert diagnosis_signals([full]) == ("roll_rate", "steer_angle")
+    # A steer gap where the roll rate is measured would cost a joint fit the windows across it.
+    steer_gap = read_run(_write(tmp_path / "steer_gap.log", _blank(lines, "fork_angle", range(3000, 3040))))
+    assert diagnosis_signals([full, steer_gap]) == ("roll_rate",)
+    # A gap in both costs those windows either way.
+    both = _blank(_blank(lines, "fork_angle", range(3000, 3040)), "lean_rate", range(3000, 3040))
+    assert diagnosis_signals([full, read_run(_write(tmp_path / "both.log", both))]) == ("roll_rate", "steer_angle")
+    j = lines[0].split(",").index("fork_angle")
+    without = [",".join(c for i, c in enumerate(line.split(",")) if i != j) for line in lines]
+    assert "steer_angle" not in (no_steer := read_run(_write(tmp_path / "no_steer.log", without))).signals
+    assert diagnosis_signals([full, no_steer]) == ("roll_rate",)
+    assert diagnosis_signals([]) == ("roll_rate",)

@@ -1,7 +1,7 @@
 """Print the held-out numbers of docs/diagnosis.md's real-data section.
 
 Run from anywhere:  python docs/figures/real_data_held_out.py [--no-parameters] [--cycles-above-noise C]
-[--fixed-point-start model] [--signals roll_rate,steer_angle]
+[--fixed-point-start model] [--signals roll_rate]
 
 On the bundled treadmill runs (sbw2024 with its controller):
 
@@ -23,7 +23,8 @@ On the bundled treadmill runs (sbw2024 with its controller):
 noise (``FitOptions.min_cycles_above_noise``; default the package's 0.75, 0: the windows before
 that check). ``--fixed-point-start model`` is an experiment: the fitting bias' fixed point starts
 from each model's weave (``whipple.diagnosis.fit_bias.FIXED_POINT_START``); ``--signals`` the
-signals fitted jointly in every window (``whipple diagnose --signals``; the roll rate by default).
+signals fitted jointly in every window (``whipple diagnose --signals``; by default as ``whipple
+diagnose`` chooses: the roll rate with the steer angle, which the bundled runs measure).
 Every number is an RMS or median of |measured - predicted| weave eigenvalue [1/s].
 """
 
@@ -42,7 +43,7 @@ from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
 from whipple.measurement.bundled import bundled_runs
-from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE, FitOptions, measure_run
+from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE, FitOptions, diagnosis_signals, measure_run
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import load_bicycle
 
@@ -58,17 +59,18 @@ def main() -> None:
     parser.add_argument("--no-parameters", action="store_true")
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE)
     parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START)
-    parser.add_argument("--signals", type=signal_names, default=("roll_rate",),
-                        help="signals fitted jointly (whipple diagnose --signals)")
+    parser.add_argument("--signals", type=signal_names, default=None,
+                        help="signals fitted jointly (whipple diagnose --signals; default: as it chooses)")
     args = parser.parse_args()
     fit_bias.FIXED_POINT_START = args.fixed_point_start  # an experiment's knob
-    options = FitOptions(signals=args.signals, baseline="auto",
-                         min_cycles_above_noise=args.cycles_above_noise)
     bicycle = load_bicycle("sbw2024")
     runs = [read_run(source) for source in bundled_runs()]
+    options = FitOptions(signals=diagnosis_signals(runs) if args.signals is None else args.signals, baseline="auto",
+                         min_cycles_above_noise=args.cycles_above_noise)
     seen = observations([m for run in runs for m in measure_run(run, None, options)])
     causes = candidate_causes(bicycle, include_parameters=not args.no_parameters)
-    print(f"{len(seen)} windows; candidates: {'physical causes only' if args.no_parameters else 'all'}")
+    print(f"{len(seen)} windows fitted to {', '.join(options.signals)}; "
+          f"candidates: {'physical causes only' if args.no_parameters else 'all'}")
 
     full = diagnose_observations(bicycle, seen, causes)
     print(f"all speeds: {full.verdict} ({full.cause}); median dispersion {full.typical_scales[0]:.1f} "

@@ -74,10 +74,13 @@ def add_window_check_argument(parser: argparse.ArgumentParser) -> None:
                              "above the noise (default %(default)s; 0: no such check, as in the seed paper)")
 
 
-def add_signals_argument(parser: argparse.ArgumentParser, also: str = "") -> None:
-    """Add ``--signals`` (:attr:`whipple.measurement.experiment.FitOptions.signals`); ``also``: more help text."""
-    parser.add_argument("--signals", default="roll_rate", metavar="NAME[,NAME...]",
-                        help=f"signals fitted jointly, sharing one eigenvalue (default roll_rate){also}")
+def add_signals_argument(parser: argparse.ArgumentParser, also: str = "", default: str = "roll_rate") -> None:
+    """Add ``--signals`` (:attr:`whipple.measurement.experiment.FitOptions.signals`).
+
+    ``also`` is more help text; it also says what a `default` other than the roll rate means.
+    """
+    parser.add_argument("--signals", default=default, metavar="NAME[,NAME...]",
+                        help=f"signals fitted jointly, sharing one eigenvalue (default {default}){also}")
 
 
 def signal_names(text: str) -> tuple[str, ...]:

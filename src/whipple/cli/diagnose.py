@@ -31,11 +31,11 @@ from whipple.cli.arguments import (
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
-from whipple.diagnosis.report import assemble, cause_gain_sentences, gain_sentences, report_json
+from whipple.diagnosis.report import assemble, cause_gain_sentences, gain_sentences, report_json, steer_sign_flipped
 from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
-from whipple.measurement.experiment import FitOptions, measure_run
+from whipple.measurement.experiment import FitOptions, diagnosis_signals, measure_run
 from whipple.measurement.reference_windows import read_windows
 from whipple.measurement.runs import check_distinct_names, read_run
 from whipple.model.parameters import load_bicycle, write_bicycle_toml
@@ -64,8 +64,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
                              "measured speeds (see docs/diagnosis.md)")
     add_window_check_argument(parser)
-    add_signals_argument(parser, "; e.g. roll_rate,steer_angle: the steer angle's weave sharpens the eigenvalue "
-                                 "(the first signal is the mode shape's reference; see docs/diagnosis.md)")
+    add_signals_argument(parser, ": roll_rate,steer_angle where every run measures the steer angle wherever it "
+                                 "measures the roll rate, roll_rate otherwise (the first signal is the mode shape's "
+                                 "reference; see docs/diagnosis.md)", default="auto")
     parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
                         help="compare each model with the windows through the fitting function: its eigenvalue plus "
                              "the bias the fit shows on the model's own response (default; --no-fit-bias compares "
@@ -80,11 +81,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          help="diagnose the held-out speeds on an existing Dask cluster (e.g. tcp://host:8786)")
 
 
+def _measured(runs: list, windows: tuple | None, signals: tuple[str, ...], args: argparse.Namespace) -> list:
+    """Fit every window of `runs` to `signals` with the command's fit options."""
+    options = FitOptions(signals=signals, baseline=args.baseline, settle=args.settle,
+                         min_cycles_above_noise=args.min_cycles_above_noise)
+    return [m for run_ in runs for m in measure_run(run_, windows, options)]
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     check_cluster_options(args.scheduler, args.workers)
-    options = FitOptions(signals=signal_names(args.signals), baseline=args.baseline, settle=args.settle,
-                         min_cycles_above_noise=args.min_cycles_above_noise)
     sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
     if not sources:
         raise InputError("no run files given (name files, or use --bundled)")
@@ -100,13 +106,17 @@ def run(args: argparse.Namespace) -> int:
     runs = [read_run(source, args.layout) for source in sources]
     check_distinct_names(runs)
     windows = read_windows(args.windows, runs) if args.windows is not None else None
-    measurements = [m for run_ in runs for m in measure_run(run_, windows, options)]
+    signals = diagnosis_signals(runs) if args.signals == "auto" else signal_names(args.signals)
+    measurements = _measured(runs, windows, signals, args)
+    if args.signals == "auto" and len(signals) > 1 and steer_sign_flipped(bicycle, measurements):
+        signals = signals[:1]  # the roll rate alone: a flipped steer angle would mislead the fitting bias
+        measurements = _measured(runs, windows, signals, args)
     report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters,
                       scheduler=args.scheduler, workers=args.workers, gain_by_cause=args.gain_by_cause,
                       fit_bias=args.fit_bias)
     data = report_json(report)
     diagnosis = report.diagnosis
-    print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs)")
+    print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs; fitted: {', '.join(signals)})")
     print(f"what the model gets wrong: {report.residual_summary[0]}")
     print(f"verdict: {diagnosis.verdict}" + (f" ({diagnosis.cause})" if diagnosis.verdict != "none" else ""))
     if diagnosis.family:

@@ -29,6 +29,15 @@ _COMPARISON = {True: "Each model was compared with the windows through the fitti
                False: "Each model's weave eigenvalue was compared with the windows' fitted eigenvalues directly."}
 
 
+def _fitted_to(report: DiagnosisReport) -> str:
+    """Return the signals the first used window was fitted to, as a clause ("" without one)."""
+    fit = next((m.fit for m in report.used if m.fit is not None), None)
+    if fit is None:
+        return ""
+    listed = " and ".join(name.replace("_", " ") for name in fit.signal_names)
+    return f"; each window's eigenvalue fitted to the {listed}" + (" jointly" if len(fit.signal_names) > 1 else "")
+
+
 def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: str = "") -> str:
     """Return the human-readable report; ``figures`` maps figure keys to file names beside it."""
     data = report_json(report)
@@ -38,7 +47,7 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
         lines += [f"Produced by `{command}`.", ""]
     lines += [f"{len(report.used)} windows with a fitted weave eigenvalue were used "
               f"({len(report.measurements) - len(report.used)} skipped, listed at the end), from "
-              f"{len({m.run.name for m in report.measurements})} runs.", "",
+              f"{len({m.run.name for m in report.measurements})} runs{_fitted_to(report)}.", "",
               "## 1. What the model gets wrong", "", f"**{report.residual_summary[0]}.**", ""]
     lines += [f"- {line}" for line in report.residual_summary[1:]]
     lines += ["", f"![eigenvalues]({figures['eigenvalues']})", "", f"![residuals]({figures['residuals']})", ""]

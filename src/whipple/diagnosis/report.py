@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -256,7 +256,14 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
         where = (f" in {', '.join(files[:3])}{' ...' if len(files) > 3 else ''}" if files else "")
         raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue{where}; need at "
                          f"least 2{why}")
-    observations = [observation(m) for m in used]
+    measured = [observation(m) for m in used]
+    base_prediction = Prediction.of(bicycle, measured)
+    shapes = compare_shapes(measured, base_prediction, bicycle)
+    observations = measured
+    if abs(phase_offset(shapes)) > FLIPPED_PHASE:
+        # A steer signal of the opposite sign contradicts every candidate alike; kept, its shapes
+        # would favour whichever model bends furthest towards the flip, whatever the eigenvalues say.
+        observations = [replace(o, shape=None, shape_covariance=None) for o in measured]
     causes = candidates_with_terms(bicycle, include_parameters)
     diagnosis = diagnose_observations(bicycle, observations, causes, bias=fit_bias)
     chosen = diagnosis.chosen
@@ -272,10 +279,8 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
             note = str(error)
     else:
         note = "no cause named: nothing to extend"
-    base_prediction = Prediction.of(bicycle, observations)
-    extended_prediction = Prediction.of(extended, observations)
-    shapes = compare_shapes(observations, base_prediction, bicycle)
-    summary = describe_residuals(observations, base_prediction.eigenvalues)
+    extended_prediction = Prediction.of(extended, measured)
+    summary = describe_residuals(measured, base_prediction.eigenvalues)
     shape_summary = describe_mode_shapes(shapes.ratios, shapes.signals)
     if shape_summary is not None:
         summary += (shape_summary,)
@@ -314,16 +319,34 @@ DISPERSION_WARNING = 2.0
 FLIPPED_PHASE = 120.0
 
 
+def phase_offset(shapes: ShapeComparison) -> float:
+    """Return the median phase of the measured over the model's mode shapes [deg] (0 without shapes)."""
+    ratios = shapes.ratios
+    return float(np.degrees(np.angle(np.median(ratios.real) + 1j * np.median(ratios.imag)))) if ratios.size else 0.0
+
+
+def steer_sign_flipped(bicycle: Bicycle, measurements: Sequence[WindowMeasurement]) -> bool:
+    """Whether the usable windows' mode shapes are out of phase with the model's (see :data:`FLIPPED_PHASE`).
+
+    A steer signal of the opposite sign to the convention of Meijaard et al. (2007) shows so.
+    Fitted jointly with the roll rate, such a steer angle also misleads the fitting bias (the
+    model's response is matched to the measured signals), so the CLI's default fits the roll
+    rate alone then.
+    """
+    measured = [observation(m) for m in measurements if m.usable]
+    if not measured:
+        return False
+    return abs(phase_offset(compare_shapes(measured, Prediction.of(bicycle, measured), bicycle))) > FLIPPED_PHASE
+
+
 def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
     """Say what the verdict does not say: residual misfit, close alternatives, a suspect steer sign."""
     notes = []
-    ratios, signals = shapes.ratios, shapes.signals
-    # Median phase of measured over model shape [deg].
-    offset = np.degrees(np.angle(np.median(ratios.real) + 1j * np.median(ratios.imag))) if ratios.size else 0.0
+    offset = phase_offset(shapes)
     if abs(offset) > FLIPPED_PHASE:
-        notes.append(f"the measured {signals[0]} is {abs(offset):.0f} degrees out of phase with the model's mode "
-                     f"shape: its sign is probably opposite to the convention of Meijaard et al. (2007) (check the "
-                     "layout's scale factor); the mode shapes then carry little weight in the evidence")
+        notes.append(f"the measured {shapes.signals[0]} is {abs(offset):.0f} degrees out of phase with the model's "
+                     "mode shape: its sign is probably opposite to the convention of Meijaard et al. (2007) (check "
+                     "the layout's scale factor); the mode shapes are left out of the evidence")
     if diagnosis.scale > DISPERSION_WARNING:
         notes.append(f"even the best-fitting model leaves eigenvalue residuals {np.sqrt(diagnosis.scale):.1f} times "
                      f"the stated uncertainties (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the "
@@ -430,7 +453,8 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
     if best is not None:
         estimate = {name: {"value": value, "std": std, "unit": unit}
                     for name, value, std, unit in zip(best.parameters, best.values, best.std, best.units, strict=True)}
-    observations = diagnosis.observations
+    # As measured: a flipped steer's shapes are left out of the diagnosis, not out of the report.
+    observations = [observation(m) for m in report.used]
     base, base_shapes = report.base_prediction.eigenvalues, report.base_prediction.shapes
     extended, extended_shapes = report.extended_prediction.eigenvalues, report.extended_prediction.shapes
     compared = report.shapes.compared

@@ -194,6 +194,8 @@ def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
     assert {"run", "start", "stop", "speed", "eigenvalue", "eigenvalue_std", "model_eigenvalue",
             "extended_eigenvalue"} <= set(window)
     assert (report / "report.md").exists() and (report / "eigenvalues.png").exists()
+    # The simulated runs hold a steer angle at every sample: by default it is fitted with the roll rate.
+    assert "fitted to the roll rate and steer angle jointly" in (report / "report.md").read_text()
     # The simulated runs hold a steer angle: windows carry mode shapes, plotted in the report.
     shapes = [w["mode_shape"] for w in data["windows"] if "mode_shape" in w]
     assert shapes and data["mode_shape_windows"] > 0 and (report / "shapes.png").exists()

@@ -151,9 +151,9 @@ def test_two_effects_hides_two_different_effects():
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=False, reason="must-show not met yet (50 seeds per case, docs/diagnosis.md): rigid "
-                   "steer inertia 72%, a wrong parameter 73%, basket 69%, rack 83%, payload 88% named right, mostly "
-                   "ambiguous with the truth leading (wrong confident 0.5%; 4.0% where the truth is a steer spring); "
-                   "controller gain 83% over three controlled bicycles")
+                   "steer inertia 70%, basket 73%, a wrong parameter 79%, rack 85%, payload 89% named right, mostly "
+                   "ambiguous with the truth leading (wrong confident 0.1%); controller gain 88% over three "
+                   "controlled bicycles")
 def test_hidden_effect_rates():
     seeds = {bicycle: 17 for bicycle in (*BICYCLES, *CONTROLLED_BICYCLES)}
     trials = [run_trial(family, seed, bicycle) for bicycle, n in seeds.items() for family in families(bicycle)

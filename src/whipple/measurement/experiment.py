@@ -235,6 +235,7 @@ class RunMeasurement(Sequence[WindowMeasurement]):
         return tuple(m for m in self.windows if m.fit is not None)
 
 
+#: The signals a diagnosis fits jointly where the runs measure both (:func:`diagnosis_signals`).
 JOINT_SIGNALS = ("roll_rate", "steer_angle")
 
 

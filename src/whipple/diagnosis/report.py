@@ -260,7 +260,7 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     base_prediction = Prediction.of(bicycle, measured)
     shapes = compare_shapes(measured, base_prediction, bicycle)
     observations = measured
-    if abs(phase_offset(shapes)) > FLIPPED_PHASE:
+    if shapes_flipped(shapes):
         # A steer signal of the opposite sign contradicts every candidate alike; kept, its shapes
         # would favour whichever model bends furthest towards the flip, whatever the eigenvalues say.
         observations = [replace(o, shape=None, shape_covariance=None) for o in measured]
@@ -325,6 +325,11 @@ def phase_offset(shapes: ShapeComparison) -> float:
     return float(np.degrees(np.angle(np.median(ratios.real) + 1j * np.median(ratios.imag)))) if ratios.size else 0.0
 
 
+def shapes_flipped(shapes: ShapeComparison) -> bool:
+    """Whether the measured mode shapes are more than :data:`FLIPPED_PHASE` out of phase with the model's."""
+    return abs(phase_offset(shapes)) > FLIPPED_PHASE
+
+
 def steer_sign_flipped(bicycle: Bicycle, measurements: Sequence[WindowMeasurement]) -> bool:
     """Whether the usable windows' mode shapes are out of phase with the model's (see :data:`FLIPPED_PHASE`).
 
@@ -336,17 +341,16 @@ def steer_sign_flipped(bicycle: Bicycle, measurements: Sequence[WindowMeasuremen
     measured = [observation(m) for m in measurements if m.usable]
     if not measured:
         return False
-    return abs(phase_offset(compare_shapes(measured, Prediction.of(bicycle, measured), bicycle))) > FLIPPED_PHASE
+    return shapes_flipped(compare_shapes(measured, Prediction.of(bicycle, measured), bicycle))
 
 
 def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
     """Say what the verdict does not say: residual misfit, close alternatives, a suspect steer sign."""
     notes = []
-    offset = phase_offset(shapes)
-    if abs(offset) > FLIPPED_PHASE:
-        notes.append(f"the measured {shapes.signals[0]} is {abs(offset):.0f} degrees out of phase with the model's "
-                     "mode shape: its sign is probably opposite to the convention of Meijaard et al. (2007) (check "
-                     "the layout's scale factor); the mode shapes are left out of the evidence")
+    if shapes_flipped(shapes):
+        notes.append(f"the measured {shapes.signals[0]} is {abs(phase_offset(shapes)):.0f} degrees out of phase "
+                     "with the model's mode shape: its sign is probably opposite to the convention of Meijaard et "
+                     "al. (2007) (check the layout's scale factor); the mode shapes are left out of the evidence")
     if diagnosis.scale > DISPERSION_WARNING:
         notes.append(f"even the best-fitting model leaves eigenvalue residuals {np.sqrt(diagnosis.scale):.1f} times "
                      f"the stated uncertainties (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the "

@@ -7,9 +7,11 @@ leave open (:func:`whipple.diagnosis.identifiability.open_values`). Used to attr
 trials whose outcome changes between two versions (run it with each version on the path).
 
 Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...] [--size-scale S] [--twin]
-[--signals roll_rate,steer_angle]``
-(``S``: as in ``bench_diagnosis.py``, the hidden effect's size multiplied by S; ``--twin``: also
-the verdict on the same windows without noise, :func:`hidden_effects.noise_free_twin`).
+[--signals roll_rate]`` (``S``: as in ``bench_diagnosis.py``, the hidden effect's size multiplied
+by S; ``--twin``: also the verdict on the same windows without noise,
+:func:`hidden_effects.noise_free_twin`; ``--signals``: as in ``bench_diagnosis.py``, by default
+what ``whipple diagnose`` chooses, the roll rate with the steer angle, and ``roll_rate`` for the
+logs of the roll rate alone).
 """
 
 from __future__ import annotations
@@ -32,8 +34,9 @@ def main() -> None:
     parser.add_argument("--size-scale", type=float, default=1.0, help="multiply the hidden effect's size by this")
     parser.add_argument("--twin", action="store_true",
                         help="also diagnose the same windows without noise (hidden_effects.noise_free_twin)")
-    parser.add_argument("--signals", type=signal_names, default=("roll_rate",),
-                        help="signals fitted jointly in every window (whipple diagnose --signals)")
+    parser.add_argument("--signals", type=signal_names, default=None,
+                        help="signals fitted jointly in every window (whipple diagnose --signals; default: as whipple "
+                             "diagnose chooses, roll_rate,steer_angle for the trials' runs)")
     args = parser.parse_args()
     for trial_name in args.trials:
         try:

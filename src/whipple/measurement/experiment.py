@@ -17,6 +17,7 @@ from typing import Any, overload
 import numpy as np
 
 from whipple.errors import InputError
+from whipple.measurement.catches import catch_onset
 from whipple.measurement.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
 from whipple.measurement.runs import Run
 from whipple.measurement.speedometer import SpeedRange, speed_regression
@@ -353,18 +354,57 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
                                  f"negative speed ({speeds.low:.3g} m/s): the model needs forward speed")
     try:
         fitted = _settled(run, window, options.settle)
-        baseline = "constant" if options.baseline == "auto" else options.baseline
-        fit = fit_window(run, fitted, options.signals, options.noise, baseline)
-        if options.baseline == "auto" and fit.cycles >= AUTO_QUADRATIC_CYCLES:
-            fit = fit_window(run, fitted, options.signals, options.noise, "quadratic")
+        fit = _fit(run, fitted, options)
+        window, fit = _before_catch(run, window, fitted, fit, options)
     except InputError as error:
         return WindowMeasurement(run, window, None, speeds, error.problem)
+    if window.stop < speeds.stop:
+        speeds = speed_regression(run.time, speed, window.start, window.stop)
     quality = _quality(fit, options.min_cycles_above_noise)
     shape = None
     signal = options.shape_signal
     if quality is None and signal is not None and signal in run.signals and signal != options.signals[0]:
         shape = _mode_shape(run, fit, signal, max(SETTLE - (fit.start - window.start), 0.0))
     return WindowMeasurement(run, window, fit, speeds, None, quality, shape)
+
+
+def _fit(run: Run, window: Window, options: FitOptions) -> WeaveFit:
+    """Fit the weave over the window with the options' baseline (``auto``: by its cycles)."""
+    baseline = "constant" if options.baseline == "auto" else options.baseline
+    fit = fit_window(run, window, options.signals, options.noise, baseline)
+    if options.baseline == "auto" and fit.cycles >= AUTO_QUADRATIC_CYCLES:
+        fit = fit_window(run, window, options.signals, options.noise, "quadratic")
+    return fit
+
+
+#: Fits of a window whose end holds a catch: the first locates the catch roughly (the fit
+#: across it bends towards the hand), the second, judged over the whole window, places it
+#: where the free fit's curve and the samples part, the third confirms that nothing more
+#: stands out.
+CATCH_PASSES = 3
+
+
+def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,
+                  options: FitOptions) -> tuple[Window, WeaveFit]:
+    """Return the window and its fit, both cut before a catch at the window's end, if any.
+
+    ``window`` is the window as found, ``fitted`` the part of it that ``fit`` fitted (after the
+    settle time). Each fit's curve is compared with every sample of ``fitted``, so that a fit
+    that no longer holds the catch finds where it begins (:func:`~whipple.measurement.catches.catch_onset`).
+    """
+    time, measured = fit.time, fit.measured
+    first = fitted.start_index if fitted.start_index >= 0 else int(np.searchsorted(run.time, fitted.start))
+    kept = time.size
+    for _ in range(CATCH_PASSES):
+        onset = catch_onset(time, measured - fit.curve(time))
+        if onset is None or onset == kept:
+            break
+        kept = onset
+        fit = _fit(run, replace(fitted, stop=float(time[kept - 1]), stop_index=first + kept), options)
+    if kept == time.size:
+        return window, fit
+    note = f"cut before a catch at {time[kept]:.2f} s (the fit's residual leaves the noise)"
+    return replace(window, stop=float(time[kept - 1]), stop_index=first + kept, notes=(*window.notes, note)), fit
 
 
 def _gap_in(run: Run, window: Window, names: Sequence[str], speed: np.ndarray) -> str | None:

@@ -1,0 +1,66 @@
+"""A catch at a window's end: found in the fit's residual, cut off, the rest fitted again."""
+
+import numpy as np
+import pytest
+from hidden_effects import trial_options, trial_runs
+
+from whipple.measurement.catches import ONSET_MARGIN, catch_onset
+from whipple.measurement.experiment import diagnosis_signals, measure_run
+
+RATE = 100.0
+
+
+def _residual(n, onset=None, seed=0, jump=0.3, noise=0.01):
+    """White noise, and from ``onset`` on a hand pulling the signal away (growing, then settling)."""
+    rng = np.random.default_rng(seed)
+    time = np.arange(n) / RATE
+    residual = noise * rng.standard_normal((2, n))
+    if onset is not None:
+        tau = np.clip(time - time[onset], 0.0, None)
+        residual[0] += jump * (1.0 - np.exp(-tau / 0.05)) * (tau > 0)
+        residual[1] += 0.2 * jump * (1.0 - np.exp(-tau / 0.05)) * (tau > 0)
+    return time, residual
+
+
+def test_no_catch_in_noise_alone():
+    # 200 windows of white noise (100 to 1000 samples): none has a tail standing out.
+    found = [catch_onset(*_residual(n, seed=seed)) for seed, n in enumerate(np.linspace(100, 1000, 200).astype(int))]
+    assert found == [None] * 200
+
+
+@pytest.mark.parametrize("n, onset", [(300, 250), (400, 360), (1000, 700)])
+def test_catch_found_where_it_begins(n, onset):
+    time, residual = _residual(n, onset)
+    found = catch_onset(time, residual)
+    assert found is not None
+    # The cut lies the margin before the first samples that stand out, which lag the hand's
+    # start by no more than a few samples.
+    assert onset - int(np.ceil(ONSET_MARGIN * RATE)) - 1 <= found <= onset
+
+
+def test_a_small_departure_is_no_catch():
+    # Twice the noise: within what a fitting function's misfit leaves.
+    time, residual = _residual(400, 300, jump=0.02)
+    assert catch_onset(time, residual) is None
+
+
+@pytest.mark.parametrize("trial", [("none", 1, "browser"), ("basket", 0, "kooijman2008"), ("rack", 0, "benchmark")])
+def test_windows_end_before_the_true_catch(trial):
+    # Simulated runs know where each free coasting ends. The window finder cut some of these
+    # windows at the swing after the catch (Browser at 4 m/s, kooijman2008 with a basket at
+    # 6 m/s); cut before the catch, every window ends inside its free segment.
+    family, seed, bicycle = trial
+    base, _, runs = trial_runs(family, seed, bicycle)
+    options = trial_options(base, signals=diagnosis_signals(runs))
+    step = 1.0 / RATE
+    fitted = 0
+    for run in runs:
+        segments = [tuple(map(float, part.split(":"))) for part in run.metadata["true_windows"].split(";")]
+        for measurement in measure_run(run, None, options):
+            if measurement.fit is None:
+                continue
+            fitted += 1
+            start = measurement.fit.start
+            segment = next(s for s in segments if s[0] - 5 * step <= start <= s[1])
+            assert measurement.fit.stop <= segment[1] + step / 2, (run.name, start)
+    assert fitted >= 10

@@ -6,11 +6,12 @@ cause chosen again per left-out speed, the nonlinear amplitude check, the report
 The baseline measured in the same run is the held-out gain that only refits the cause chosen
 on all speeds (the earlier, faster and leakier form); the ratio says what choosing again costs.
 
-Run: ``python benchmarks/bench_diagnose_time.py [--effect two|load] [--no-fit-bias] [--workers N]``
+Run: ``python benchmarks/bench_diagnose_time.py [--effect two|load] [--compare C] [--workers N]``
 (``two``: steer damping and a rear-frame roll inertia 40% high together, so that no single cause
 fits and pairs are tried; ``load``: a 15 kg load over the rear rack, 0.1 m behind the rear axle
 and 0.55 m above the ground, so that a payload with its position leads and pairs are tried too;
-``--no-fit-bias``: models compared without the fitting function's bias;
+``--compare``: how models are compared with the windows (``whipple diagnose --compare``; by
+default with their samples);
 ``--workers N``: the gain, and the whole command, also with ``--workers N``, the held-out
 speeds diagnosed on a local Dask cluster, its start included).
 """
@@ -26,6 +27,7 @@ from pathlib import Path
 
 from whipple.cli import main as whipple_main
 from whipple.diagnosis.evidence import diagnose_observations
+from whipple.diagnosis.fitting import COMPARISONS
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations
 from whipple.measurement.experiment import measure_run
@@ -45,8 +47,8 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=40)
     parser.add_argument("--effect", choices=("one", "two", "load"), default="one")
     parser.add_argument("--workers", type=int, default=None, metavar="N")
-    parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
-                        help="compare models through the fitting function (the default)")
+    parser.add_argument("--compare", choices=COMPARISONS, default="samples",
+                        help="how models are compared with the windows (default: with their samples)")
     args = parser.parse_args()
     base = load_bicycle("benchmark")
     truth = base.with_extensions(steer_damping=0.8)
@@ -63,20 +65,20 @@ def main() -> None:
         measurements = [m for f in files for m in measure_run(read_run(f), baseline="auto")]
         measured = time.perf_counter()
         seen = observations(measurements)
-        diagnosis = diagnose_observations(base, seen, bias=args.fit_bias)
+        diagnosis = diagnose_observations(base, seen, comparison=args.compare)
         diagnosed = time.perf_counter()
-        gain = held_out_gain(base, seen, bias=args.fit_bias)
+        gain = held_out_gain(base, seen, comparison=args.compare)
         chosen_again = time.perf_counter()
         if diagnosis.chosen is not None:
             held_out_gain(base, seen, fixed=diagnosis.chosen)
         refitted = time.perf_counter()
         if args.workers is not None:
-            spread = held_out_gain(base, seen, workers=args.workers, bias=args.fit_bias)
+            spread = held_out_gain(base, seen, workers=args.workers, comparison=args.compare)
             assert spread == gain, "the folds on a cluster must give the serial gain"
             gain_on_workers = time.perf_counter() - refitted
         command_started = time.perf_counter()
         command = ["diagnose", *map(str, files), "--bicycle", "benchmark", "--json", str(Path(folder) / "d.json"),
-                   "--report", str(Path(folder) / "report"), *([] if args.fit_bias else ["--no-fit-bias"])]
+                   "--report", str(Path(folder) / "report"), "--compare", args.compare]
         cpu = time.process_time()
         with redirect_stdout(StringIO()):
             whipple_main(command)

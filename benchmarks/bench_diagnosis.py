@@ -17,8 +17,8 @@ realistic size and position, diagnose them blind, and count the outcomes:
   the true values.
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
-[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--no-fit-bias] [--size-scale S] [--occam laplace]
-[--rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate] [--twin]``;
+[--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--compare C] [--size-scale S] [--occam laplace]
+[--no-rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate] [--twin]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
@@ -29,15 +29,16 @@ experiment: pairs of causes are tried when the best single cause leaves a disper
 Occam factor by the Laplace approximation within each cause's bounds
 (``whipple.diagnosis.evidence.OCCAM``); ``--cycles-above-noise C`` leaves out the windows
 holding fewer than C weave cycles above the noise (``FitOptions.min_cycles_above_noise``; the
-package's 0.75 by default, 0: the rates before that check); ``--rigid-loads`` an experiment: the
-payloads' rigid-load form among the candidates (``whipple.diagnosis.causes.RIGID_LOADS``); ``--fixed-point-start model``
+package's 0.75 by default, 0: the rates before that check); ``--no-rigid-loads`` leaves the
+payloads' rigid-load form out of the candidates (``whipple.diagnosis.causes.RIGID_LOADS``, in by
+default); ``--fixed-point-start model``
 another: the fitting bias' fixed point starts from each model's weave
 (``whipple.diagnosis.fit_bias.FIXED_POINT_START``); ``--signals`` the signals fitted jointly in
 every window (``whipple diagnose --signals``; by default as ``whipple diagnose`` fits the trials'
 runs, the roll rate with the steer angle; ``roll_rate``: alone, as the rates before 2026-11-29,
-latest); ``--no-fit-bias``
-compares each window's eigenvalue with the model's directly (``diagnose_observations(bias=False)``,
-the earlier form; by default models are compared through the fitting function). The
+latest); ``--compare fitting-function`` compares each window's eigenvalue through the fitting
+function (the default until 2026-12-01), ``--compare eigenvalues`` directly; by default models
+are compared with the windows' samples (``diagnose_observations(comparison=...)``). The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
 (:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this
 repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE [FILE ...]``
@@ -75,7 +76,8 @@ from hidden_effects import (  # noqa: E402
 )
 
 from whipple.cli.arguments import signal_names  # noqa: E402
-from whipple.diagnosis import causes, evidence, fit_bias  # noqa: E402
+from whipple.diagnosis import causes, evidence, fit_bias, samples  # noqa: E402
+from whipple.diagnosis.fitting import COMPARISONS  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
 from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
@@ -83,20 +85,21 @@ from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-Arguments = tuple[str, str, int, bool, float, float, str, bool, bool, float, str, tuple[str, ...] | None]
+Arguments = tuple[str, str, int, str, float, float, str, bool, bool, float, str, tuple[str, ...] | None, str]
 
 
 def _trial(arguments: Arguments) -> tuple:
-    (bicycle, family, seed, bias, scale, combine_dispersion, occam, rigid_loads, twin, above_noise, start,
-     signals) = arguments
+    (bicycle, family, seed, comparison, scale, combine_dispersion, occam, rigid_loads, twin, above_noise, start,
+     signals, amplitude_charge) = arguments
     # Experiments' knobs, set in the worker process that runs the trial.
     fit_bias.FIXED_POINT_START = start
     evidence.COMBINE_DISPERSION = combine_dispersion
     evidence.OCCAM = occam
     causes.RIGID_LOADS = rigid_loads
+    samples.AMPLITUDE_CHARGE = amplitude_charge
     try:
-        trial = run_trial(family, seed, bicycle, bias=bias, scale=scale, twin=twin, min_cycles_above_noise=above_noise,
-                          signals=signals)
+        trial = run_trial(family, seed, bicycle, comparison=comparison, scale=scale, twin=twin,
+                          min_cycles_above_noise=above_noise, signals=signals)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
@@ -202,18 +205,22 @@ def main() -> None:
     parser.add_argument("--log", type=Path, help="append each trial's result to this JSON-lines file as it ends")
     parser.add_argument("--from-log", type=Path, nargs="+",
                         help="tabulate the trials of these logs (together) instead of running any")
-    parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
-                        help="compare models through the fitting function (the default; --no-fit-bias: "
-                             "diagnose_observations(bias=False))")
+    parser.add_argument("--compare", choices=COMPARISONS, default="samples",
+                        help="how models are compared with the windows (diagnose_observations(comparison=...); "
+                             "default: with their samples)")
+    parser.add_argument("--amplitude-charge", choices=("bic", "noise"), default=samples.AMPLITUDE_CHARGE,
+                        help="experiment: how an extra state's modal amplitudes are charged when the samples are "
+                             "compared (whipple.diagnosis.samples.AMPLITUDE_CHARGE)")
     parser.add_argument("--combine-dispersion", type=float, default=evidence.COMBINE_DISPERSION,
                         help="experiment: the dispersion of the best single cause above which pairs are tried "
                              f"(whipple.diagnosis.evidence.COMBINE_DISPERSION, {evidence.COMBINE_DISPERSION:g}; "
                              "0: always)")
     parser.add_argument("--occam", choices=("bic", "laplace"), default=evidence.OCCAM,
                         help="experiment: how the evidence charges fitted values (whipple.diagnosis.evidence.OCCAM)")
-    parser.add_argument("--rigid-loads", action="store_true",
-                        help="experiment: the payloads' rigid-load form among the candidates "
-                             "(whipple.diagnosis.causes.RIGID_LOADS)")
+    parser.add_argument("--rigid-loads", action=argparse.BooleanOptionalAction, default=causes.RIGID_LOADS,
+                        help="the payloads' rigid-load form among the candidates "
+                             "(whipple.diagnosis.causes.RIGID_LOADS, the default since 2026-12-01; "
+                             "--no-rigid-loads: point masses only)")
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE,
                         help="leave out windows holding fewer weave cycles above the noise "
                              f"(FitOptions.min_cycles_above_noise; default {MIN_CYCLES_ABOVE_NOISE:g}, 0: off)")
@@ -255,9 +262,9 @@ def main() -> None:
         if args.trials is not None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]
-        tasks = [(*job, args.fit_bias, args.size_scale, args.combine_dispersion, args.occam,
+        tasks = [(*job, args.compare, args.size_scale, args.combine_dispersion, args.occam,
                   args.rigid_loads, args.twin, args.cycles_above_noise, args.fixed_point_start,
-                  args.signals) for job in jobs]
+                  args.signals, args.amplitude_charge) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

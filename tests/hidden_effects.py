@@ -36,6 +36,7 @@ import numpy as np
 from whipple.diagnosis.causes import cause_by_name
 from whipple.diagnosis.evidence import MARGIN, Diagnosis, diagnose_observations
 from whipple.diagnosis.observations import noise_free, observations
+from whipple.diagnosis.samples import noise_free_samples
 from whipple.measurement.experiment import (
     JOINT_SIGNALS,
     MIN_CYCLES_ABOVE_NOISE,
@@ -453,31 +454,39 @@ def given_data(outcome: str, twin_outcome: str | None) -> str:
 
 
 def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
-    """Diagnose the trial's windows again with every observation replaced by the true model's
-    (:func:`whipple.diagnosis.observations.noise_free`): what the data could tell at best.
+    """Diagnose the trial's windows again with every observation replaced by the true model's: what
+    the data could tell at best.
 
-    The twin's windows have no samples, so models are compared with them directly (no fitting
-    function between: a perfect window fit). None where the truth is a model outside every
-    bicycle (the feedback of a roll damping or a steer spring, alone or as one of two effects):
-    :func:`~whipple.diagnosis.observations.noise_free` predicts a bicycle's modes.
+    Compared as the trial was: with the samples, the twin's samples are the true model's free
+    response fitted to each window, with the window's noise
+    (:func:`whipple.diagnosis.samples.noise_free_samples`); otherwise the twin's windows have no
+    samples and their eigenvalues are the true model's
+    (:func:`whipple.diagnosis.observations.noise_free`), compared directly (no fitting function
+    between: a perfect window fit). None where the truth is a model outside every bicycle (the
+    feedback of a roll damping or a steer spring, alone or as one of two effects): the twin's
+    eigenvalues are a bicycle's modes.
     """
     base = trial_bicycle(trial.bicycle)
     # The trial's first random draws are the hidden effect's.
     truth_bicycle, _, model = hidden_bicycle(base, trial.cause, trial_rng(trial.cause, trial.seed), scale)
     if model is not None:
         return None
-    return diagnose_observations(base, noise_free(truth_bicycle, trial.diagnosis.observations),
-                                 estimate_spread=False)
+    comparison = trial.diagnosis.comparison
+    if comparison == "samples":
+        twins = noise_free_samples(truth_bicycle, trial.diagnosis.observations)
+    else:
+        twins, comparison = noise_free(truth_bicycle, trial.diagnosis.observations), "eigenvalues"
+    return diagnose_observations(base, twins, estimate_spread=False, comparison=comparison)
 
 
-def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, bias: bool = True,
+def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, comparison: str = "samples",
               scale: float = 1.0, twin: bool = False, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE,
               signals: tuple[str, ...] | None = None) -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle.
 
     The controlled bicycles' windows leave out their first seconds (:func:`trial_settle`).
-    ``bias``: the diagnosis compares models through the
-    fitting function (the default of ``diagnose_observations``); ``scale`` multiplies the
+    ``comparison``: how the diagnosis compares models with the windows (as
+    ``diagnose_observations`` takes it; by default with their samples); ``scale`` multiplies the
     effect's size (:func:`hidden_bicycle`); ``min_cycles_above_noise`` is the windows' check and
     ``signals`` the signals fitted jointly (:class:`~whipple.measurement.experiment.FitOptions`;
     by default those ``whipple diagnose`` chooses, :func:`~whipple.measurement.experiment.diagnosis_signals`).
@@ -485,7 +494,7 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, 
     base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
     options = trial_options(base, min_cycles_above_noise, diagnosis_signals(runs) if signals is None else signals)
     measurements = [m for run in runs for m in measure_run(run, None, options)]
-    diagnosis = diagnose_observations(base, observations(measurements), bias=bias)
+    diagnosis = diagnose_observations(base, observations(measurements), comparison=comparison)
     trial = Trial(cause, seed, truth, diagnosis, base_name)
     return replace(trial, twin=noise_free_twin(trial, scale)) if twin else trial
 

@@ -45,14 +45,16 @@ def test_controller_causes_only_for_controlled_bicycles():
 def test_payload_forms_share_one_prior_up_to_a_rigid_load(name):
     bicycle = load_bicycle("benchmark")
     forms = [cause for cause in candidate_causes(bicycle) if cause.name == name]
-    # Three forms by default, one hypothesis: their priors add up to the one unit of a named cause.
+    # Four forms by default (the rigid load since 2026-12-01), one hypothesis: their priors add
+    # up to the one unit of a named cause.
     assert sum(cause.prior for cause in forms) == pytest.approx(1.0)
-    assert [len(cause.parameters) for cause in forms] == [1, 2, 3]
-    full = forms[-1]
+    assert [len(cause.parameters) for cause in forms] == [1, 2, 3, 5]
+    assert [len(cause.parameters) for cause in payload_causes(bicycle, name, rigid=False)] == [1, 2, 3]
+    full = forms[-2]
     assert full.parameters == (f"{name}_mass", f"{name}_x", f"{name}_z")
     bounds = payload_bounds(bicycle, name)
     assert full.bounds == (bounds["mass"], bounds["x"], bounds["z"])
-    # The experiment: a fourth form, a rigid load refining the third, within the same prior.
+    # The fourth form, a rigid load refining the third, within the same prior.
     with_rigid = payload_causes(bicycle, name, rigid=True)
     assert sum(cause.prior for cause in with_rigid) == pytest.approx(1.0)
     rigid = with_rigid[-1]

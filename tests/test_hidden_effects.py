@@ -166,11 +166,15 @@ def test_hidden_effect_rates():
 
 
 def test_the_noise_free_twin_tells_forced_ambiguity_from_caution():
-    """The benchmark's steer inertia (seed 0) is left open against IFxx, and so are the same
-    windows without noise: an ambiguous verdict is all they allow, counted right given the data.
+    """Compared with the eigenvalues, the benchmark's steer inertia (seed 0) is left open against
+    IFxx, and so are the same windows without noise: an ambiguous verdict is all they allow,
+    counted right given the data. Compared with the samples (the default), the same windows name
+    it, and so does their twin (the true model's response fitted to each window, at its noise).
     A trial named right has a twin that names the truth too."""
-    open_trial = run_trial("steer_inertia", 0, "benchmark", twin=True)
+    open_trial = run_trial("steer_inertia", 0, "benchmark", twin=True, comparison="eigenvalues")
     assert open_trial.outcome == "ambiguous_truth" and open_trial.twin_outcome == "ambiguous_truth"
     assert "parameter:IFxx" in open_trial.twin.rivals and open_trial.outcome_given_data == "right"
+    told = run_trial("steer_inertia", 0, "benchmark", twin=True)
+    assert told.twin.comparison == "samples" and told.outcome == told.twin_outcome == "right"
     named = run_trial("steer_damping", 0, "benchmark", twin=True)
     assert named.outcome == named.twin_outcome == named.outcome_given_data == "right"

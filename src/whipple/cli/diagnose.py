@@ -29,6 +29,7 @@ from whipple.cli.arguments import (
     signal_names,
 )
 from whipple.cli.outputs import check_outputs, save_figure
+from whipple.diagnosis.fitting import COMPARISONS
 from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.plots import report_figures
 from whipple.diagnosis.report import assemble, cause_gain_sentences, gain_sentences, report_json, steer_sign_flipped
@@ -67,10 +68,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_signals_argument(parser, ": roll_rate,steer_angle where every run measures the steer angle wherever it "
                                  "measures the roll rate, roll_rate otherwise (the first signal is the mode shape's "
                                  "reference; see docs/diagnosis.md)", default="auto")
-    parser.add_argument("--fit-bias", action=argparse.BooleanOptionalAction, default=True,
-                        help="compare each model with the windows through the fitting function: its eigenvalue plus "
-                             "the bias the fit shows on the model's own response (default; --no-fit-bias compares "
-                             "the eigenvalues directly, about 3 times faster, see docs/diagnosis.md)")
+    parser.add_argument("--compare", choices=COMPARISONS, default="samples",
+                        help="how each model is compared with the windows: samples (default), its free response "
+                             "fitted to every window's samples; fitting-function, its weave eigenvalue plus the bias "
+                             "the window's fit shows on the model's own response; eigenvalues, its weave eigenvalue "
+                             "directly (see docs/diagnosis.md)")
     parser.add_argument("--gain-by-cause", nargs="?", const="singles", choices=("singles", "pairs"), default=None,
                         help="also give every candidate's held-out gain, each refitted on every fold without a "
                              "choice (pairs: also every pair of physical causes; slow, see docs/diagnosis.md)")
@@ -109,11 +111,11 @@ def run(args: argparse.Namespace) -> int:
     signals = diagnosis_signals(runs) if args.signals == "auto" else signal_names(args.signals)
     measurements = _measured(runs, windows, signals, args)
     if args.signals == "auto" and len(signals) > 1 and steer_sign_flipped(bicycle, measurements):
-        signals = signals[:1]  # the roll rate alone: a flipped steer angle would mislead the fitting bias
+        signals = signals[:1]  # the roll rate alone: a flipped steer angle would mislead the comparison
         measurements = _measured(runs, windows, signals, args)
     report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters,
                       scheduler=args.scheduler, workers=args.workers, gain_by_cause=args.gain_by_cause,
-                      fit_bias=args.fit_bias)
+                      comparison=args.compare)
     data = report_json(report)
     diagnosis = report.diagnosis
     print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs; fitted: {', '.join(signals)})")

@@ -1,11 +1,15 @@
-"""Every candidate fitted to the same windows, directly or through the fitting function.
+"""Every candidate fitted to the same windows: to their eigenvalues, their samples, or through the fitting function.
 
-:func:`fit_all` fits the base model and each cause. :func:`refit_through_bias` compares each
-with the windows through the fitting function (:mod:`whipple.diagnosis.fit_bias`): the bias of
-a model is costly (refits of every window), so only the causes near the best get their own
-model's bias and a refit; the others, far behind, are evaluated at their values with the base
-model's bias, which moves them little against a lead of ``screen`` (docs/diagnosis.md, "All
-windows at once, and the bias only where it can matter").
+:func:`fit_all` fits the base model and each cause. :func:`refit_to_samples` compares each
+with the windows' samples (:mod:`whipple.diagnosis.samples`), starting from its fit to the
+eigenvalues: a comparison with the samples costs several times one with the eigenvalues, so
+only the causes near the best are refitted, the others evaluated at their values.
+:func:`refit_through_bias` compares each with the windows through the fitting function
+(:mod:`whipple.diagnosis.fit_bias`): the bias of a model is costly (refits of every window), so
+only the causes near the best get their own model's bias and a refit; the others, far behind,
+are evaluated at their values with the base model's bias, which moves them little against a
+lead of ``screen`` (docs/diagnosis.md, "All windows at once, and the bias only where it can
+matter").
 """
 
 from __future__ import annotations
@@ -18,9 +22,9 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.fit_bias import fitting_bias
-from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2
+from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, model_states, robust_chi2
 from whipple.diagnosis.observations import Observation
-from whipple.diagnosis.starts import refinement_starts
+from whipple.diagnosis.starts import GRID_MAX_VALUES, refinement_starts
 from whipple.model.parameters import Bicycle
 
 
@@ -42,6 +46,37 @@ def fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Ob
             fits.append(fit_cause(bicycle, cause, observations, cause_whitening,
                                   refinement_starts(cause, simpler.values), grid=False))
     return base, fits
+
+
+def refit_to_samples(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
+                     observations: Sequence[Observation], whitening: Whitening, near: Sequence[bool],
+                     search: bool = True) -> tuple[CauseFit, list[CauseFit]]:
+    """Compare the base model and each fitted cause with the windows' samples (``whitening.samples``).
+
+    A cause ``near`` the best is refitted from its values (fitted to the eigenvalues); with
+    ``search``, one of two or three values (a payload's mass and position, the tyres) also from
+    the best points of a coarse grid over its bounds evaluated on the samples, since the
+    samples may favour another part of the bounds than the eigenvalues did. Any other cause is
+    evaluated at its values.
+
+    Returns
+    -------
+    base : CauseFit
+        The base model compared with the samples.
+    fits : list of CauseFit
+        Each cause, in the order of `causes`.
+    """
+    if whitening.samples is None:
+        raise ValueError("refit_to_samples needs a whitening with the windows' samples")
+    base = _evaluated(bicycle, CauseFit("none", (), (), (), (), 0.0), observations, whitening)
+    compared = []
+    for cause, fit, is_near in zip(causes, fits, near, strict=True):
+        if not is_near:
+            compared.append(_evaluated(cause.apply(bicycle, list(fit.values)), fit, observations, whitening))
+            continue
+        grid = search and cause.refines is None and 2 <= len(cause.parameters) <= GRID_MAX_VALUES
+        compared.append(fit_cause(bicycle, cause, observations, whitening, [fit.values], grid=grid))
+    return base, compared
 
 
 def refit_through_bias(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
@@ -78,4 +113,5 @@ def refit_through_bias(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence
 def _evaluated(model: Bicycle, fit: CauseFit, observations: Sequence[Observation], whitening: Whitening) -> CauseFit:
     """Return `fit` with its residuals and chi-square those of `model` under `whitening` (no refit)."""
     residual, predicted, block_chi2 = model_residuals(model, observations, whitening)
-    return replace(fit, chi2=robust_chi2(residual), predicted=predicted, block_chi2=block_chi2, residuals=residual)
+    return replace(fit, chi2=robust_chi2(residual), predicted=predicted, block_chi2=block_chi2, residuals=residual,
+                   states=model_states(model))

@@ -184,7 +184,7 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> 
 #: Whether the payloads' rigid-load form is among the candidates (an experiment, not the
 #: default): over seeds 0-24 of every family and bicycle it named a rack load right more often
 #: (64 -> 66 of 75) but a basket less often (55 -> 46; docs/diagnosis.md, "A rigid load").
-RIGID_LOADS = False
+RIGID_LOADS = True
 
 
 def payload_causes(bicycle: Bicycle, name: str, rigid: bool | None = None) -> list[Cause]:

@@ -46,18 +46,21 @@ class SpeedDependence:
 
 
 def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
-                  values: Sequence[float], scales: tuple[float, float] = (1.0, 1.0)) -> NDArray[np.float64]:
+                  values: Sequence[float], scales: tuple[float, float] = (1.0, 1.0),
+                  comparison: str = "eigenvalues") -> NDArray[np.float64]:
     """Leave-one-speed-group-out jackknife standard deviation of a cause's values.
 
     The fit's own standard deviation assumes independent windows; errors shared by the windows
     of one speed (a fitting-function bias that depends on speed, a speed error) are not in it.
     The jackknife over speed groups is robust to such errors. Zero with fewer than 3 groups.
+    ``comparison``: how models are compared with the windows
+    (:data:`~whipple.diagnosis.fitting.COMPARISONS`; a fitting function's bias already taken out).
     """
     groups = speed_groups(observations)
     if len(groups) < 3:
         return np.zeros(len(values))
     estimates = refits_without(bicycle, cause, observations, values,
-                               [group for group in groups if len(observations) - len(group) >= 2], scales)
+                               [group for group in groups if len(observations) - len(group) >= 2], scales, comparison)
     if len(estimates) < 3:
         return np.zeros(len(values))
     estimates_array = np.array(estimates)
@@ -72,15 +75,16 @@ def without(observations: Sequence[Observation], group: Sequence[int]) -> list[O
 
 
 def refits_without(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation], values: Sequence[float],
-                   groups: Sequence[Sequence[int]], scales: tuple[float, float] = (1.0, 1.0)
-                   ) -> list[tuple[float, ...]]:
+                   groups: Sequence[Sequence[int]], scales: tuple[float, float] = (1.0, 1.0),
+                   comparison: str = "eigenvalues") -> list[tuple[float, ...]]:
     """Return the cause's values refitted with each group of windows (indices) left out in turn.
 
     A local refit from `values` (fitted to all windows): it measures how those values move when
     a group is left out, not which other optimum a search could find. Each group must leave at
-    least 2 windows.
+    least 2 windows. ``comparison`` as in :func:`jackknife_std`.
     """
-    return [fit_cause(bicycle, cause, kept, window_whitening(kept, bicycle, scales), [values], grid=False).values
+    return [fit_cause(bicycle, cause, kept, window_whitening(kept, bicycle, scales, comparison), [values],
+                      grid=False).values
             for kept in (without(observations, group) for group in groups)]
 
 
@@ -102,7 +106,8 @@ def speed_group_sums(residuals: NDArray[np.float64], observations: Sequence[Obse
 
 
 def speed_dependence(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
-                     values: Sequence[float], scales: tuple[float, float]) -> SpeedDependence | None:
+                     values: Sequence[float], scales: tuple[float, float],
+                     comparison: str = "eigenvalues") -> SpeedDependence | None:
     """Fit a cause to the low and the high speeds apart, to see whether its values depend on speed.
 
     A physical cause (a mass, a damper, a wrong parameter) has the same values at every speed.
@@ -111,7 +116,8 @@ def speed_dependence(bicycle: Bicycle, cause: Cause, observations: Sequence[Obse
     trading the low speeds against the high ones. The speed groups are split in two halves, the
     cause refitted to each from ``values`` (its fit to all windows; a local refit, so the
     evidence is never overstated), and the chi-squares compared at the diagnosis' dispersions
-    ``scales``, charged for the k extra values like any cause (see the module's evidence).
+    ``scales``, charged for the k extra values like any cause (see the module's evidence);
+    ``comparison`` as in :func:`jackknife_std`.
     None where a half has fewer windows than values, or a refit fails.
     """
     groups = speed_groups(observations)
@@ -120,13 +126,13 @@ def speed_dependence(bicycle: Bicycle, cause: Cause, observations: Sequence[Obse
     k = len(values)
     if min(len(half) for half in halves) <= k:
         return None
-    whitening = window_whitening(observations, bicycle, scales)
+    whitening = window_whitening(observations, bicycle, scales, comparison)
     one = robust_chi2(model_residuals(cause.apply(bicycle, values), observations, whitening)[0])
-    n = 2 * len(observations) + 2 * len(whitening.shape_index)
+    n = whitening.charged
     fits, shared, independent = [], 0.0, 0.0
     for half in halves:
         kept = [observations[i] for i in half]
-        kept_whitening = window_whitening(kept, bicycle, scales)
+        kept_whitening = window_whitening(kept, bicycle, scales, comparison)
         try:
             fit = fit_cause(bicycle, cause, kept, kept_whitening, [values], grid=False)
         except AnalysisError:

@@ -1,22 +1,27 @@
 """Diagnosis from measured weave eigenvalues and mode shapes: which cause explains the model's error.
 
 Each candidate cause (:mod:`whipple.diagnosis.causes`) is fitted to all observations jointly by robust
-weighted least squares. Each window contributes the measured weave eigenvalue minus the model's
-eigenvalue at the window's speed (with ``bias=True``, plus the bias the fitting function shows on
-that model's own response where the window's samples are known, :mod:`whipple.diagnosis.fit_bias`)
-and, where a steer signal was measured, the measured mode
-shape (steer amplitude per roll-rate amplitude, complex) minus the model's eigenvector ratio;
-each residual is whitened by its fit's covariance. Eigenvalues alone leave some causes nearly
+weighted least squares. Where every window's samples are known, a model is compared with them
+(``comparison="samples"``, the default: :mod:`whipple.diagnosis.samples`): each window's free
+response of the model, its modal amplitudes fitted, leaves a residual on every sample, in units
+of the noise. Otherwise, or with ``comparison="eigenvalues"``, each window contributes the measured
+weave eigenvalue minus the model's eigenvalue at the window's speed (with
+``comparison="fitting-function"``, plus the bias the fitting function shows on that model's own
+response, :mod:`whipple.diagnosis.fit_bias`) and, where a steer signal was measured, the
+measured mode shape (steer amplitude per roll-rate amplitude, complex) minus the model's
+eigenvector ratio; each residual is whitened by its fit's covariance. Eigenvalues alone leave some causes nearly
 interchangeable (a longer trail and a high payload move the weave alike); the mode shape tells
 them apart. Causes are compared by an approximate log Bayes factor against the base model (the
 *evidence*, see ``docs/diagnosis.md``)::
 
     evidence = (chi2_base - chi2_cause) / 2 - (k / 2) ln(n) + ln(prior)
 
-with n residuals, k fitted values (``OCCAM = "laplace"``: the Laplace approximation instead,
-:func:`occam_factor`, an experiment), and each kind of residual (eigenvalue, shape) divided by
-its own s^2 >= 1, the reduced chi-square of the best model on that kind (window uncertainties
-that are too small inflate every chi-square alike). ``none`` has evidence 0. The verdict:
+with n the eigenvalue and mode-shape residuals (also where the samples are compared:
+:attr:`~whipple.diagnosis.fitting.Whitening.charged`), k fitted values (``OCCAM = "laplace"``: the
+Laplace approximation instead, :func:`occam_factor`, an experiment), and each kind of residual
+(eigenvalue, shape; or the samples) divided by its own s^2 >= 1, the reduced chi-square of the
+best model on that kind (window uncertainties that are too small inflate every chi-square
+alike). ``none`` has evidence 0. The verdict:
 ``none`` when no cause reaches ``named_threshold``; ``ambiguous`` when the runner-up is within
 ``margin`` of the best, when a runner-up within ``CLOSE_EVIDENCE`` predicts the observations
 within ``SEPARATION`` of the best (:func:`separation`), or when even the best model leaves the
@@ -38,15 +43,16 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias
+from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
-from whipple.diagnosis.fitting import CauseFit, fit_cause, robust_chi2, window_whitening
+from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, robust_chi2, window_whitening
 from whipple.diagnosis.model_terms import candidates_with_terms, is_term, term_words
 from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.pair_search import leading_pairs, screened_pairs
+from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
 from whipple.model.parameters import Bicycle
@@ -85,6 +91,10 @@ SPEED_DEPENDENCE = MARGIN
 #: among the candidates of 40 runs with a rack load (45), and the bias was most of a
 #: diagnosis' time (docs/diagnosis.md).
 BIAS_SCREEN = 100.0
+#: Evidence (fitted to the eigenvalues, and times their dispersion) by which a cause may trail
+#: the best and still be refitted to the windows' samples (``comparison="samples"``); further
+#: behind, it is evaluated on the samples at its values fitted to the eigenvalues.
+SAMPLES_SCREEN = 50.0
 #: How the evidence charges a cause's fitted values: ``"bic"``, ln(n)/2 each (n residuals), or
 #: ``"laplace"``, the share of the cause's bounds its fit leaves open (:func:`occam_factor`). The
 #: second, tried over the 2,000 hidden-effect trials, named a wrong parameter right far more
@@ -129,9 +139,10 @@ class Diagnosis:
     speed_dependence : SpeedDependence or None
         The leading cause fitted to the low and the high speeds apart (:func:`speed_dependence`),
         where its name was otherwise confident; above ``SPEED_DEPENDENCE`` it is not named.
-    fit_bias : bool
-        Whether each model was compared with the windows through the fitting function
-        (:mod:`whipple.diagnosis.fit_bias`); False where no window's samples were known.
+    comparison : str
+        How each model was compared with the windows (:data:`~whipple.diagnosis.fitting.COMPARISONS`):
+        with their samples, through the fitting function, or with their eigenvalues directly
+        (always where no window's samples were known).
     """
 
     verdict: str
@@ -151,7 +162,12 @@ class Diagnosis:
     single_scales: tuple[float, float] = (1.0, 1.0)
     typical_scales: tuple[float, float] = (1.0, 1.0)
     speed_dependence: SpeedDependence | None = None
-    fit_bias: bool = False
+    comparison: str = "eigenvalues"
+
+    @property
+    def fit_bias(self) -> bool:
+        """Whether each model was compared with the windows through the fitting function."""
+        return self.comparison == "fitting-function"
 
     def ranking(self) -> list[tuple[str, float]]:
         """Causes by decreasing evidence, with ``none`` at 0."""
@@ -180,7 +196,8 @@ def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[flo
 def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                           causes: Sequence[Cause] | None = None,
                           named_threshold: float = NAMED_THRESHOLD, margin: float = MARGIN,
-                          estimate_spread: bool = True, quick: bool = False, bias: bool = True) -> Diagnosis:
+                          estimate_spread: bool = True, quick: bool = False,
+                          comparison: str = "samples") -> Diagnosis:
     """Fit every cause to the observations and decide which, if any, explains them.
 
     When the best single cause leaves a dispersion above ``COMBINE_DISPERSION``, or (not
@@ -191,30 +208,43 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     the cause's no-effect values and a step of 5% of its bounds away (each pair once, from its
     members' values; a refinement from the form it refines, as always), and rescale the
     residuals by the dispersions instead of refitting (several times faster; used by the
-    held-out gain's folds). ``bias`` (the default): compare each model with the windows through
-    the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit is refitted once with
-    the bias of the fitting function on its own model's response, computed at its first fitted
-    values (windows with known samples only; the base model's bias for a cause more than
-    ``BIAS_SCREEN`` behind the best at those values); False compares each window's eigenvalue with the
-    model's own (the earlier form, about a third of the cost).
+    held-out gain's folds). ``comparison`` (:data:`~whipple.diagnosis.fitting.COMPARISONS`):
+    ``"samples"`` (the default) compares each model with the windows' samples
+    (:mod:`whipple.diagnosis.samples`): every cause is fitted to the eigenvalues first, then
+    refitted to the samples from there, those more than ``SAMPLES_SCREEN`` behind the best only
+    evaluated on them at their eigenvalue fit; ``"fitting-function"`` compares each window's
+    eigenvalue through the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit is
+    refitted once with the bias of the fitting function on its own model's response, computed
+    at its first fitted values (the base model's bias for a cause more than ``BIAS_SCREEN``
+    behind the best at those values); ``"eigenvalues"`` compares each window's eigenvalue with
+    the model's own. Windows without samples (read from a list of eigenvalues) are compared
+    directly whatever ``comparison`` says.
     """
     observations = tuple(observations)
     if len(observations) < 2:
         raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
     causes = candidates_with_terms(bicycle) if causes is None else list(causes)
     whitening = window_whitening(observations, bicycle)
-    counts = (2 * len(observations), 2 * len(whitening.shape_index))
-    n = sum(counts)
+    counts, n = whitening.counts, whitening.charged
     base, fits = fit_all(bicycle, causes, observations, whitening,
                          [quick_starts(cause) if cause.refines is None else None for cause in causes]
                          if quick else None)
     biases: list[NDArray[np.complex128]] | None = None
-    if bias and any(o.signals is not None for o in observations):
-        direct = [fit.evidence for fit in _scored(causes, base, fits, n)]
-        # In units of the data's dispersion: where no model explains the windows, every
-        # difference of chi-square is that many times larger.
-        screen = BIAS_SCREEN * max(_dispersions([base, *fits], counts))
-        near = [evidence >= max(direct) - screen for evidence in direct]
+    direct = [fit.evidence for fit in _scored(causes, base, fits, n)]
+    # In units of the data's dispersion: where no model explains the windows, every difference
+    # of chi-square is that many times larger.
+    dispersion = max(_dispersions([base, *fits], counts))
+    # The fits to the eigenvalues: where the samples are compared, the pairs' screen and first
+    # fits still use them (a comparison with the samples costs several times as much).
+    eigen = (whitening, base, fits)
+    near = [True] * len(causes)
+    with_samples = window_whitening(observations, bicycle, comparison="samples") if comparison == "samples" else None
+    if with_samples is not None and with_samples.samples is not None:
+        whitening, counts = with_samples, with_samples.counts
+        near = [evidence >= max(direct) - SAMPLES_SCREEN * dispersion for evidence in direct]
+        base, fits = refit_to_samples(bicycle, causes, fits, observations, whitening, near)
+    elif comparison == "fitting-function" and any(o.signals is not None for o in observations):
+        near = [evidence >= max(direct) - BIAS_SCREEN * dispersion for evidence in direct]
         base_bias = fitting_bias(bicycle, observations)
         biased_base, biased_fits, own = refit_through_bias(bicycle, causes, fits, observations, whitening,
                                                            base_bias, near)
@@ -222,9 +252,9 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
             base, fits, biases = biased_base, biased_fits, [base_bias, *own]
         # else no window's samples known (observations from a table): the direct fits stand
     scales = _dispersions([base, *fits], counts)
-    single_scales = typical_dispersion(fits, counts, whitening.scales)
+    single_scales = typical_dispersion(fits, whitening)
     pairs: list[Cause] = []
-    leader = max(_scored(causes, base, fits, n), key=lambda fit: fit.evidence, default=None)
+    leader = max(_scored(causes, base, fits, n, whitening.samples), key=lambda fit: fit.evidence, default=None)
     # The quick fits of the held-out gain's folds choose a cause to predict with, where a
     # verdict's confidence is not at stake: there the pairs would only add time.
     flexible = (not quick and leader is not None and leader.evidence >= named_threshold
@@ -235,12 +265,20 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         # are never paired, nor refinements (a rigid load: see families.cause_pairs).
         pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name) and cause.refines is None]
         members, member_fits = [causes[k] for k in pairable], [fits[k] for k in pairable]
-        started = leading_pairs(members, _scored(members, base, member_fits, n))
-        started += screened_pairs(bicycle, members, member_fits, observations, whitening,
-                                  {pair.name for pair, _ in started}, (counts[0], scales))
+        started = leading_pairs(members, _scored(members, base, member_fits, n, whitening.samples))
+        eigen_whitening, eigen_base, eigen_fits = eigen
+        screen_scales = _dispersions([eigen_base, *eigen_fits], eigen_whitening.counts)
+        started += screened_pairs(bicycle, members, [eigen_fits[k] for k in pairable], observations,
+                                  eigen_whitening, {pair.name for pair, _ in started},
+                                  (eigen_whitening.counts[0], screen_scales))
         pairs = [pair for pair, _ in started]
-        pair_fits = [fit_cause(bicycle, pair, observations, whitening, [start] if quick else [start, list(pair.start)])
+        pair_fits = [fit_cause(bicycle, pair, observations, eigen_whitening,
+                               [start] if quick else [start, list(pair.start)])
                      for pair, start in started]
+        near += [True] * len(pairs)
+        if whitening.samples is not None:
+            _, pair_fits = refit_to_samples(bicycle, pairs, pair_fits, observations, whitening, [True] * len(pairs),
+                                            search=False)
         if biases is not None:
             # Every pair through its own bias: a pair's joint fit may move far between the direct
             # and the biased comparison, and the pairs are few.
@@ -254,13 +292,18 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         whitening = replace(whitening, scales=scales)
         base = _rescaled(base, counts[0], scales)
         fits = [_rescaled(fit, counts[0], scales) for fit in fits]
+    elif scales != (1.0, 1.0) and whitening.samples is not None:
+        # Refit the causes near the best from their values with the samples at their dispersion.
+        whitening = replace(whitening, scales=scales)
+        base, fits = refit_to_samples(bicycle, causes, fits, observations, whitening, near, search=False)
     elif scales != (1.0, 1.0):
         # Refit with each kind of residual at its own dispersion (weights the fits, too).
         whitening = replace(whitening, scales=scales)
         single = len(causes) - len(pairs)
         again = [[fit.values] if n_cause >= single else None for n_cause, fit in enumerate(fits)]
         base, fits = fit_all(bicycle, causes, observations, whitening, again, biases)
-    scored, rival_pairs = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n)), margin)
+    scored, rival_pairs = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n, whitening.samples)),
+                                                margin)
     chosen = None
     compared: Sequence[Observation] = observations
     if scored:
@@ -273,14 +316,16 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         spread = np.array(fit.std)
         compared = observations if biases is None else debiased(observations, biases[1 + index])
         if estimate_spread:
-            spread = np.maximum(spread, jackknife_std(bicycle, chosen, compared, fit.values, scales))
+            spread = np.maximum(spread, jackknife_std(bicycle, chosen, compared, fit.values, scales,
+                                                      whitening.comparison))
         scored[0] = replace(fit, std=tuple(float(s) for s in spread))
     best = scored[0] if scored else None
-    typical = typical_dispersion(scored[:1], counts, whitening.scales)
-    verdict, name, rivals, reasons = _verdict(scored, typical, named_threshold, margin, rival_pairs)
+    typical = typical_dispersion(scored[:1], whitening)
+    verdict, name, rivals, reasons = _verdict(scored, typical, named_threshold, margin, rival_pairs,
+                                              whitening.samples is not None)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
-        dependence = speed_dependence(bicycle, chosen, compared, best.values, scales)
+        dependence = speed_dependence(bicycle, chosen, compared, best.values, scales, whitening.comparison)
         if dependence is not None and dependence.evidence > SPEED_DEPENDENCE:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
@@ -289,7 +334,7 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
                      family=describe_family([name, *rivals]) if verdict == "ambiguous" else "",
                      reasons=reasons, combinations=tuple(pair.name for pair in pairs),
                      single_scales=single_scales, typical_scales=typical, speed_dependence=dependence,
-                     fit_bias=biases is not None)
+                     comparison="fitting-function" if biases is not None else whitening.comparison)
 
 
 def _speed_dependence_reason(best: CauseFit, dependence: SpeedDependence) -> str:
@@ -300,18 +345,12 @@ def _speed_dependence_reason(best: CauseFit, dependence: SpeedDependence) -> str
             "the error changes with speed, so the truth may be none of the candidates")
 
 
-#: Median of a chi-square variable with 2 degrees of freedom (2 ln 2): each window's whitened
-#: eigenvalue (or mode-shape) residual has two parts.
-_MEDIAN_CHI2_2 = 2.0 * np.log(2.0)
+def typical_dispersion(fits: Sequence[CauseFit], whitening: Whitening) -> tuple[float, float]:
+    """Dispersion of the typical window: the median over windows of its squared whitened residual over its expectation.
 
-
-def typical_dispersion(fits: Sequence[CauseFit], counts: tuple[int, int], scales: tuple[float, float]
-                       ) -> tuple[float, float]:
-    """Dispersion of the typical window: the median squared whitened residual over its expectation.
-
-    ``scales``: the dispersions by which the fits' residuals were divided.
-
-    For eigenvalues and mode shapes, the smallest over ``fits`` (at least 1). Unlike the reduced
+    For eigenvalues (or samples) and mode shapes, the smallest over ``fits`` (at least 1), at
+    the dispersions ``whitening.scales`` by which the fits' residuals were divided
+    (:meth:`~whipple.diagnosis.fitting.Whitening.window_dispersions`). Unlike the reduced
     chi-square (which scales the evidence), one or two windows fitted far off (a catch, a
     window at a very unstable speed) barely move it: it says whether the bulk of the windows is
     explained. The pairs of causes and the high-dispersion verdict are decided on it.
@@ -319,13 +358,13 @@ def typical_dispersion(fits: Sequence[CauseFit], counts: tuple[int, int], scales
     if not fits:
         return 1.0, 1.0
     result = []
-    for block, (begin, end) in enumerate(((0, counts[0]), (counts[0], counts[0] + counts[1]))):
-        if end == begin:
+    for block, count in enumerate(whitening.counts):
+        if count == 0:
             result.append(1.0)
             continue
-        medians = [np.median(np.sum((fit.residuals[begin:end] ** 2 * scales[block]).reshape(-1, 2), axis=1))
-                   for fit in fits if fit.residuals.size >= end]
-        result.append(max(1.0, float(min(medians)) / _MEDIAN_CHI2_2) if medians else 1.0)
+        medians = [np.median(whitening.window_dispersions(fit.residuals, block)) * whitening.scales[block]
+                   for fit in fits if fit.residuals.size >= sum(whitening.counts)]
+        result.append(max(1.0, float(min(medians))) if medians else 1.0)
     return result[0], result[1]
 
 
@@ -372,7 +411,8 @@ def separation(first: CauseFit, second: CauseFit) -> float:
 
 
 def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_threshold: float, margin: float,
-             rival_pairs: Sequence[CauseFit] = ()) -> tuple[str, str, tuple[str, ...], tuple[str, ...]]:
+             rival_pairs: Sequence[CauseFit] = (), samples: bool = False
+             ) -> tuple[str, str, tuple[str, ...], tuple[str, ...]]:
     """Return the verdict, the leading cause, the causes it cannot be told from, and why.
 
     ``ambiguous`` when a runner-up is within ``margin`` of the best; when a pair of two other
@@ -418,7 +458,10 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
         at = ", ".join(f"{name} at its bound {bound:.4g}" for name, bound in best.pinned)
         reasons.append(f"{best.cause} fits best only at the edge of its physical range ({at}): the data ask for "
                        "more than it can be, so the truth may be another cause or none of the candidates")
-    if max(scales) > HIGH_DISPERSION:
+    if max(scales) > HIGH_DISPERSION and samples:
+        reasons.append(f"even the best model leaves the typical window's samples {np.sqrt(scales[0]):.1f} times their "
+                       f"noise off (median dispersion {scales[0]:.1f}): no candidate explains the data")
+    elif max(scales) > HIGH_DISPERSION:
         reasons.append(f"even the best model leaves the typical window {np.sqrt(scales[0]):.1f} (eigenvalue) and "
                        f"{np.sqrt(scales[1]):.1f} (mode shape) times its stated uncertainty off (median dispersion "
                        f"{scales[0]:.1f} and {scales[1]:.1f}): no candidate explains the data")
@@ -441,10 +484,19 @@ def _windows_to_tell(best: CauseFit, rivals: Sequence[CauseFit]) -> str:
             "predictions beyond the noise")
 
 
-def _scored(causes: Sequence[Cause], base: CauseFit, fits: Sequence[CauseFit], n: int) -> list[CauseFit]:
-    """Each fit with its evidence against the base model (see the module docstring)."""
+def _scored(causes: Sequence[Cause], base: CauseFit, fits: Sequence[CauseFit], n: int,
+            samples: SampleComparison | None = None) -> list[CauseFit]:
+    """Each fit with its evidence against the base model (see the module docstring).
+
+    ``samples``: the fits were compared with the windows' samples, and a model with more states
+    than the base model is charged for its extra modal amplitudes
+    (:meth:`~whipple.diagnosis.samples.SampleComparison.amplitude_charge`).
+    """
+    def charge(fit: CauseFit) -> float:
+        return 0.0 if samples is None else samples.amplitude_charge(fit.states - base.states)
+
     return [replace(fit, evidence=float((base.chi2 - fit.chi2) / 2.0 + occam_factor(cause, fit, n)
-                                        + np.log(cause.prior)))
+                                        + np.log(cause.prior) - charge(fit)))
             for cause, fit in zip(causes, fits, strict=True)]
 
 
@@ -495,5 +547,5 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
         merged[fit.cause] = CauseFit(general.cause, general.parameters, general.units, general.values,
                                      general.std, general.chi2, evidence, general.predicted,
                                      residuals=supported.residuals, pinned=supported.pinned,
-                                     covariance=general.covariance)
+                                     covariance=general.covariance, states=supported.states)
     return sorted(merged.values(), key=lambda fit: -fit.evidence)

@@ -17,8 +17,10 @@ from scipy.optimize import least_squares
 
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.observations import Observation, compared_shapes, mode_targets, nearest_modes_of_models
+from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
+from whipple.model.assembly import linear_model
 from whipple.model.parameters import Bicycle
 
 #: Whitened residuals beyond about this many standard deviations count less than quadratically
@@ -59,6 +61,17 @@ class CauseFit:
     #: Derivative of the whitened residuals by each value at the fit (a column each; SciPy's
     #: Jacobian for the robust loss), for the Occam factor (:func:`~whipple.diagnosis.evidence.occam_factor`).
     jacobian: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 0)), repr=False, compare=False)
+    #: States of the fitted model (4 for the Whipple form; tyres and a controller's actuator
+    #: add theirs): compared with the samples, each state is one more modal amplitude per window.
+    states: int = 4
+
+
+#: How models are compared with the windows: ``"samples"``, each model's free response fitted to
+#: the windows' samples (:mod:`whipple.diagnosis.samples`); ``"fitting-function"``, each window's
+#: eigenvalue and mode shape with the model's plus the bias the fitting function shows on the
+#: model's own response (:mod:`whipple.diagnosis.fit_bias`); ``"eigenvalues"``, with the model's
+#: directly. Windows read from a list of eigenvalues have no samples: they are compared directly.
+COMPARISONS = ("samples", "fitting-function", "eigenvalues")
 
 
 @dataclass(frozen=True)
@@ -70,6 +83,8 @@ class Whitening:
     ``targets`` and ``measured_shapes`` are the windows' measured values
     (:func:`~whipple.diagnosis.observations.mode_targets`, and the shapes compared, in the order
     of ``shape_index``), gathered once for the thousands of residual evaluations of a fit.
+    With ``samples``, a model's residuals are its residuals on the windows' samples instead
+    (one kind; :mod:`whipple.diagnosis.samples`).
     """
 
     eigenvalue: NDArray[np.float64]
@@ -82,16 +97,65 @@ class Whitening:
     #: (:mod:`whipple.diagnosis.fit_bias`): the model's eigenvalue plus it is what a window's
     #: fit would report if the model were true. None: no bias.
     bias: NDArray[np.complex128] | None = field(default=None, repr=False)
+    #: The windows' samples, where models are compared with them (None: with the eigenvalues).
+    samples: SampleComparison | None = field(default=None, repr=False)
+
+    @property
+    def comparison(self) -> str:
+        """How models are compared with the windows (one of :data:`COMPARISONS`)."""
+        if self.samples is not None:
+            return "samples"
+        return "eigenvalues" if self.bias is None else "fitting-function"
+
+    @property
+    def counts(self) -> tuple[int, int]:
+        """Number of residuals of each kind: eigenvalues (or samples) and mode shapes."""
+        if self.samples is not None:
+            return self.samples.samples, 0
+        return 2 * len(self.eigenvalue), 2 * len(self.shape_index)
+
+    @property
+    def charged(self) -> int:
+        """The n of the evidence's ln(n)/2 charge per fitted value: the eigenvalue and mode-shape residuals.
+
+        Also with ``samples``: a window's samples inform a cause's values through the few modal
+        quantities they fix (the weave's eigenvalue and shape above all), not sample by sample,
+        so the charge stays that of the eigenvalue comparison.
+        """
+        return 2 * len(self.eigenvalue) + 2 * len(self.shape_index)
 
     def residual_layout(self) -> tuple[NDArray[np.int_], NDArray[np.int_]]:
         """Return the window and the kind of each residual, in :func:`model_residuals`' order.
 
-        Kinds: 0 and 1 the eigenvalue's real and imaginary part, 2 and 3 the mode shape's.
+        Kinds: 0 and 1 the eigenvalue's real and imaginary part, 2 and 3 the mode shape's; with
+        ``samples``, every residual is of kind 0.
         """
+        if self.samples is not None:
+            windows = self.samples.window_of_residuals()
+            return windows, np.zeros(windows.size, dtype=int)
         n = len(self.eigenvalue)
         windows = np.concatenate([np.repeat(np.arange(n), 2), np.repeat(self.shape_index, 2)])
         kinds = np.concatenate([np.tile([0, 1], n), np.tile([2, 3], len(self.shape_index))])
         return windows, kinds
+
+    def window_dispersions(self, residuals: NDArray[np.float64], block: int) -> NDArray[np.float64]:
+        """Return each window's squared residual of one kind over its expectation (1 for noise alone).
+
+        ``block`` 0: eigenvalues (or samples), 1: mode shapes; ``residuals`` at unit dispersion.
+        A window's eigenvalue (or shape) residual has two parts: its squared norm over the
+        median of a chi-square of 2 degrees of freedom (2 ln 2), so that the median over windows
+        is 1 for noise alone; a window's samples: their mean square.
+        """
+        begin, end = (0, self.counts[0]) if block == 0 else (self.counts[0], sum(self.counts))
+        part = residuals[begin:end] ** 2
+        if self.samples is not None and block == 0:
+            windows = self.samples.window_of_residuals()
+            return np.bincount(windows, weights=part) / np.maximum(np.bincount(windows), 1)
+        return np.sum(part.reshape(-1, 2), axis=1) / _MEDIAN_CHI2_2
+
+
+#: Median of a chi-square variable with 2 degrees of freedom (2 ln 2).
+_MEDIAN_CHI2_2 = 2.0 * np.log(2.0)
 
 
 def _inverse_cholesky(covariance: NDArray[np.float64] | None, observation: Observation,
@@ -124,14 +188,23 @@ def _with_floor(observation: Observation) -> NDArray[np.float64]:
 
 
 def window_whitening(observations: Sequence[Observation], bicycle: Bicycle,
-               scales: tuple[float, float] = (1.0, 1.0)) -> Whitening:
-    """Whitening of every window's eigenvalue, and of the shapes the base ``bicycle`` compares."""
+                     scales: tuple[float, float] = (1.0, 1.0), comparison: str = "eigenvalues") -> Whitening:
+    """Whitening of every window's eigenvalue, and of the shapes the base ``bicycle`` compares.
+
+    ``comparison`` ``"samples"``: models are compared with the windows' samples where every
+    window has them (:meth:`~whipple.diagnosis.samples.SampleComparison.of`), else with the
+    eigenvalues; other comparisons: the eigenvalues (a fitting function's bias is set by the
+    caller, :mod:`whipple.diagnosis.fit_bias`).
+    """
+    if comparison not in COMPARISONS:
+        raise ValueError(f"comparison must be one of {', '.join(COMPARISONS)}, got {comparison!r}")
     eigenvalue = np.array([_inverse_cholesky(_with_floor(o), o, "eigenvalue") for o in observations])
     index = np.flatnonzero(compared_shapes(bicycle, observations))
     shape = np.array([_inverse_cholesky(observations[int(n)].shape_covariance, observations[int(n)], "mode shape")
                       for n in index]).reshape(-1, 2, 2)
     measured_shapes = np.array([complex(observations[int(n)].shape or 0.0) for n in index], dtype=complex)
-    return Whitening(eigenvalue, index, shape, mode_targets(observations), measured_shapes, scales)
+    samples = SampleComparison.of(observations) if comparison == "samples" else None
+    return Whitening(eigenvalue, index, shape, mode_targets(observations), measured_shapes, scales, samples=samples)
 
 
 def _residual_blocks(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening
@@ -143,6 +216,8 @@ def _residual_blocks(models: Sequence[Bicycle], observations: Sequence[Observati
     if len(observations) != len(whitening.eigenvalue):
         raise ValueError(f"{len(observations)} observations, whitening of {len(whitening.eigenvalue)}")
     predicted, shapes = nearest_modes_of_models(models, *whitening.targets)
+    if whitening.samples is not None:
+        return whitening.samples.residuals(models), np.zeros((len(models), 0)), predicted
     targets = whitening.targets[1] if whitening.bias is None else whitening.targets[1] - whitening.bias
     difference = np.stack([targets.real - predicted.real, targets.imag - predicted.imag], axis=-1)
     eigenvalue = np.einsum("nij,knj->kni", whitening.eigenvalue, difference).reshape(len(models), -1)
@@ -245,10 +320,17 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     except np.linalg.LinAlgError:
         covariance = np.full((len(values), len(values)), np.inf)
         std = np.full(len(values), np.inf)
-    final, predicted, block_chi2 = model_residuals(cause.apply(bicycle, values), observations, whitening)
+    model = cause.apply(bicycle, values)
+    final, predicted, block_chi2 = model_residuals(model, observations, whitening)
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
                     tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2,
-                    residuals=final, pinned=pinned_values(cause, values), covariance=covariance, jacobian=jacobian)
+                    residuals=final, pinned=pinned_values(cause, values), covariance=covariance, jacobian=jacobian,
+                    states=model_states(model))
+
+
+def model_states(bicycle: Bicycle) -> int:
+    """Return the number of states of a bicycle's linear model."""
+    return int(linear_model(bicycle).A.shape[-1])
 
 
 def _floats(values: NDArray[np.float64]) -> list[float]:

@@ -116,18 +116,19 @@ def _rms(values: NDArray[np.float64]) -> float:
 
 
 def _fold_model(bicycle: Bicycle, training: Sequence[Observation], causes: Sequence[Cause] | None,
-                fixed: Cause | None, choose: str = "evidence", bias: bool = True
+                fixed: Cause | None, choose: str = "evidence", comparison: str = "samples"
                 ) -> tuple[Bicycle, str, str, tuple[float, ...]]:
     """Return the model extended on the training windows alone: bicycle, cause, verdict, values.
 
-    ``bias``: the diagnosis that chooses by evidence compares models through the fitting function.
+    ``comparison``: how the diagnosis that chooses by evidence compares models with the windows.
     """
     if fixed is not None:
         fit = fit_cause(bicycle, fixed, training)
         return with_cause(bicycle, fixed, fit.values), fixed.name, "refitted", fit.values
     if choose == "prediction":
         return _predictive_choice(bicycle, training, causes)
-    diagnosis = diagnose_observations(bicycle, training, causes, estimate_spread=False, quick=True, bias=bias)
+    diagnosis = diagnose_observations(bicycle, training, causes, estimate_spread=False, quick=True,
+                                      comparison=comparison)
     if diagnosis.chosen is None or diagnosis.best is None:
         return bicycle, "none", diagnosis.verdict, ()
     return (with_cause(bicycle, diagnosis.chosen, diagnosis.best.values), diagnosis.cause, diagnosis.verdict,
@@ -166,7 +167,7 @@ def _predictive_choice(bicycle: Bicycle, training: Sequence[Observation], causes
     return with_cause(bicycle, cause, values), cause.name, "chosen by prediction", values
 
 
-def _fold_task(task: tuple[Bicycle, Sequence[Observation], Sequence[Cause] | None, Cause | None, str, bool]
+def _fold_task(task: tuple[Bicycle, Sequence[Observation], Sequence[Cause] | None, Cause | None, str, str]
                ) -> tuple[Bicycle, str, str, tuple[float, ...]]:
     """One fold as a task of :func:`whipple.distributed.map_ordered`."""
     return _fold_model(*task)
@@ -186,7 +187,7 @@ def _speed_folds(observations: Sequence[Observation]) -> list[list[int]]:
 def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause] | None = None,
                   series: Sequence[tuple[NDArray[np.float64], NDArray[np.float64], str]] | None = None,
                   fixed: Cause | None = None, *, choose: str = "evidence", scheduler: str | None = None,
-                  workers: int | None = None, bias: bool = True) -> Gain:
+                  workers: int | None = None, comparison: str = "samples") -> Gain:
     """Leave each speed group out: choose and fit the cause on the others, predict it.
 
     Parameters
@@ -212,9 +213,10 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
         Run the folds (each a whole diagnosis) on a Dask cluster: an existing one at
         ``scheduler``, or a local one of ``workers`` processes, see
         :func:`whipple.distributed.map_ordered`. The results are those of the serial run.
-    bias : bool
-        Choosing by evidence, compare models through the fitting function (the default, as
-        :func:`~whipple.diagnosis.evidence.diagnose_observations` does).
+    comparison : str
+        Choosing by evidence, how models are compared with the windows (as
+        :func:`~whipple.diagnosis.evidence.diagnose_observations` takes it; the default, with
+        their samples).
 
     With a single speed group, falls back to leave-one-window-out.
     """
@@ -222,7 +224,7 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
         raise ValueError(f"choose must be 'evidence' or 'prediction', got {choose!r}")
     observations = tuple(observations)
     groups = _speed_folds(observations)
-    tasks = ((bicycle, without(observations, group), causes, fixed, choose, bias) for group in groups)
+    tasks = ((bicycle, without(observations, group), causes, fixed, choose, comparison) for group in groups)
     with map_ordered(_fold_task, tasks, scheduler=scheduler, workers=workers) as folds:
         models = list(folds)
     return _scored(bicycle, observations, groups, models, series, reselected=fixed is None)
@@ -268,7 +270,7 @@ def cause_gains(bicycle: Bicycle, observations: Sequence[Observation], causes: S
     """
     observations = tuple(observations)
     groups = _speed_folds(observations)
-    tasks = ((bicycle, without(observations, group), None, cause, "evidence", False)
+    tasks = ((bicycle, without(observations, group), None, cause, "evidence", "eigenvalues")
              for cause in causes for group in groups)
     with map_ordered(_fold_task, tasks, scheduler=scheduler, workers=workers) as folds:
         models = list(folds)

@@ -7,11 +7,12 @@ beside it.
 from __future__ import annotations
 
 from whipple.diagnosis.amplitude import amplitude_markdown
+from whipple.diagnosis.evidence import Diagnosis
 from whipple.diagnosis.gain import Gain
 from whipple.diagnosis.report import (
-    EVIDENCE_DEFINITION,
     DiagnosisReport,
     cause_gain_sentences,
+    evidence_definition,
     gain_sentences,
     report_json,
 )
@@ -23,10 +24,25 @@ def _speeds(critical: CriticalSpeeds) -> str:
     return "; ".join(" ".join(line.split()) for line in critical.summary())
 
 
-#: How the models were compared with the windows, by ``Diagnosis.fit_bias``.
-_COMPARISON = {True: "Each model was compared with the windows through the fitting function: its weave eigenvalue "
-                     "plus the bias the window's fit shows on the model's own response.",
-               False: "Each model's weave eigenvalue was compared with the windows' fitted eigenvalues directly."}
+#: How the models were compared with the windows, by ``Diagnosis.comparison``.
+_COMPARISON = {"samples": "Each model was compared with the windows' samples: its free response at each window's "
+                          "speed, with its modal amplitudes and each signal's offset fitted, each signal weighed by "
+                          "its noise (from its second differences).",
+               "fitting-function": "Each model was compared with the windows through the fitting function: its "
+                                   "weave eigenvalue plus the bias the window's fit shows on the model's own "
+                                   "response.",
+               "eigenvalues": "Each model's weave eigenvalue was compared with the windows' fitted eigenvalues "
+                              "directly."}
+
+
+def _dispersions(diagnosis: Diagnosis, typical: bool) -> str:
+    """Return the dispersions in words: of the typical window of the best single cause, or the best model's."""
+    first, second = diagnosis.single_scales if typical else (diagnosis.scale, diagnosis.shape_scale)
+    digits = 1 if typical else 2
+    if diagnosis.comparison == "samples":
+        return f"{first:.{digits}f} for the samples"
+    shapes = "" if typical else f" ({diagnosis.n_shapes} windows with a shape)"
+    return f"{first:.{digits}f} for eigenvalues, {second:.{digits}f} for mode shapes{shapes}"
 
 
 def _fitted_to(report: DiagnosisReport) -> str:
@@ -64,15 +80,14 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     lines += [verdict, ""]
     lines += [f"- {reason}." for reason in diagnosis.reasons]
     if diagnosis.combinations:
-        lines += [f"- No single cause explained the typical window (median dispersion {diagnosis.single_scales[0]:.1f} "
-                  f"for eigenvalues, {diagnosis.single_scales[1]:.1f} for mode shapes): pairs were fitted jointly, "
-                  f"charged for their extra values: {', '.join(diagnosis.combinations)}."]
+        typical = _dispersions(diagnosis, True)
+        lines += [f"- No single cause explained the typical window (median dispersion {typical}): pairs were fitted "
+                  f"jointly, charged for their extra values: {', '.join(diagnosis.combinations)}."]
     lines += [f"- Caveat: {note}." for note in data["caveats"]]
     lines += ["", "| cause | evidence |", "|---|---|"]
     lines += [f"| {cause} | {evidence:.1f} |" for cause, evidence in diagnosis.ranking()[:12]]
-    lines += ["", f"Evidence: {EVIDENCE_DEFINITION}. Dispersion (reduced chi2 of the best model): "
-              f"{diagnosis.scale:.2f} for eigenvalues, {diagnosis.shape_scale:.2f} for mode shapes "
-              f"({diagnosis.n_shapes} windows with a shape). {_COMPARISON[diagnosis.fit_bias]}", "",
+    lines += ["", f"Evidence: {evidence_definition(diagnosis.comparison)}. Dispersion (reduced chi2 of the best "
+              f"model): {_dispersions(diagnosis, False)}. {_COMPARISON[diagnosis.comparison]}", "",
               f"![ranking]({figures['ranking']})", "",
               "## 3. The extended model", ""]
     if diagnosis.best is not None:

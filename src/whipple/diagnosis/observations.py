@@ -23,7 +23,7 @@ from whipple.stability.quartic import second_order_eigenvalues, second_order_eig
 
 @dataclass(frozen=True)
 class WindowSignals:
-    """The samples a window's weave fit used: what :mod:`whipple.diagnosis.fit_bias` refits.
+    """The samples a window's weave fit used: what :mod:`whipple.diagnosis.samples` compares models with.
 
     Attributes
     ----------
@@ -40,6 +40,14 @@ class WindowSignals:
         Each signal's weight in a joint fit [1/signal unit]
         (:attr:`~whipple.measurement.weavefit.WeaveFit.signal_weights`); None: the inverse of
         its spread over the window (one signal, or samples from elsewhere).
+    residual_rms : ndarray, shape (k,), or None
+        Each signal's RMS residual of the window's weave fit [signal unit] (where the window was
+        fitted): how far the fitting function leaves it, which bounds the weight the window's
+        samples get (:func:`whipple.diagnosis.samples.signal_noise`).
+    noise : ndarray, shape (k,), or None
+        Each signal's noise [signal unit] where stated apart from the samples (a noise-free twin
+        keeps its measured window's, :func:`whipple.diagnosis.samples.noise_free_samples`); None:
+        estimated from the samples (:func:`whipple.diagnosis.samples.signal_noise`).
     """
 
     time: NDArray[np.float64]
@@ -47,6 +55,14 @@ class WindowSignals:
     names: tuple[str, ...]
     baseline: str
     weights: NDArray[np.float64] | None = None
+    residual_rms: NDArray[np.float64] | None = None
+    noise: NDArray[np.float64] | None = None
+
+    def reference_only(self) -> WindowSignals:
+        """Return the samples of the first signal alone (the mode shape's reference)."""
+        return replace(self, values=self.values[:1], names=self.names[:1], weights=None,
+                       residual_rms=None if self.residual_rms is None else self.residual_rms[:1],
+                       noise=None if self.noise is None else self.noise[:1])
 
 
 @dataclass(frozen=True)
@@ -314,7 +330,8 @@ def observation(measurement: WindowMeasurement) -> Observation:
                        None if shape is None else np.asarray(shape.covariance, dtype=float),
                        ("steer_angle", "roll_rate") if shape is None else (shape.signal, shape.reference),
                        WindowSignals(measurement.fit.time, measurement.fit.measured, measurement.fit.signal_names,
-                                     measurement.fit.baseline, _joint_weights(measurement.fit)))
+                                     measurement.fit.baseline, _joint_weights(measurement.fit),
+                                     residual_rms=np.asarray(measurement.fit.rms_residual, dtype=float)))
 
 
 def _joint_weights(fit: WeaveFit) -> NDArray[np.float64] | None:

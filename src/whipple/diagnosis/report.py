@@ -37,19 +37,41 @@ from whipple.diagnosis.observations import (
     observation,
     speed_groups,
 )
+from whipple.diagnosis.samples import BIN_DURATION
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.model.assembly import extended_matrices, linear_model
 from whipple.model.parameters import Bicycle
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
 
-EVIDENCE_DEFINITION = (
+#: What chi2 sums, per comparison (:data:`~whipple.diagnosis.fitting.COMPARISONS`).
+_CHI2_OF = {
+    "samples": ("the samples' residuals, each window's samples averaged in bins of "
+                f"{BIN_DURATION:g} s and each signal divided by its noise, left by the model's free response at the "
+                "window's speed with its modal amplitudes and each signal's offset fitted (a model with more "
+                "states than the base model also charged ln(n_w)/2 per extra state and window, n_w the window's "
+                "residuals), divided by s^2 >= 1, the best model's reduced chi2; n the windows' eigenvalue and "
+                "mode-shape residuals"),
+    "eigenvalues": ("the weave eigenvalue (its covariance with a floor of "
+                    f"{100 * EIGENVALUE_FLOOR:g}% of |eigenvalue| for the fitting function's bias) and, where a steer "
+                    "signal was measured, of the weave mode shape (steer per roll rate), each kind divided by its own "
+                    "s^2 >= 1, the best model's reduced chi2 on that kind; n residuals"),
+}
+_CHI2_OF["fitting-function"] = _CHI2_OF["eigenvalues"].replace(
+    "the weave eigenvalue", "the weave eigenvalue less the model's fitting-function bias", 1)
+
+
+def evidence_definition(comparison: str) -> str:
+    """Return the evidence's definition, in words, for a comparison (:data:`~whipple.diagnosis.fitting.COMPARISONS`)."""
+    return (_EVIDENCE_START + _CHI2_OF[comparison] + _EVIDENCE_END)
+
+
+_EVIDENCE_START = (
     "approximate natural-log Bayes factor of the cause against the base model: "
     "(chi2_base - chi2_cause) / 2 - (k/2) ln(n) + ln(prior), with chi2 a soft-L1 sum (scale "
-    f"{ROBUST_SCALE}) of squared whitened residuals of the weave eigenvalue (its covariance with a floor of "
-    f"{100 * EIGENVALUE_FLOOR:g}% of |eigenvalue| for the fitting function's bias) and, where a steer signal was "
-    "measured, of the weave mode shape (steer per roll rate), each kind divided by its own s^2 >= 1, "
-    "the best model's reduced chi2 on that kind; n residuals, k fitted values, "
+    f"{ROBUST_SCALE}) of squared whitened residuals of ")
+_EVIDENCE_END = (
+    ", k fitted values, "
     "prior 1 per named cause (shared by its forms) and "
     f"1/(number of parameters) per parameter:<key>, the product of both for a pair of causes; 'named' needs "
     f"evidence >= {NAMED_THRESHOLD}, a lead of {MARGIN} over the runner-up, predictions separated by at least "
@@ -234,7 +256,7 @@ def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | 
 def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
              include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0),
              amplitude: bool = True, scheduler: str | None = None, workers: int | None = None,
-             gain_by_cause: str | None = None, fit_bias: bool = True) -> DiagnosisReport:
+             gain_by_cause: str | None = None, comparison: str = "samples") -> DiagnosisReport:
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain.
 
     With ``amplitude``, also compare the nonlinear model's weave at each window's measured
@@ -245,8 +267,8 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     (each refitted on every fold), "pairs" also every pair of physical causes (those that are
     not ``parameter:<key>``), see :func:`held_out_candidates`, and the held-out gain of choosing among
     them by prediction (a nested leave-one-speed-out: many times the cost of the table).
-    ``fit_bias`` (the default): the diagnosis, and the held-out gain's choice by evidence, compare
-    models through the fitting function (:mod:`whipple.diagnosis.fit_bias`).
+    ``comparison``: how the diagnosis, and the held-out gain's choice by evidence, compare models
+    with the windows (:data:`~whipple.diagnosis.fitting.COMPARISONS`; by default with their samples).
     """
     used = tuple(m for m in measurements if m.usable)
     if len(used) < 2:
@@ -262,10 +284,13 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     observations = measured
     if shapes_flipped(shapes):
         # A steer signal of the opposite sign contradicts every candidate alike; kept, its shapes
-        # would favour whichever model bends furthest towards the flip, whatever the eigenvalues say.
-        observations = [replace(o, shape=None, shape_covariance=None) for o in measured]
+        # (and its samples) would favour whichever model bends furthest towards the flip, whatever
+        # the eigenvalues say.
+        observations = [replace(o, shape=None, shape_covariance=None,
+                                signals=None if o.signals is None else o.signals.reference_only())
+                        for o in measured]
     causes = candidates_with_terms(bicycle, include_parameters)
-    diagnosis = diagnose_observations(bicycle, observations, causes, bias=fit_bias)
+    diagnosis = diagnose_observations(bicycle, observations, causes, comparison=comparison)
     chosen = diagnosis.chosen
     extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle
     gain, note = None, ""
@@ -274,7 +299,7 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     if chosen is not None:
         try:
             gain = held_out_gain(bicycle, observations, causes, series, scheduler=scheduler, workers=workers,
-                                 bias=fit_bias)
+                                 comparison=comparison)
         except AnalysisError as error:
             note = str(error)
     else:
@@ -352,8 +377,10 @@ def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
                      "with the model's mode shape: its sign is probably opposite to the convention of Meijaard et "
                      "al. (2007) (check the layout's scale factor); the mode shapes are left out of the evidence")
     if diagnosis.scale > DISPERSION_WARNING:
-        notes.append(f"even the best-fitting model leaves eigenvalue residuals {np.sqrt(diagnosis.scale):.1f} times "
-                     f"the stated uncertainties (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the "
+        what = ("sample residuals", "the samples' noise") if diagnosis.comparison == "samples" else (
+            "eigenvalue residuals", "the stated uncertainties")
+        notes.append(f"even the best-fitting model leaves {what[0]} {np.sqrt(diagnosis.scale):.1f} times "
+                     f"{what[1]} (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the "
                      "candidates, but none explains all of the disagreement")
     if diagnosis.shape_scale > DISPERSION_WARNING:
         notes.append(f"the best-fitting model leaves mode-shape residuals {np.sqrt(diagnosis.shape_scale):.1f} "
@@ -501,7 +528,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "skipped_windows": skipped,
         "summary": list(report.residual_summary),
         "caveats": list(report.caveats),
-        "evidence_definition": EVIDENCE_DEFINITION,
+        "evidence_definition": evidence_definition(diagnosis.comparison),
         "dispersion": diagnosis.scale,
         "dispersion_mode_shape": diagnosis.shape_scale,
         "median_dispersion": list(diagnosis.typical_scales),
@@ -511,7 +538,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "base_model": report.base_critical.to_dict(),
         "extended_model": report.extended_critical.to_dict(),
         "fit_baseline": report.baseline,
-        "fit_bias": diagnosis.fit_bias,
+        "comparison": diagnosis.comparison,
     }
     if report.amplitude is not None:
         result["nonlinear_amplitude"] = report.amplitude.to_dict()

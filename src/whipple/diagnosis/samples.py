@@ -1,0 +1,318 @@
+"""Models compared with the windows' samples: each window's free response of the model, fitted.
+
+A window holds free coasting: on a treadmill, the solution ``x(t) = sum_j a_j v_j e^{lambda_j t}``
+of the linear model at the window's speed, seen through the fitted signals (roll rate, steer
+angle: states of the model) with sensor noise and offsets. A model is compared with a window by
+fitting that solution to the samples: the model's eigenvalues ``lambda_j`` and eigenvectors
+``v_j`` fixed, the modal amplitudes ``a_j`` (the window's initial state) and each signal's
+offset fitted by linear least squares, each signal weighed by its noise. What is left is the
+model's residual on every sample.
+
+This uses every mode the samples hold (the weave, and the castering and capsize modes the
+seed paper's function leaves out) and ties the signals together through the model's mode
+shapes; it needs no fitting function between model and data, so there is no fitting bias to
+correct (:mod:`whipple.diagnosis.fit_bias`). On simulated runs the true model leaves each
+clean window at its noise (chi-square per sample 1.0), and windows that eigenvalues alone
+cannot tell apart (a steer inertia from a front wheel's inertia, a rack load from a heavier
+rear frame) differ in their samples (docs/diagnosis.md).
+
+Each signal's noise is estimated from the window's second differences: for white noise of
+standard deviation s, ``y[i+1] - 2 y[i] + y[i-1]`` has standard deviation ``s sqrt(6)``, and a
+free response sampled well above its frequencies barely moves it (a weave of 5 rad/s at 100 Hz
+adds 0.25% of its amplitude). The median absolute deviation keeps a few spikes from setting it;
+a signal recorded in steps has at least their rounding's noise; and a window that the fitting
+function leaves far off counts less (:func:`signal_noise`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from whipple.diagnosis.observations import MODE_SHAPE_STATES, Observation, WindowSignals, noise_free
+from whipple.model.assembly import linear_model
+from whipple.model.linear import LinearModel
+from whipple.model.parameters import Bicycle
+
+#: Eigenvalues whose imaginary part is below this fraction of their magnitude are real modes.
+REAL_MODE = 1e-9
+#: Samples are averaged in bins of about this duration [s] before models are compared with
+#: them. A model's response averaged over a bin is its response at the bin's first sample times
+#: a factor per mode (``mean_q e^{lambda q dt}``), so the comparison stays exact for every
+#: model; what is lost is the samples' variation within a bin, which the models' responses
+#: share (to second order in their differences) and the noise alone fills. It makes a model's
+#: comparison several times cheaper.
+BIN_DURATION = 0.04
+#: A window's signal is weighed by at least this share of its weave fit's residual RMS as its
+#: noise (:func:`signal_noise`). In clean simulated windows the residual is 1.0-1.5 times the
+#: noise from the second differences, so this leaves them at their noise; a window holding part
+#: of a push or a catch is left 2-30 times its noise off and counts 1 to 200 times less.
+FIT_RESIDUAL_SHARE = 0.5
+#: How an extra state's modal amplitudes are charged (:meth:`SampleComparison.amplitude_charge`):
+#: ``"bic"``, ln(n)/2 per window; ``"noise"`` (an experiment), 1/2 per window, what fitting one
+#: more amplitude to noise gains on average.
+AMPLITUDE_CHARGE = "bic"
+#: A signal with at least this share of its successive samples equal is recorded in steps (an
+#: encoder; the bundled steer angle in steps of 2 pi / 8192 rad, 58% of them equal).
+QUANTISED = 0.2
+#: A signal's noise is at least this fraction of its spread over the window: a signal recorded
+#: without noise (or quantised coarsely) would otherwise weigh without limit.
+NOISE_FLOOR = 1e-6
+
+
+def second_difference_noise(values: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return each signal's white-noise standard deviation from its second differences (robust).
+
+    ``values``: shape (k, n), the k signals of one window (signal units); the result has the
+    same units. A signal recorded in steps (an encoder: many successive samples equal) has at
+    least the rounding's noise, a step over sqrt(12), the step being its smallest change; every
+    signal at least ``NOISE_FLOOR`` times its spread.
+    """
+    values = np.atleast_2d(np.asarray(values, dtype=float))
+    second = values[:, 2:] - 2.0 * values[:, 1:-1] + values[:, :-2]
+    centre = np.median(second, axis=1, keepdims=True)
+    noise = 1.4826 * np.median(np.abs(second - centre), axis=1) / np.sqrt(6.0)
+    steps = np.abs(np.diff(values, axis=1))
+    for k, row in enumerate(steps):
+        moved = row[row > 0]
+        if moved.size and np.mean(row == 0) >= QUANTISED:
+            noise[k] = max(noise[k], float(moved.min()) / np.sqrt(12.0))
+    return np.maximum(noise, NOISE_FLOOR * np.maximum(values.std(axis=1), np.finfo(float).tiny))
+
+
+def signal_noise(signals: WindowSignals) -> NDArray[np.float64]:
+    """Return the noise each signal of a window is weighed by [signal unit].
+
+    The stated noise where given (a noise-free twin's); otherwise the noise from the second
+    differences (:func:`second_difference_noise`), or ``FIT_RESIDUAL_SHARE`` times the window's
+    weave-fit residual RMS where that is larger: a window that the fitting function leaves
+    several times its noise off holds more than one free coasting (part of a push, a catch, a
+    signal in coarse steps), and counts correspondingly less.
+    """
+    values = np.atleast_2d(np.asarray(signals.values, dtype=float))
+    floor = NOISE_FLOOR * np.maximum(values.std(axis=1), np.finfo(float).tiny)
+    if signals.noise is not None:
+        return np.maximum(np.asarray(signals.noise, dtype=float), floor)
+    noise = second_difference_noise(values)
+    if signals.residual_rms is not None:
+        noise = np.maximum(noise, FIT_RESIDUAL_SHARE * np.asarray(signals.residual_rms, dtype=float))
+    return noise
+
+
+@dataclass(frozen=True)
+class SampleComparison:
+    """The windows' samples, stacked (padded to the longest window) for comparing models with them.
+
+    Attributes
+    ----------
+    speeds : ndarray, shape (W,)
+        Each window's measured mean speed [m/s].
+    tau : ndarray, shape (W, L)
+        Each bin's first sample time from the window's first sample [s] (0 where padded).
+    mask : ndarray of bool, shape (W, L)
+        Which bins are real (the rest pad shorter windows).
+    targets : ndarray, shape (W, k, L)
+        The k fitted signals of each window averaged per bin, each divided by its noise (0 where
+        padded).
+    noise : ndarray, shape (W, k)
+        Each signal's noise averaged per bin (its unit; :func:`second_difference_noise` of the
+        samples over the square root of the bin's size).
+    states : tuple of int
+        The model state of each signal (:data:`~whipple.diagnosis.observations.MODE_SHAPE_STATES`).
+    names : tuple of str
+        The signals' names.
+    bins, steps : ndarray, shape (W,)
+        Samples per bin and the sampling interval [s] of each window (None: one sample a bin).
+    """
+
+    speeds: NDArray[np.float64]
+    tau: NDArray[np.float64]
+    mask: NDArray[np.bool_]
+    targets: NDArray[np.float64]
+    noise: NDArray[np.float64]
+    states: tuple[int, ...]
+    names: tuple[str, ...]
+    bins: NDArray[np.int_] | None = None
+    steps: NDArray[np.float64] | None = None
+
+    @classmethod
+    def of(cls, observations: Sequence[Observation], binned: bool = True) -> SampleComparison | None:
+        """Return the samples of the observations, or None where they cannot be compared so.
+
+        None where a window's samples are unknown (windows read from a list of eigenvalues),
+        where the windows fitted different signals, or where a signal is no state of the models.
+        ``binned``: averaged in bins of about ``BIN_DURATION`` (else every sample on its own).
+        """
+        if not observations or any(o.signals is None for o in observations):
+            return None
+        names = observations[0].signals.names  # type: ignore[union-attr]
+        if any(o.signals.names != names for o in observations) or not all(  # type: ignore[union-attr]
+                name in MODE_SHAPE_STATES for name in names):
+            return None
+        duration = BIN_DURATION if binned else 0.0
+        bins_of = [_binned(o.signals, duration) for o in observations]  # type: ignore[arg-type]
+        length, count = max(b[0].size for b in bins_of), len(names)
+        tau = np.zeros((len(observations), length))
+        mask = np.zeros((len(observations), length), dtype=bool)
+        targets = np.zeros((len(observations), count, length))
+        noise = np.zeros((len(observations), count))
+        bins = np.ones(len(observations), dtype=int)
+        steps = np.zeros(len(observations))
+        for row, (times, means, window_noise, size, step) in enumerate(bins_of):
+            tau[row, :times.size] = times
+            mask[row, :times.size] = True
+            noise[row] = window_noise
+            targets[row, :, :times.size] = means / window_noise[:, None]
+            bins[row], steps[row] = size, step
+        speeds = np.array([o.speed for o in observations], dtype=float)
+        return cls(speeds, tau, mask, targets, noise, tuple(MODE_SHAPE_STATES[name] for name in names), names,
+                   bins, steps)
+
+    @property
+    def samples(self) -> int:
+        """Number of residuals a model leaves: every bin of every signal."""
+        return int(self.mask.sum()) * len(self.states)
+
+    def window_of_residuals(self) -> NDArray[np.intp]:
+        """Return the window of each residual, in :meth:`residuals`' order."""
+        windows = np.repeat(np.arange(self.mask.shape[0])[:, None, None], len(self.states), axis=1)
+        windows = np.broadcast_to(windows, (self.mask.shape[0], len(self.states), self.mask.shape[1]))
+        return np.asarray(windows[self._residual_mask()], dtype=np.intp)
+
+    def _residual_mask(self) -> NDArray[np.bool_]:
+        return np.broadcast_to(self.mask[:, None, :], self.targets.shape)
+
+    def residuals(self, models: Sequence[Bicycle], linear: Sequence[LinearModel | None] | None = None
+                  ) -> NDArray[np.float64]:
+        """Return each model's residual on every sample, in units of the noise; shape (models, samples).
+
+        Per window, the model's free response at the window's speed (``speed_scale`` applied)
+        with its modal amplitudes and each signal's offset fitted by least squares.
+        ``linear``: the models' linear models where they are not the bicycles' own (a
+        hidden-effect trial's true model); None entries are the bicycles'. A window where the
+        model's response overflows (a mode growing beyond the arithmetic) gets residuals of
+        1e3 on every sample.
+        """
+        linear = [None] * len(models) if linear is None else list(linear)
+        mask = self._residual_mask()
+        result = []
+        for bicycle, model in zip(models, linear, strict=True):
+            model = linear_model(bicycle) if model is None else model
+            with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+                values, vectors = np.linalg.eig(model.state_matrix(bicycle.model_speed(self.speeds)))
+                signal_rows = vectors[:, list(self.states), :] * self._bin_factors(values)[:, None, :]
+                residual = self._window_residuals(values, signal_rows)
+            result.append(residual[mask])
+        return np.array(result)
+
+    def _bin_factors(self, values: NDArray[np.complex128]) -> NDArray[np.complex128]:
+        """Return each mode's mean over a bin relative to its value at the bin's first sample (W, n)."""
+        if self.bins is None or self.steps is None or np.all(self.bins == 1):
+            return np.ones(values.shape, dtype=complex)
+        offsets = np.arange(int(self.bins.max()))[None, :] * self.steps[:, None]  # (W, m)
+        inside = np.arange(int(self.bins.max()))[None, :] < self.bins[:, None]
+        terms = np.exp(values[:, None, :] * offsets[:, :, None]) * inside[:, :, None]
+        return np.asarray(terms.sum(axis=1) / self.bins[:, None], dtype=complex)
+
+    def _window_residuals(self, values: NDArray[np.complex128], rows: NDArray[np.complex128]
+                          ) -> NDArray[np.float64]:
+        """Residuals (W, k, L) of the models' responses with eigenvalues (W, n) and signal rows (W, k, n).
+
+        A complex pair's response ``Re(a v e^{lambda t})`` takes two real amplitudes: the real
+        part of its upper member's column and the imaginary part of its lower member's (the
+        conjugate), so that every mode gives one real column, n in all. Each signal's offset is
+        taken out by centring the signal and every column on the window's mean.
+        """
+        windows, count, length = self.targets.shape
+        magnitude = np.maximum(np.abs(values), np.finfo(float).tiny)
+        lower = values.imag < -REAL_MODE * magnitude
+        # design[w, k, l, j] = first[w, k, j] Re(e^{lambda_j t_l}) + second[w, k, j] Im(e^{lambda_j t_l}).
+        first = np.where(lower[:, None, :], rows.imag, rows.real) / self.noise[:, :, None]
+        second = np.where(lower[:, None, :], rows.real, -rows.imag) / self.noise[:, :, None]
+        exponent = values[:, None, :] * self.tau[:, :, None]
+        envelope = np.exp(exponent.real) * self.mask[:, :, None]
+        cosine, sine = envelope * np.cos(exponent.imag), envelope * np.sin(exponent.imag)
+        design = first[:, :, None, :] * cosine[:, None, :, :] + second[:, :, None, :] * sine[:, None, :, :]
+        sizes = self.mask.sum(axis=1)[:, None, None]
+        valid = self.mask[:, None, :]
+        design = design - (design.sum(axis=2, keepdims=True) / sizes[..., None]) * valid[..., None]
+        targets = self.targets - (self.targets.sum(axis=2, keepdims=True) / sizes) * valid
+        design = design.reshape(windows, count * length, -1)
+        targets = targets.reshape(windows, count * length)
+        finite = np.isfinite(design).all(axis=(1, 2))
+        residual = np.full((windows, count * length), 1e3)
+        if finite.any():
+            q, _ = np.linalg.qr(design[finite])
+            fitted = np.einsum("wsc,wc->ws", q, np.einsum("wsc,ws->wc", q, targets[finite]))
+            residual[finite] = targets[finite] - fitted
+        return residual.reshape(windows, count, length)
+
+    def fitted(self, bicycle: Bicycle, model: LinearModel | None = None) -> list[NDArray[np.float64]]:
+        """Return each window's free response of a model fitted to its samples, (k, bins) in signal units."""
+        residual = np.zeros(self.targets.shape)
+        residual[self._residual_mask()] = self.residuals([bicycle], [model])[0]
+        curves = (self.targets - residual) * self.noise[:, :, None]
+        return [curve[:, :size] for curve, size in zip(curves, self.mask.sum(axis=1), strict=True)]
+
+    def amplitude_charge(self, extra_states: int) -> float:
+        """Return the evidence's charge for ``extra_states`` more modal amplitudes in every window.
+
+        A model with more states (tyres, a controller's actuator) has that many more amplitudes
+        fitted to each window's samples: free values that fit some of the noise (its fast modes
+        the first samples of every window) whatever the model's values. Each is charged as a
+        fitted value is, ln(n)/2 with n the window's residuals (BIC); negative ``extra_states``
+        (a model with fewer states than the base) is credited alike.
+        """
+        if AMPLITUDE_CHARGE == "noise":
+            return float(extra_states * 0.5 * self.mask.shape[0])
+        residuals = self.mask.sum(axis=1) * len(self.states)
+        return float(extra_states * 0.5 * np.sum(np.log(np.maximum(residuals, 1))))
+
+    def chi2_per_sample(self, bicycle: Bicycle, model: LinearModel | None = None) -> float:
+        """Return a model's chi-square per sample (1 where it leaves only the noise)."""
+        residual = self.residuals([bicycle], [model])[0]
+        return float(np.mean(residual**2))
+
+
+def _binned(signals: WindowSignals, duration: float = BIN_DURATION
+            ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, float]:
+    """Return a window's bins: first sample times [s] from the window's start, means, noise, size, interval [s].
+
+    Bins of about ``duration`` [s] where the sampling is uniform (intervals within 1% of their
+    median); the samples after the last whole bin are left out. One sample a bin otherwise.
+    """
+    time, values = np.asarray(signals.time, dtype=float), np.atleast_2d(np.asarray(signals.values, dtype=float))
+    noise = signal_noise(signals)
+    steps = np.diff(time)
+    step = float(np.median(steps)) if steps.size else 0.0
+    size = max(1, int(round(duration / step))) if step > 0 else 1
+    if size == 1 or np.any(np.abs(steps - step) > 0.01 * step) or time.size < 2 * size:
+        return time - time[0], values, noise, 1, step
+    count = time.size // size
+    means = values[:, :count * size].reshape(values.shape[0], count, size).mean(axis=2)
+    return time[:count * size:size] - time[0], means, noise / np.sqrt(size), size, step
+
+
+def noise_free_samples(bicycle: Bicycle, observations: Sequence[Observation],
+                       model: LinearModel | None = None) -> list[Observation]:
+    """Return the observations a model would give at the same windows without noise, samples and all.
+
+    Each window's samples become the model's free response fitted to them (what of the window
+    the model explains), with the window's noise kept as its stated noise
+    (:attr:`~whipple.diagnosis.observations.WindowSignals.noise`); its eigenvalue and mode shape
+    become the model's (:func:`~whipple.diagnosis.observations.noise_free`). Compared with them,
+    models are told apart by what the windows could tell at best if the model were true.
+    ``model``: the linear model where it is not the bicycle's own. Windows without samples
+    keep none.
+    """
+    twins = noise_free(bicycle, observations)
+    comparison = SampleComparison.of(observations, binned=False)
+    if comparison is None:
+        return twins
+    curves = comparison.fitted(bicycle, model)
+    return [replace(twin, signals=replace(o.signals, values=curve, noise=noise))
+            if o.signals is not None else twin
+            for twin, o, curve, noise in zip(twins, observations, curves, comparison.noise, strict=True)]

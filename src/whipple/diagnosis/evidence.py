@@ -242,7 +242,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     if with_samples is not None and with_samples.samples is not None:
         whitening, counts = with_samples, with_samples.counts
         near = [evidence >= max(direct) - SAMPLES_SCREEN * dispersion for evidence in direct]
-        base, fits = refit_to_samples(bicycle, causes, fits, observations, whitening, near)
+        # The held-out gain's quick folds refit from the eigenvalues' values only, without the grid.
+        base, fits = refit_to_samples(bicycle, causes, fits, observations, whitening, near, search=not quick)
     elif comparison == "fitting-function" and any(o.signals is not None for o in observations):
         near = [evidence >= max(direct) - BIAS_SCREEN * dispersion for evidence in direct]
         base_bias = fitting_bias(bicycle, observations)

@@ -207,17 +207,21 @@ def window_whitening(observations: Sequence[Observation], bicycle: Bicycle,
     return Whitening(eigenvalue, index, shape, mode_targets(observations), measured_shapes, scales, samples=samples)
 
 
-def _residual_blocks(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening
-                     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.complex128]]:
+def _residual_blocks(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening,
+                     predict: bool = True) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.complex128]]:
     """Return each model's whitened residuals at unit dispersion and predicted eigenvalues (a row each).
 
-    Eigenvalue residuals are 2 per window, shape residuals 2 per window with a shape.
+    Eigenvalue residuals are 2 per window, shape residuals 2 per window with a shape; with the
+    samples, a residual per sample and no shape residuals, and the predicted eigenvalues only
+    where ``predict`` (NaN otherwise: a fit's steps need only the residuals).
     """
     if len(observations) != len(whitening.eigenvalue):
         raise ValueError(f"{len(observations)} observations, whitening of {len(whitening.eigenvalue)}")
-    predicted, shapes = nearest_modes_of_models(models, *whitening.targets)
     if whitening.samples is not None:
+        predicted = (nearest_modes_of_models(models, *whitening.targets)[0] if predict
+                     else np.full((len(models), len(observations)), np.nan, dtype=complex))
         return whitening.samples.residuals(models), np.zeros((len(models), 0)), predicted
+    predicted, shapes = nearest_modes_of_models(models, *whitening.targets)
     targets = whitening.targets[1] if whitening.bias is None else whitening.targets[1] - whitening.bias
     difference = np.stack([targets.real - predicted.real, targets.imag - predicted.imag], axis=-1)
     eigenvalue = np.einsum("nij,knj->kni", whitening.eigenvalue, difference).reshape(len(models), -1)
@@ -238,14 +242,18 @@ def model_residuals(bicycle: Bicycle, observations: Sequence[Observation], white
     return residuals[0], predicted[0], block_chi2[0]
 
 
-def models_residuals(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening
+def models_residuals(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening,
+                     predict: bool = True
                      ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[float, float]]]:
-    """:func:`model_residuals` of several models at once: residuals and predictions a row per model."""
+    """:func:`model_residuals` of several models at once: residuals and predictions a row per model.
+
+    ``predict``: also the predicted eigenvalues where the samples are compared (NaN otherwise).
+    """
     # A trial value at the edge of a cause's bounds (a wheelbase or a wheel radius near 0) can
     # make the model singular; such a model is a misfit or a failed step of the fit, not
     # something to warn the user about.
     with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-        eigenvalue, shape, predicted = _residual_blocks(models, observations, whitening)
+        eigenvalue, shape, predicted = _residual_blocks(models, observations, whitening, predict)
     # A model whose weave vanishes at a window's speed has no shape to compare: count it as a
     # large, finite misfit rather than stopping the fit.
     eigenvalue, shape = (np.nan_to_num(block, nan=1e3, posinf=1e3, neginf=-1e3) for block in (eigenvalue, shape))
@@ -268,14 +276,14 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
     scale = np.maximum(np.abs(np.array(cause.start)), (upper - lower) * 1e-3)
 
     def one(values: NDArray[np.float64]) -> NDArray[np.float64]:
-        return model_residuals(cause.apply(bicycle, _floats(values)), observations, whitening)[0]
+        return models_residuals([cause.apply(bicycle, _floats(values))], observations, whitening, predict=False)[0][0]
 
     def misfits(points: list[NDArray[np.float64]]) -> list[NDArray[np.float64]]:
         # The residuals at several points (values in their units) in one evaluation; one at a
         # time where one of them fails, so that the failure is raised as without it.
         try:
             return list(models_residuals([cause.apply(bicycle, _floats(values)) for values in points], observations,
-                                         whitening)[0])
+                                         whitening, predict=False)[0])
         except (np.linalg.LinAlgError, ValueError):
             return [one(values) for values in points]
 

@@ -197,16 +197,34 @@ class SampleComparison:
         1e3 on every sample.
         """
         linear = [None] * len(models) if linear is None else list(linear)
+        matrices = [(linear_model(bicycle) if model is None else model).state_matrix(bicycle.model_speed(self.speeds))
+                    for bicycle, model in zip(models, linear, strict=True)]
         mask = self._residual_mask()
-        result = []
-        for bicycle, model in zip(models, linear, strict=True):
-            model = linear_model(bicycle) if model is None else model
+        result = np.zeros((len(models), self.samples))
+        # Models with as many states are solved together: one evaluation of all their windows.
+        for states in sorted({matrix.shape[-1] for matrix in matrices}):
+            members = [k for k, matrix in enumerate(matrices) if matrix.shape[-1] == states]
+            stacked = np.concatenate([matrices[k] for k in members])  # (members * W, n, n)
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-                values, vectors = np.linalg.eig(model.state_matrix(bicycle.model_speed(self.speeds)))
-                signal_rows = vectors[:, list(self.states), :] * self._bin_factors(values)[:, None, :]
-                residual = self._window_residuals(values, signal_rows)
-            result.append(residual[mask])
-        return np.array(result)
+                values, vectors = np.linalg.eig(stacked)
+                repeated = self._repeated(len(members))
+                signal_rows = vectors[:, list(self.states), :] * repeated._bin_factors(values)[:, None, :]
+                residual = repeated._window_residuals(values, signal_rows)
+            result[members] = residual.reshape(len(members), *self.targets.shape)[:, mask]
+        return result
+
+    def _repeated(self, copies: int) -> SampleComparison:
+        """Return the windows repeated ``copies`` times (several models' windows evaluated at once)."""
+        if copies == 1:
+            return self
+
+        def tile(array: NDArray | None) -> NDArray | None:
+            return None if array is None else np.concatenate([array] * copies)
+
+        return SampleComparison(np.concatenate([self.speeds] * copies), np.concatenate([self.tau] * copies),
+                                np.concatenate([self.mask] * copies), np.concatenate([self.targets] * copies),
+                                np.concatenate([self.noise] * copies), self.states, self.names, tile(self.bins),
+                                tile(self.steps))
 
     def _bin_factors(self, values: NDArray[np.complex128]) -> NDArray[np.complex128]:
         """Return each mode's mean over a bin relative to its value at the bin's first sample (W, n)."""

@@ -85,3 +85,31 @@ def test_the_family_stops_at_the_bounds_and_stays_on_its_line():
     # Both ends on one line through the fitted values, the stopped end no farther than 2 std.
     assert abs(ends[0, 0] * ends[1, 2] - ends[0, 2] * ends[1, 0]) < 1e-9
     assert np.max(np.abs(ends[:, 0])) <= FAMILY_SIGMAS * 2.0 + 1e-9
+
+
+def test_a_family_blocked_both_ways_at_the_bounds_holds_those_values_there():
+    bicycle = load_bicycle("benchmark")
+    load = payload_form(bicycle, "front_payload", "mxz")
+    lower, upper = load.limits
+    span = upper - lower
+    # Mass at its upper bound and height at its lower bound, strongly correlated so that their
+    # least-determined direction takes one of them past its bound either way; the fore-aft
+    # position is free, loosely determined and correlated with the mass.
+    fitted = np.array([upper[0], 0.5 * (lower[1] + upper[1]), lower[2]])
+    std = np.array([0.5, 0.1, 0.3]) * span
+    correlation = np.array([[1.0, 0.3, 0.99], [0.3, 1.0, 0.2], [0.99, 0.2, 1.0]])
+    covariance = correlation * np.outer(std, std)
+    fit = replace(fit_cause(bicycle, load, synthetic_observations(bicycle, 0, SPEEDS[:8])),
+                  values=tuple(fitted), std=tuple(std), covariance=covariance)
+    family = open_values(load, fit)
+    assert family is not None
+    assert family.held == (family.parameters[0], family.parameters[2])
+    low, high = np.array(family.low), np.array(family.high)
+    assert low[0] == high[0] == fitted[0] and low[2] == high[2] == fitted[2]
+    # The position moves by its spread given the held values: 2 std of the conditional variance.
+    held = [0, 2]
+    conditional = covariance[1, 1] - covariance[1, held] @ np.linalg.solve(
+        covariance[np.ix_(held, held)], covariance[held, 1])
+    assert np.isclose(abs(high[1] - low[1]), 2 * FAMILY_SIGMAS * np.sqrt(conditional))
+    assert "held at their bounds" in family.sentence()
+    assert json.loads(json.dumps(family.to_dict()))["held_at_bounds"] == list(family.held)

@@ -12,7 +12,8 @@ On the bundled treadmill runs (sbw2024 with its controller):
 3. whole speeds never seen: the diagnosis on alternate speeds (the lowest, middle and highest)
    predicts the two speeds in between, like the three speeds the bundled files leave out of
    the same experiment;
-4. for a controlled bicycle, each controller cause fitted on all speeds: how much of the
+4. for a controlled bicycle, each controller cause fitted on all speeds (to the windows'
+   eigenvalues, and to their samples as ``whipple diagnose`` compares them): how much of the
    disagreement at each speed it can explain at best;
 5. why the evidence and the held-out prediction disagree: the evidence's leading pair and the
    best predictors of ``--gain-by-cause`` (a payload with a controller delay), each fitted to all
@@ -39,7 +40,7 @@ from whipple.diagnosis import fit_bias
 from whipple.diagnosis.causes import candidate_causes
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import combined_cause, general_forms
-from whipple.diagnosis.fitting import fit_cause
+from whipple.diagnosis.fitting import fit_cause, window_whitening
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
 from whipple.measurement.bundled import bundled_runs
@@ -74,7 +75,7 @@ def main() -> None:
 
     full = diagnose_observations(bicycle, seen, causes)
     print(f"all speeds: {full.verdict} ({full.cause}); median dispersion {full.typical_scales[0]:.1f} "
-          f"(eigenvalues), {full.typical_scales[1]:.1f} (mode shapes)")
+          f"(the comparison's first kind: {full.comparison}), {full.typical_scales[1]:.1f} (mode shapes)")
 
     print("1. each speed left out, cause chosen again on the others:")
     gain = held_out_gain(bicycle, seen, causes)
@@ -112,24 +113,27 @@ def main() -> None:
 
     controller = [cause for cause in causes if cause.name.startswith("controller_")]
     if controller:
-        print("4. controller causes fitted on all speeds (in sample: the most they can explain), RMS by speed:")
         eigenvalues = np.array([o.eigenvalue for o in seen])
         base_all = np.abs(eigenvalues - predicted_weave(bicycle, seen))
-        for cause in controller:
-            fit = fit_cause(bicycle, cause, seen)
-            error = np.abs(eigenvalues - predicted_weave(cause.apply(bicycle, fit.values), seen))
-            by_speed = "; ".join(f"{np.mean([seen[i].speed for i in g]):.2f} m/s "
-                                 f"{np.sqrt(np.mean(base_all[g] ** 2)):.2f} -> {np.sqrt(np.mean(error[g] ** 2)):.2f}"
-                                 for g in groups)
-            print(f"   {cause.name} = {fit.values[0]:.4g}: {by_speed}")
         low = [i for g in groups[:2] for i in g]
-        print("   fitted on the two lowest speeds only (in sample), RMS there:")
-        for cause in controller:
-            fit = fit_cause(bicycle, cause, [seen[i] for i in low])
-            error = np.abs(eigenvalues[low] - predicted_weave(cause.apply(bicycle, fit.values), [seen[i] for i in low]))
-            print(f"   {cause.name} = {fit.values[0]:.4g}: RMS {np.sqrt(np.mean(base_all[low] ** 2)):.2f} -> "
-                  f"{np.sqrt(np.mean(error ** 2)):.2f}, median {np.median(base_all[low]):.2f} -> "
-                  f"{np.median(error):.2f}")
+        for comparison in ("eigenvalues", "samples"):
+            print(f"4. controller causes fitted on all speeds to the windows' {comparison} (in sample: the most "
+                  "they can explain), eigenvalue RMS by speed:")
+            for cause in controller:
+                fit = _controller_fit(bicycle, cause, seen, comparison)
+                error = np.abs(eigenvalues - predicted_weave(cause.apply(bicycle, fit.values), seen))
+                by_speed = "; ".join(f"{np.mean([seen[i].speed for i in g]):.2f} m/s "
+                                     f"{np.sqrt(np.mean(base_all[g] ** 2)):.2f} -> "
+                                     f"{np.sqrt(np.mean(error[g] ** 2)):.2f}" for g in groups)
+                print(f"   {cause.name} = {fit.values[0]:.4g}: {by_speed}")
+            print("   fitted on the two lowest speeds only (in sample), RMS there:")
+            for cause in controller:
+                lowest = [seen[i] for i in low]
+                fit = _controller_fit(bicycle, cause, lowest, comparison)
+                error = np.abs(eigenvalues[low] - predicted_weave(cause.apply(bicycle, fit.values), lowest))
+                print(f"   {cause.name} = {fit.values[0]:.4g}: RMS {np.sqrt(np.mean(base_all[low] ** 2)):.2f} -> "
+                      f"{np.sqrt(np.mean(error ** 2)):.2f}, median {np.median(base_all[low]):.2f} -> "
+                      f"{np.median(error):.2f}")
 
         forms = {cause.name: cause for cause in general_forms(causes)}
         print("5. fitted to all windows, robust chi-square by kind (eigenvalues, mode shapes):")
@@ -140,6 +144,15 @@ def main() -> None:
                 fit = fit_cause(bicycle, pair, seen)
                 print(f"   {pair.name}: values {', '.join(f'{v:.4g}' for v in fit.values)}; chi-square "
                       f"{fit.block_chi2[0]:.1f} (eigenvalues), {fit.block_chi2[1]:.1f} (mode shapes)")
+
+
+def _controller_fit(bicycle, cause, seen, comparison):
+    """Fit a controller cause to the windows' eigenvalues, or to their samples from that fit's value."""
+    fit = fit_cause(bicycle, cause, seen)
+    if comparison == "samples":
+        whitening = window_whitening(seen, bicycle, comparison="samples")
+        fit = fit_cause(bicycle, cause, seen, whitening, [fit.values])
+    return fit
 
 
 if __name__ == "__main__":

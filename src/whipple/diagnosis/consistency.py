@@ -19,6 +19,7 @@ from whipple.diagnosis.fitting import (
     Whitening,
     fit_cause,
     model_residuals,
+    models_residuals,
     robust_chi2,
     window_whitening,
 )
@@ -127,15 +128,14 @@ def gauss_newton_refits(bicycle: Bicycle, cause: Cause, observations: Sequence[O
         whitening = window_whitening(kept, bicycle, scales, "samples")
         point = np.array(values, dtype=float)
         for _ in range(GAUSS_NEWTON_STEPS):
-            residual = model_residuals(cause.apply(bicycle, list(point)), kept, whitening)[0]
-            columns = []
-            for i in range(point.size):
-                x = point.copy()
-                step = GAUSS_NEWTON_DIFFERENCE * (upper[i] - lower[i])
-                x[i] = point[i] + step if point[i] + step <= upper[i] else point[i] - step
-                changed = model_residuals(cause.apply(bicycle, list(x)), kept, whitening)[0]
-                columns.append((changed - residual) / (x[i] - point[i]))
-            jacobian = np.column_stack(columns)
+            difference = GAUSS_NEWTON_DIFFERENCE * (upper - lower)
+            moved = np.where(point + difference <= upper, point + difference, point - difference)
+            points = [point] + [np.where(np.arange(point.size) == i, moved, point) for i in range(point.size)]
+            # The point and each one-value change of it in one evaluation of all their windows.
+            rows = models_residuals([cause.apply(bicycle, list(x)) for x in points], kept, whitening,
+                                    predict=False)[0]
+            residual = rows[0]
+            jacobian = ((rows[1:] - residual) / (moved - point)[:, None]).T
             weights = 1.0 / np.sqrt(1.0 + residual**2 / ROBUST_SCALE**2)
             # r = measured - model and J = dr/dvalues: the step that zeroes the weighted gradient.
             step = -np.linalg.lstsq(jacobian.T @ (weights[:, None] * jacobian), jacobian.T @ (weights * residual),

@@ -164,11 +164,6 @@ class Diagnosis:
     speed_dependence: SpeedDependence | None = None
     comparison: str = "eigenvalues"
 
-    @property
-    def fit_bias(self) -> bool:
-        """Whether each model was compared with the windows through the fitting function."""
-        return self.comparison == "fitting-function"
-
     def ranking(self) -> list[tuple[str, float]]:
         """Causes by decreasing evidence, with ``none`` at 0."""
         entries = [(fit.cause, fit.evidence) for fit in self.fits] + [("none", 0.0)]
@@ -238,9 +233,10 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     # fits still use them (a comparison with the samples costs several times as much).
     eigen = (whitening, base, fits)
     near = [True] * len(causes)
-    with_samples = window_whitening(observations, bicycle, comparison="samples") if comparison == "samples" else None
-    if with_samples is not None and with_samples.samples is not None:
-        whitening, counts = with_samples, with_samples.counts
+    samples = SampleComparison.of(observations) if comparison == "samples" else None
+    if samples is not None:
+        whitening = replace(whitening, samples=samples)
+        counts = whitening.counts
         near = [evidence >= max(direct) - SAMPLES_SCREEN * dispersion for evidence in direct]
         # The held-out gain's quick folds refit from the eigenvalues' values only, without the grid.
         base, fits = refit_to_samples(bicycle, causes, fits, observations, whitening, near, search=not quick)

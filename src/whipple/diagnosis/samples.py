@@ -80,7 +80,12 @@ def second_difference_noise(values: NDArray[np.float64]) -> NDArray[np.float64]:
         moved = row[row > 0]
         if moved.size and np.mean(row == 0) >= QUANTISED:
             noise[k] = max(noise[k], float(moved.min()) / np.sqrt(12.0))
-    return np.maximum(noise, NOISE_FLOOR * np.maximum(values.std(axis=1), np.finfo(float).tiny))
+    return np.maximum(noise, _noise_floor(values))
+
+
+def _noise_floor(values: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return the least noise of each signal (k, n): ``NOISE_FLOOR`` times its spread."""
+    return NOISE_FLOOR * np.maximum(values.std(axis=1), np.finfo(float).tiny)
 
 
 def signal_noise(signals: WindowSignals) -> NDArray[np.float64]:
@@ -93,9 +98,8 @@ def signal_noise(signals: WindowSignals) -> NDArray[np.float64]:
     signal in coarse steps), and counts correspondingly less.
     """
     values = np.atleast_2d(np.asarray(signals.values, dtype=float))
-    floor = NOISE_FLOOR * np.maximum(values.std(axis=1), np.finfo(float).tiny)
     if signals.noise is not None:
-        return np.maximum(np.asarray(signals.noise, dtype=float), floor)
+        return np.maximum(np.asarray(signals.noise, dtype=float), _noise_floor(values))
     noise = second_difference_noise(values)
     if signals.residual_rms is not None:
         noise = np.maximum(noise, FIT_RESIDUAL_SHARE * np.asarray(signals.residual_rms, dtype=float))

@@ -237,8 +237,9 @@ def main() -> None:
                         help="also diagnose each trial's windows without noise (hidden_effects.noise_free_twin): "
                              "whether the data could single out the truth at all")
     parser.add_argument("--replace-from", type=Path, nargs="+",
-                        help="with --from-log: take each trial found in these logs (e.g. a --twin rerun) from "
-                             "them, a later log's over an earlier's")
+                        help="with --from-log: take each trial found in these logs (e.g. a --twin rerun, or the "
+                             "trials a change touches) from them, a later log's over an earlier's; trials only "
+                             "these logs hold are added")
     parser.add_argument("--trials", type=Path,
                         help="run only these trials (JSON lines [bicycle, family, seed], e.g. from changed_windows.py)")
     args = parser.parse_args()
@@ -250,9 +251,13 @@ def main() -> None:
             rerun = {tuple(row[:3]): row for line in replacement.read_text().splitlines() if line.strip()
                      for row in [_reclassified(tuple(json.loads(line)))]}
             changed = sum(tuple(r[:3]) in rerun and rerun[tuple(r[:3])][5] != r[5] for r in results)
+            known = {tuple(r[:3]) for r in results}
+            replaced = sum(key in rerun for key in known)
             results = [rerun.get(tuple(r[:3]), r) for r in results]
-            print(f"{sum(tuple(r[:3]) in rerun for r in results)} of them from {replacement} "
-                  f"({changed} with another outcome than before)")
+            added = [row for key, row in rerun.items() if key not in known]
+            results += added
+            print(f"{replaced} of them from {replacement} ({changed} with another outcome than before); "
+                  f"{len(added)} more trials from it")
     else:
         # Seed by seed across every case, so that a run cut short still covers every case.
         jobs = [(bicycle, family, seed) for seed in range(args.first_seed, args.first_seed + args.seeds)

@@ -10,7 +10,9 @@ Run: ``python benchmarks/changed_windows.py OLD_WINDOWS.py [--seeds 50] [--first
 Prints one JSON line ``[bicycle, family, seed]`` per touched trial, for
 ``bench_diagnosis.py --trials``; on stderr the count and the touched speeds.
 
-``--cycles-above-noise C`` (instead of OLD_WINDOWS.py) lists the trials that the
+``--set-aside`` (instead of OLD_WINDOWS.py) lists the trials in which
+``whipple.measurement.free_motion.set_aside_outlying`` sets some window aside (the trials that
+rule touches, run as ``hidden_effects.run_trial`` measures them). ``--cycles-above-noise C`` lists the trials that the
 window check ``FitOptions(min_cycles_above_noise=C)`` touches, measured without it: those with a
 usable window holding fewer than C weave cycles above the noise. ``--bicycles`` chooses the
 bicycles (default: the uncontrolled ones and sbw2024).
@@ -31,7 +33,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from hidden_effects import BICYCLES, CONTROLLED, families, trial_options, trial_runs  # noqa: E402
 
 from whipple.measurement import windows as current  # noqa: E402
-from whipple.measurement.experiment import FitOptions, measure_run  # noqa: E402
+from whipple.measurement.experiment import FitOptions, diagnosis_signals, measure_run  # noqa: E402
+from whipple.measurement.free_motion import set_aside_outlying  # noqa: E402
 
 
 def _load(path: str):
@@ -70,24 +73,36 @@ def _short_above_noise(job: tuple[float, str, str, int]) -> tuple[str, str, int,
                for m in measure_run(run, None, trial_options(base, min_cycles_above_noise=0.0)))]
 
 
+def _set_aside(job: tuple[None, str, str, int]) -> tuple[str, str, int, list[float]]:
+    """The speeds [m/s] of a trial's windows that no one free motion follows (set aside)."""
+    _, bicycle, family, seed = job
+    base, _, runs = trial_runs(family, seed, bicycle)
+    options = trial_options(base, signals=diagnosis_signals(runs))
+    measured = [m for run in runs for m in measure_run(run, None, options)]
+    return bicycle, family, seed, [m.speed.mean for m, kept in zip(measured, set_aside_outlying(measured), strict=True)
+                                   if m.usable and not kept.usable]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("old_windows", nargs="?", help="the earlier windows.py")
     parser.add_argument("--cycles-above-noise", type=float,
                         help="instead: the trials with a window of fewer weave cycles above the noise")
+    parser.add_argument("--set-aside", action="store_true",
+                        help="instead: the trials with a window that free_motion.set_aside_outlying sets aside")
     parser.add_argument("--bicycles", nargs="*", default=[*BICYCLES, CONTROLLED])
     parser.add_argument("--seeds", type=int, default=50)
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
-    if (args.old_windows is None) == (args.cycles_above_noise is None):
-        parser.error("give either OLD_WINDOWS.py or --cycles-above-noise")
-    first = args.old_windows if args.cycles_above_noise is None else args.cycles_above_noise
+    if sum([args.old_windows is not None, args.cycles_above_noise is not None, args.set_aside]) != 1:
+        parser.error("give one of OLD_WINDOWS.py, --cycles-above-noise and --set-aside")
+    first = args.cycles_above_noise if args.cycles_above_noise is not None else args.old_windows
     jobs = [(first, bicycle, family, seed)
             for seed in range(args.first_seed, args.first_seed + args.seeds)
             for bicycle in args.bicycles for family in families(bicycle)]
     touched = 0
-    check = _touched if args.cycles_above_noise is None else _short_above_noise
+    check = (_set_aside if args.set_aside else _touched if args.cycles_above_noise is None else _short_above_noise)
     with ProcessPoolExecutor(args.workers) as pool:
         for bicycle, family, seed, speeds in pool.map(check, jobs, chunksize=4):
             if speeds:

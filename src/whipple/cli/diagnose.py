@@ -37,6 +37,7 @@ from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import FitOptions, diagnosis_signals, measure_run
+from whipple.measurement.free_motion import set_aside_outlying
 from whipple.measurement.reference_windows import read_windows
 from whipple.measurement.runs import check_distinct_names, read_run
 from whipple.model.parameters import load_bicycle, write_bicycle_toml
@@ -65,6 +66,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
                              "measured speeds (see docs/diagnosis.md)")
     add_window_check_argument(parser)
+    parser.add_argument("--keep-outliers", action="store_true",
+                        help="use every window that passes the window checks, also those that no free response "
+                             "of a linear model follows nearly as well as the others (by default set aside as "
+                             "holding a catch or a push; see docs/diagnosis.md)")
     add_signals_argument(parser, ": roll_rate,steer_angle where every run measures the steer angle wherever it "
                                  "measures the roll rate, roll_rate otherwise (the first signal is the mode shape's "
                                  "reference; see docs/diagnosis.md)", default="auto")
@@ -87,7 +92,8 @@ def _measured(runs: list, windows: tuple | None, signals: tuple[str, ...], args:
     """Fit every window of `runs` to `signals` with the command's fit options."""
     options = FitOptions(signals=signals, baseline=args.baseline, settle=args.settle,
                          min_cycles_above_noise=args.min_cycles_above_noise)
-    return [m for run_ in runs for m in measure_run(run_, windows, options)]
+    measured = [m for run_ in runs for m in measure_run(run_, windows, options)]
+    return measured if args.keep_outliers else set_aside_outlying(measured)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -16,12 +16,10 @@ clean window at its noise (chi-square per sample 1.0), and windows that eigenval
 cannot tell apart (a steer inertia from a front wheel's inertia, a rack load from a heavier
 rear frame) differ in their samples (docs/diagnosis.md).
 
-Each signal's noise is estimated from the window's second differences: for white noise of
-standard deviation s, ``y[i+1] - 2 y[i] + y[i-1]`` has standard deviation ``s sqrt(6)``, and a
-free response sampled well above its frequencies barely moves it (a weave of 5 rad/s at 100 Hz
-adds 0.25% of its amplitude). The median absolute deviation keeps a few spikes from setting it;
-a signal recorded in steps has at least their rounding's noise; and a window that the fitting
-function leaves far off counts less (:func:`signal_noise`).
+Each signal's noise is estimated from the window's second differences
+(:func:`whipple.measurement.noise.second_difference_noise`: robust to spikes, at least the
+rounding's noise for a signal recorded in steps); a window that the fitting function leaves far
+off counts less (:func:`signal_noise`).
 """
 
 from __future__ import annotations
@@ -33,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.observations import MODE_SHAPE_STATES, Observation, WindowSignals, noise_free
+from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
@@ -55,39 +54,6 @@ FIT_RESIDUAL_SHARE = 0.5
 #: ``"bic"``, ln(n)/2 per window; ``"noise"`` (an experiment), 1/2 per window, what fitting one
 #: more amplitude to noise gains on average.
 AMPLITUDE_CHARGE = "bic"
-#: A signal with at least this share of its successive samples equal is recorded in steps (an
-#: encoder; the bundled steer angle in steps of 2 pi / 8192 rad, 58% of them equal).
-QUANTISED = 0.2
-#: A signal's noise is at least this fraction of its spread over the window: a signal recorded
-#: without noise (or quantised coarsely) would otherwise weigh without limit.
-NOISE_FLOOR = 1e-6
-
-
-def second_difference_noise(values: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Return each signal's white-noise standard deviation from its second differences (robust).
-
-    ``values``: shape (k, n), the k signals of one window (signal units); the result has the
-    same units. A signal recorded in steps (an encoder: many successive samples equal) has at
-    least the rounding's noise, a step over sqrt(12), the step being its smallest change; every
-    signal at least ``NOISE_FLOOR`` times its spread.
-    """
-    values = np.atleast_2d(np.asarray(values, dtype=float))
-    second = values[:, 2:] - 2.0 * values[:, 1:-1] + values[:, :-2]
-    centre = np.median(second, axis=1, keepdims=True)
-    noise = 1.4826 * np.median(np.abs(second - centre), axis=1) / np.sqrt(6.0)
-    steps = np.abs(np.diff(values, axis=1))
-    for k, row in enumerate(steps):
-        moved = row[row > 0]
-        if moved.size and np.mean(row == 0) >= QUANTISED:
-            noise[k] = max(noise[k], float(moved.min()) / np.sqrt(12.0))
-    return np.maximum(noise, _noise_floor(values))
-
-
-def _noise_floor(values: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Return the least noise of each signal (k, n): ``NOISE_FLOOR`` times its spread."""
-    return NOISE_FLOOR * np.maximum(values.std(axis=1), np.finfo(float).tiny)
-
-
 def signal_noise(signals: WindowSignals) -> NDArray[np.float64]:
     """Return the noise each signal of a window is weighed by [signal unit].
 
@@ -99,7 +65,7 @@ def signal_noise(signals: WindowSignals) -> NDArray[np.float64]:
     """
     values = np.atleast_2d(np.asarray(signals.values, dtype=float))
     if signals.noise is not None:
-        return np.maximum(np.asarray(signals.noise, dtype=float), _noise_floor(values))
+        return np.maximum(np.asarray(signals.noise, dtype=float), noise_floor(values))
     noise = second_difference_noise(values)
     if signals.residual_rms is not None:
         noise = np.maximum(noise, FIT_RESIDUAL_SHARE * np.asarray(signals.residual_rms, dtype=float))

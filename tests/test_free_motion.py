@@ -1,0 +1,89 @@
+"""Windows that hold no one free motion: the generic free response's misfit and the outlier rule."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from whipple.measurement.experiment import FitOptions, measure_window
+from whipple.measurement.free_motion import free_response_misfit, outlying, set_aside_outlying
+from whipple.measurement.runs import Run
+from whipple.measurement.windows import Window
+
+RATE = 100.0
+SIGNALS = ("roll_rate", "steer_angle")
+NOISE = np.array([0.01, 0.002])  # roll rate [rad/s], steer angle [rad]
+
+
+def free_motion(tau: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """A free response of a 4-state model (a weave pair, a fast and a slow real mode), (2, n)."""
+    phase = rng.uniform(0, 2 * np.pi)
+    weave = np.exp(-0.6 * tau) * np.cos(5.0 * tau + phase)
+    fast, slow = np.exp(-9.0 * tau), np.exp(-0.2 * tau)
+    roll_rate = 0.3 * weave + 0.05 * fast + 0.02 * slow
+    steer = 0.08 * np.exp(-0.6 * tau) * np.cos(5.0 * tau + phase + 0.7) - 0.03 * fast + 0.004 * slow
+    return np.vstack([roll_rate, steer])
+
+
+def run_of(values: np.ndarray, rng: np.random.Generator, name: str = "run") -> Run:
+    time = np.arange(values.shape[1]) / RATE
+    noisy = values + NOISE[:, None] * rng.standard_normal(values.shape)
+    signals = {"roll_rate": noisy[0], "steer_angle": noisy[1], "speed": np.full(time.size, 5.0)}
+    return Run(name, f"{name}.csv", time, signals, {}, RATE)
+
+
+def whole_window(run: Run) -> Window:
+    return Window(run.name, float(run.time[0]), float(run.time[-1]), 0, run.time.size, "test")
+
+
+def measured(run: Run):
+    return measure_window(run, whole_window(run), FitOptions(signals=SIGNALS, baseline="constant"))
+
+
+def caught_and_pushed_again(rng: np.random.Generator) -> np.ndarray:
+    """A free motion caught after 2.5 s, held for a second, then pushed into another free motion."""
+    first = free_motion(np.arange(0, 2.5, 1 / RATE), rng)
+    hold_time = np.arange(0, 1.0, 1 / RATE)
+    held = first[:, -1:] * np.exp(-25.0 * hold_time)  # the hand stops the bicycle within 0.1 s
+    second = -1.3 * free_motion(np.arange(0, 3.0, 1 / RATE), rng)
+    return np.hstack([first, held, second])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_free_window_sits_at_its_noise(seed):
+    rng = np.random.default_rng(seed)
+    window = measured(run_of(free_motion(np.arange(0, 4.0, 1 / RATE), rng), rng))
+    assert 0.8 < free_response_misfit(window.fit) < 1.3
+
+
+def test_a_window_spanning_a_catch_and_a_push_is_far_off():
+    rng = np.random.default_rng(3)
+    window = measured(run_of(caught_and_pushed_again(rng), rng))
+    clean = measured(run_of(free_motion(np.arange(0, 6.5, 1 / RATE), rng), rng))
+    assert free_response_misfit(window.fit) > 3 * free_response_misfit(clean.fit)
+
+
+def test_outlying_needs_both_the_ratio_and_the_spread():
+    assert outlying([1.0, 1.1, 0.95, 1.05, 4.5]).tolist() == [False, False, False, False, True]
+    # Within twice the median: no outlier, however tight the rest.
+    assert not outlying([1.0, 1.0, 1.0, 1.0, 1.9]).any()
+    # Real records spread over a decade: a window within that spread is no outlier.
+    spread = np.array([3.0, 5.0, 8.0, 9.0, 12.0, 20.0, 40.0, 30.0])
+    assert not outlying(spread).any()
+    assert outlying(np.r_[spread, 2000.0])[-1]
+    # Too few windows to judge by.
+    assert not outlying([1.0, 50.0]).any()
+
+
+def test_set_aside_marks_only_the_window_with_the_catch():
+    rng = np.random.default_rng(4)
+    runs = [run_of(free_motion(np.arange(0, 4.0, 1 / RATE), rng), rng, f"free{k}") for k in range(4)]
+    runs.append(run_of(caught_and_pushed_again(rng), rng, "caught"))
+    windows = [measured(run) for run in runs]
+    assert all(w.usable for w in windows)
+    result = set_aside_outlying(windows)
+    assert [w.run.name for w in result] == [w.run.name for w in windows]
+    assert [w.usable for w in result] == [True, True, True, True, False]
+    assert result[-1].quality.startswith("not one free motion")
+    assert result[-1].fit is windows[-1].fit  # the fit is kept, only not used
+    assert all(w.quality is None for w in windows)  # the input is not changed

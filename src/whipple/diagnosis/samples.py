@@ -54,6 +54,8 @@ FIT_RESIDUAL_SHARE = 0.5
 #: ``"bic"``, ln(n)/2 per window; ``"noise"`` (an experiment), 1/2 per window, what fitting one
 #: more amplitude to noise gains on average.
 AMPLITUDE_CHARGE = "bic"
+
+
 def signal_noise(signals: WindowSignals) -> NDArray[np.float64]:
     """Return the noise each signal of a window is weighed by [signal unit].
 

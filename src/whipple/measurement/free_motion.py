@@ -43,8 +43,8 @@ OUTLIER_RATIO = 2.0
 OUTLIER_SPREAD = 3.0
 #: Fewer windows than this give no median to judge by: none is set aside.
 MIN_WINDOWS = 3
-#: Starting rates [1/s] of the two real modes, relative to the weave's frequency: a fast
-#: castering-like pair and a slow capsize-like one, then both slow.
+#: Starting rates of the two real modes, as multiples of the weave's angular frequency: a fast
+#: castering-like mode with a slow capsize-like one, then two slow ones.
 _REAL_STARTS = ((-3.0, -0.1), (-0.5, 0.05))
 
 
@@ -118,10 +118,10 @@ def set_aside_outlying(measurements: Sequence[WindowMeasurement]) -> list[Window
     used. The others are returned unchanged, in the same order.
     """
     usable = [k for k, m in enumerate(measurements) if m.usable]
-    misfits = np.array([free_response_misfit(measurements[k].fit) for k in usable])  # type: ignore[arg-type]
     result = list(measurements)
     if not usable:
         return result
+    misfits = np.array([free_response_misfit(measurements[k].fit) for k in usable])  # type: ignore[arg-type]
     median = float(np.median(misfits))
     for k, misfit, out in zip(usable, misfits, outlying(misfits), strict=True):
         if out:

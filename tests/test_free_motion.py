@@ -87,3 +87,21 @@ def test_set_aside_marks_only_the_window_with_the_catch():
     assert result[-1].quality.startswith("not one free motion")
     assert result[-1].fit is windows[-1].fit  # the fit is kept, only not used
     assert all(w.quality is None for w in windows)  # the input is not changed
+
+
+
+def test_a_hidden_effect_trial_whose_window_spans_a_catch():
+    # Browser with a hidden steer damping, seed 29: at 4 m/s (weave barely unstable, period
+    # 4.6 s) the finder reads a catch, the hold and the next push as one 8.7 s swing. That
+    # window alone is set aside, and the steer damping is named (before the rule: ambiguous,
+    # every cause's fit pulled towards that one window).
+    from hidden_effects import run_trial, trial_options, trial_runs
+
+    from whipple.measurement.experiment import diagnosis_signals, measure_run
+
+    base, _, runs = trial_runs("steer_damping", 29, "browser")
+    options = trial_options(base, signals=diagnosis_signals(runs))
+    found = [m for run in runs for m in measure_run(run, None, options)]
+    aside = [m for m, kept in zip(found, set_aside_outlying(found), strict=True) if m.usable and not kept.usable]
+    assert [(round(m.speed.mean), m.window.duration > 5.0) for m in aside] == [(4, True)]
+    assert run_trial("steer_damping", 29, "browser").outcome == "right"

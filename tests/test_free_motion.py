@@ -71,8 +71,9 @@ def test_outlying_needs_both_the_ratio_and_the_spread():
     spread = np.array([3.0, 5.0, 8.0, 9.0, 12.0, 20.0, 40.0, 30.0])
     assert not outlying(spread).any()
     assert outlying(np.r_[spread, 2000.0])[-1]
-    # Too few windows to judge by.
+    # Too few windows to judge by; a misfit that is not finite is neither judged nor counted.
     assert not outlying([1.0, 50.0]).any()
+    assert outlying([np.nan, 1.0, 1.1, 0.9, 4.5]).tolist() == [False, False, False, False, True]
 
 
 def test_set_aside_marks_only_the_window_with_the_catch():

@@ -99,15 +99,17 @@ def outlying(misfits: Sequence[float] | NDArray[np.float64]) -> NDArray[np.bool_
 
     A misfit stands out when it is above the median by more than ``OUTLIER_RATIO`` and by more
     than ``OUTLIER_SPREAD`` robust standard deviations of the logarithms (the median absolute
-    deviation). With fewer than ``MIN_WINDOWS`` misfits, none does.
+    deviation). With fewer than ``MIN_WINDOWS`` finite misfits, none does; a misfit that is not
+    finite is never an outlier (nor counted in the median).
     """
     values = np.asarray(misfits, dtype=float)
-    if values.size < MIN_WINDOWS:
+    finite = np.isfinite(values)
+    if np.count_nonzero(finite) < MIN_WINDOWS:
         return np.zeros(values.shape, dtype=bool)
-    logs = np.log(np.maximum(values, np.finfo(float).tiny))
-    centre = float(np.median(logs))
-    spread = 1.4826 * float(np.median(np.abs(logs - centre)))
-    return np.asarray(logs - centre > max(np.log(OUTLIER_RATIO), OUTLIER_SPREAD * spread), dtype=bool)
+    logs = np.log(np.maximum(np.where(finite, values, 1.0), np.finfo(float).tiny))
+    centre = float(np.median(logs[finite]))
+    spread = 1.4826 * float(np.median(np.abs(logs[finite] - centre)))
+    return np.asarray(finite & (logs - centre > max(np.log(OUTLIER_RATIO), OUTLIER_SPREAD * spread)), dtype=bool)
 
 
 def set_aside_outlying(measurements: Sequence[WindowMeasurement]) -> list[WindowMeasurement]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from whipple.measurement.experiment import FitOptions, measure_window
+from whipple.measurement.experiment import FitOptions, measure_window, with_short_windows
 from whipple.measurement.free_motion import free_response_misfit, outlying, set_aside_outlying
 from whipple.measurement.runs import Run
 from whipple.measurement.windows import Window
@@ -106,3 +106,29 @@ def test_a_hidden_effect_trial_whose_window_spans_a_catch():
     aside = [m for m, kept in zip(found, set_aside_outlying(found), strict=True) if m.usable and not kept.usable]
     assert [(round(m.speed.mean), m.window.duration > 5.0) for m in aside] == [(4, True)]
     assert run_trial("steer_damping", 29, "browser").outcome == "right"
+
+
+def short_window(rng: np.random.Generator, cycles: float, name: str):
+    """A measured window of a free motion holding ``cycles`` weave cycles (weave at 5 rad/s)."""
+    return measured(run_of(free_motion(np.arange(0, cycles * 2 * np.pi / 5.0, 1 / RATE), rng), rng, name))
+
+
+def test_short_windows_are_used_only_where_too_few_pass_the_checks():
+    rng = np.random.default_rng(5)
+    short = [short_window(rng, 0.6, f"short{k}") for k in range(2)]
+    assert all(w.quality.startswith("too short") for w in short)
+    used = with_short_windows(short)
+    assert all(w.usable for w in used)
+    assert all(any(note.startswith("used though short") for note in w.window.notes) for w in used)
+    # One long window and one short: both used, the long one unchanged.
+    long = short_window(rng, 3.0, "long")
+    assert long.usable
+    mixed = with_short_windows([long, short[0]])
+    assert mixed[0] is long and mixed[1].usable
+    # Enough windows pass: nothing changes.
+    enough = [long, short_window(rng, 3.0, "long2"), short[0]]
+    assert with_short_windows(enough) == enough
+    # Windows without a fit (under half a period), or still fewer than two: nothing changes either.
+    tiny = short_window(rng, 0.3, "tiny")
+    assert tiny.fit is None
+    assert with_short_windows([tiny, tiny, short[0]]) == [tiny, tiny, short[0]]

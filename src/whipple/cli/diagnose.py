@@ -36,7 +36,15 @@ from whipple.diagnosis.report import assemble, cause_gain_sentences, gain_senten
 from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
-from whipple.measurement.experiment import FitOptions, diagnosis_signals, measure_run
+from whipple.measurement.experiment import (
+    MIN_CYCLES,
+    MIN_WINDOWS,
+    SHORT_WINDOW_CYCLES,
+    FitOptions,
+    diagnosis_signals,
+    measure_run,
+    with_short_windows,
+)
 from whipple.measurement.free_motion import set_aside_outlying
 from whipple.measurement.reference_windows import read_windows
 from whipple.measurement.runs import check_distinct_names, read_run
@@ -93,7 +101,7 @@ def _measured(runs: list, windows: tuple | None, signals: tuple[str, ...], args:
     options = FitOptions(signals=signals, baseline=args.baseline, settle=args.settle,
                          min_cycles_above_noise=args.min_cycles_above_noise)
     measured = [m for run_ in runs for m in measure_run(run_, windows, options)]
-    return measured if args.keep_outliers else set_aside_outlying(measured)
+    return with_short_windows(measured if args.keep_outliers else set_aside_outlying(measured))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -125,6 +133,11 @@ def run(args: argparse.Namespace) -> int:
     data = report_json(report)
     diagnosis = report.diagnosis
     print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs; fitted: {', '.join(signals)})")
+    short = sum(m.usable and any(note.startswith("used though short") for note in m.window.notes)
+                for m in measurements)
+    if short:
+        print(f"  fewer than {MIN_WINDOWS} windows passed the checks: {short} windows of {SHORT_WINDOW_CYCLES:g} to "
+              f"{MIN_CYCLES:g} weave cycles are used, whose eigenvalues are less certain")
     print(f"what the model gets wrong: {report.residual_summary[0]}")
     print(f"verdict: {diagnosis.verdict}" + (f" ({diagnosis.cause})" if diagnosis.verdict != "none" else ""))
     if diagnosis.family:

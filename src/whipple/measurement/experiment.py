@@ -418,12 +418,46 @@ def _gap_in(run: Run, window: Window, names: Sequence[str], speed: np.ndarray) -
     return f"window spans a gap in {', '.join(empty)} (samples without a value): not fitted across it"
 
 
-def _quality(fit: WeaveFit, min_cycles_above_noise: float) -> str | None:
+#: A diagnosis needs at least this many windows (:func:`with_short_windows`).
+MIN_WINDOWS = 2
+#: Where fewer than ``MIN_WINDOWS`` windows pass the checks, windows of at least this many weave
+#: cycles (in all and above the noise) are used instead (:func:`with_short_windows`).
+SHORT_WINDOW_CYCLES = 0.5
+
+
+def with_short_windows(measurements: Sequence[WindowMeasurement]) -> list[WindowMeasurement]:
+    """Return the measurements, with shorter windows made usable where too few pass the checks.
+
+    A bicycle that falls within a second of every push (a heavy load high on a light front
+    frame, a weave growing fast) can leave no window of ``MIN_CYCLES`` weave cycles, and a
+    diagnosis nothing to work on. Where fewer than ``MIN_WINDOWS`` windows are usable, every
+    window that fails only the length checks but holds at least ``SHORT_WINDOW_CYCLES`` cycles
+    (in all and above the noise) is used, with the note ``used though short``; if that still
+    gives fewer than ``MIN_WINDOWS``, the measurements are returned unchanged. Otherwise they
+    are returned unchanged too, in the same order.
+    """
+    result = list(measurements)
+    if sum(m.usable for m in result) >= MIN_WINDOWS:
+        return result
+    short = [k for k, m in enumerate(result)
+             if m.rejected is None and m.quality is not None and m.fit is not None
+             and _quality(m.fit, SHORT_WINDOW_CYCLES, SHORT_WINDOW_CYCLES) is None]
+    if sum(m.usable for m in result) + len(short) < MIN_WINDOWS:
+        return result
+    for k in short:
+        m = result[k]
+        note = (f"used though short ({m.quality}): fewer than {MIN_WINDOWS} windows pass the checks, "
+                f"so windows of at least {SHORT_WINDOW_CYCLES:g} weave cycles are used")
+        result[k] = replace(m, quality=None, window=replace(m.window, notes=(*m.window.notes, note)))
+    return result
+
+
+def _quality(fit: WeaveFit, min_cycles_above_noise: float, min_cycles: float = MIN_CYCLES) -> str | None:
     """Why a fit is too poor to be an observation, or None."""
     if fit.r_squared < MIN_R_SQUARED:
         return f"poor fit (R^2 = {fit.r_squared:.2f} < {MIN_R_SQUARED})"
-    if fit.cycles < MIN_CYCLES:
-        return f"too short ({fit.cycles:.2f} weave cycles < {MIN_CYCLES})"
+    if fit.cycles < min_cycles:
+        return f"too short ({fit.cycles:.2f} weave cycles < {min_cycles})"
     if fit.cycles_above_noise < min_cycles_above_noise:
         return f"too short above the noise ({fit.cycles_above_noise:.2f} weave cycles < {min_cycles_above_noise:g})"
     if not np.all(np.isfinite(fit.covariance)):

@@ -1,4 +1,4 @@
-"""Windows that hold no one free motion: the generic free response's misfit and the outlier rule."""
+"""Which windows a diagnosis uses: those that hold no one free motion set aside, short ones where too few pass."""
 
 from __future__ import annotations
 

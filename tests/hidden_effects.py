@@ -43,9 +43,8 @@ from whipple.measurement.experiment import (
     FitOptions,
     diagnosis_signals,
     measure_run,
-    with_short_windows,
 )
-from whipple.measurement.free_motion import set_aside_outlying
+from whipple.measurement.free_motion import diagnosis_windows
 from whipple.measurement.runs import run_from_simulation
 from whipple.model.assembly import linear_model
 from whipple.model.bodies import Body, combine, frame_body
@@ -495,9 +494,8 @@ def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, 
     """
     base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
     options = trial_options(base, min_cycles_above_noise, diagnosis_signals(runs) if signals is None else signals)
-    # As whipple diagnose does: windows that hold no one free motion are set aside, and shorter
-    # windows used where too few pass the checks.
-    measurements = with_short_windows(set_aside_outlying([m for run in runs for m in measure_run(run, None, options)]))
+    # The windows as whipple diagnose uses them.
+    measurements = diagnosis_windows([m for run in runs for m in measure_run(run, None, options)])
     diagnosis = diagnose_observations(base, observations(measurements), comparison=comparison)
     trial = Trial(cause, seed, truth, diagnosis, base_name)
     return replace(trial, twin=noise_free_twin(trial, scale)) if twin else trial

@@ -45,7 +45,7 @@ from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE, FitOptions, diagnosis_signals, measure_run
-from whipple.measurement.free_motion import set_aside_outlying
+from whipple.measurement.free_motion import diagnosis_windows
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import load_bicycle
 
@@ -69,7 +69,7 @@ def main() -> None:
     runs = [read_run(source) for source in bundled_runs()]
     options = FitOptions(signals=diagnosis_signals(runs) if args.signals is None else args.signals, baseline="auto",
                          min_cycles_above_noise=args.cycles_above_noise)
-    seen = observations(set_aside_outlying([m for run in runs for m in measure_run(run, None, options)]))
+    seen = observations(diagnosis_windows([m for run in runs for m in measure_run(run, None, options)]))
     causes = candidate_causes(bicycle, include_parameters=not args.no_parameters)
     print(f"{len(seen)} windows fitted to {', '.join(options.signals)}; "
           f"candidates: {'physical causes only' if args.no_parameters else 'all'}")

@@ -40,12 +40,12 @@ from whipple.measurement.experiment import (
     MIN_CYCLES,
     MIN_WINDOWS,
     SHORT_WINDOW_CYCLES,
+    SHORT_WINDOW_NOTE,
     FitOptions,
     diagnosis_signals,
     measure_run,
-    with_short_windows,
 )
-from whipple.measurement.free_motion import set_aside_outlying
+from whipple.measurement.free_motion import diagnosis_windows
 from whipple.measurement.reference_windows import read_windows
 from whipple.measurement.runs import check_distinct_names, read_run
 from whipple.model.parameters import load_bicycle, write_bicycle_toml
@@ -101,7 +101,7 @@ def _measured(runs: list, windows: tuple | None, signals: tuple[str, ...], args:
     options = FitOptions(signals=signals, baseline=args.baseline, settle=args.settle,
                          min_cycles_above_noise=args.min_cycles_above_noise)
     measured = [m for run_ in runs for m in measure_run(run_, windows, options)]
-    return with_short_windows(measured if args.keep_outliers else set_aside_outlying(measured))
+    return diagnosis_windows(measured, keep_outliers=args.keep_outliers)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -133,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
     data = report_json(report)
     diagnosis = report.diagnosis
     print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs; fitted: {', '.join(signals)})")
-    short = sum(m.usable and any(note.startswith("used though short") for note in m.window.notes)
+    short = sum(m.usable and any(note.startswith(SHORT_WINDOW_NOTE) for note in m.window.notes)
                 for m in measurements)
     if short:
         print(f"  fewer than {MIN_WINDOWS} windows passed the checks: {short} windows of {SHORT_WINDOW_CYCLES:g} to "

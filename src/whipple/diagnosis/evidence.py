@@ -55,6 +55,7 @@ from whipple.diagnosis.pair_search import leading_pairs, screened_pairs
 from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
+from whipple.measurement.experiment import MIN_WINDOWS
 from whipple.model.parameters import Bicycle
 
 NAMED_THRESHOLD = 3.0  # evidence (log Bayes factor) a cause needs over the base model: ~20:1
@@ -216,8 +217,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     directly whatever ``comparison`` says.
     """
     observations = tuple(observations)
-    if len(observations) < 2:
-        raise InputError(f"need at least 2 windows with fitted eigenvalues, got {len(observations)}")
+    if len(observations) < MIN_WINDOWS:
+        raise InputError(f"need at least {MIN_WINDOWS} windows with fitted eigenvalues, got {len(observations)}")
     causes = candidates_with_terms(bicycle) if causes is None else list(causes)
     whitening = window_whitening(observations, bicycle)
     counts, n = whitening.counts, whitening.charged

@@ -39,7 +39,7 @@ from whipple.diagnosis.observations import (
 )
 from whipple.diagnosis.samples import BIN_DURATION
 from whipple.errors import AnalysisError, InputError
-from whipple.measurement.experiment import WindowMeasurement
+from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
 from whipple.model.assembly import extended_matrices, linear_model
 from whipple.model.parameters import Bicycle
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
@@ -271,13 +271,13 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
     with the windows (:data:`~whipple.diagnosis.fitting.COMPARISONS`; by default with their samples).
     """
     used = tuple(m for m in measurements if m.usable)
-    if len(used) < 2:
+    if len(used) < MIN_WINDOWS:
         reasons = Counter(m.skipped.split(" (")[0] for m in measurements if m.skipped)
         why = f" (most often skipped: {reasons.most_common(1)[0][0]})" if reasons else ""
         files = sorted({str(m.run.source) for m in measurements})
         where = (f" in {', '.join(files[:3])}{' ...' if len(files) > 3 else ''}" if files else "")
         raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue{where}; need at "
-                         f"least 2{why}")
+                         f"least {MIN_WINDOWS}{why}")
     measured = [observation(m) for m in used]
     base_prediction = Prediction.of(bicycle, measured)
     shapes = compare_shapes(measured, base_prediction, bicycle)

@@ -423,6 +423,8 @@ MIN_WINDOWS = 2
 #: Where fewer than ``MIN_WINDOWS`` windows pass the checks, windows of at least this many weave
 #: cycles (in all and above the noise) are used instead (:func:`with_short_windows`).
 SHORT_WINDOW_CYCLES = 0.5
+#: The note that starts each such window's note (:func:`with_short_windows`).
+SHORT_WINDOW_NOTE = "used though short"
 
 
 def with_short_windows(measurements: Sequence[WindowMeasurement]) -> list[WindowMeasurement]:
@@ -432,7 +434,7 @@ def with_short_windows(measurements: Sequence[WindowMeasurement]) -> list[Window
     frame, a weave growing fast) can leave no window of ``MIN_CYCLES`` weave cycles, and a
     diagnosis nothing to work on. Where fewer than ``MIN_WINDOWS`` windows are usable, every
     window that fails only the length checks but holds at least ``SHORT_WINDOW_CYCLES`` cycles
-    (in all and above the noise) is used, with the note ``used though short``; if that still
+    (in all and above the noise) is used, with a note starting ``SHORT_WINDOW_NOTE``; if that still
     gives fewer than ``MIN_WINDOWS``, the measurements are returned unchanged. Otherwise they
     are returned unchanged too, in the same order.
     """
@@ -446,7 +448,7 @@ def with_short_windows(measurements: Sequence[WindowMeasurement]) -> list[Window
         return result
     for k in short:
         m = result[k]
-        note = (f"used though short ({m.quality}): fewer than {MIN_WINDOWS} windows pass the checks, "
+        note = (f"{SHORT_WINDOW_NOTE} ({m.quality}): fewer than {MIN_WINDOWS} windows pass the checks, "
                 f"so windows of at least {SHORT_WINDOW_CYCLES:g} weave cycles are used")
         result[k] = replace(m, quality=None, window=replace(m.window, notes=(*m.window.notes, note)))
     return result

@@ -2,7 +2,7 @@
 
 Simulated trial runs know where each free coasting ends (``true_windows``). For the trials of
 the given families, seeds and bicycles, each window is measured twice, as the window finder
-gives it (no cut, ``experiment.CATCH_PASSES = 0``) and as ``measure_run`` fits it (cut before a
+gives it (no cut, ``FitOptions(catch_passes=0)``) and as ``measure_run`` fits it (cut before a
 catch in the fit's residual), and compared with its free segment. Printed: windows running
 past their catch before and after, windows cut (rightly, or without running past it), where
 the cuts end relative to the catch, and how far the true model leaves the windows off (its
@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -34,11 +35,7 @@ TOLERANCE = 0.005
 
 
 def measured(run, options, passes):
-    experiment.CATCH_PASSES = passes
-    try:
-        return list(experiment.measure_run(run, None, options))
-    finally:
-        experiment.CATCH_PASSES = 3
+    return list(experiment.measure_run(run, None, replace(options, catch_passes=passes)))
 
 
 def main() -> None:

@@ -30,6 +30,7 @@ from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import COMPARISONS
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations
+from whipple.diagnosis.options import DiagnosisOptions
 from whipple.measurement.experiment import measure_run
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import Payload, load_bicycle
@@ -65,15 +66,16 @@ def main() -> None:
         measurements = [m for f in files for m in measure_run(read_run(f), baseline="auto")]
         measured = time.perf_counter()
         seen = observations(measurements)
-        diagnosis = diagnose_observations(base, seen, comparison=args.compare)
+        options = DiagnosisOptions(comparison=args.compare)
+        diagnosis = diagnose_observations(base, seen, options=options)
         diagnosed = time.perf_counter()
-        gain = held_out_gain(base, seen, comparison=args.compare)
+        gain = held_out_gain(base, seen, options=options)
         chosen_again = time.perf_counter()
         if diagnosis.chosen is not None:
             held_out_gain(base, seen, fixed=diagnosis.chosen)
         refitted = time.perf_counter()
         if args.workers is not None:
-            spread = held_out_gain(base, seen, workers=args.workers, comparison=args.compare)
+            spread = held_out_gain(base, seen, workers=args.workers, options=options)
             assert spread == gain, "the folds on a cluster must give the serial gain"
             gain_on_workers = time.perf_counter() - refitted
         command_started = time.perf_counter()

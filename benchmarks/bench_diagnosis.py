@@ -27,18 +27,19 @@ named one of the two is right, named a third cause wrong); ``--combine-dispersio
 experiment: pairs of causes are tried when the best single cause leaves a dispersion above D
 (the package's rule: 2; 0 tries them always); ``--occam laplace`` is another: the evidence's
 Occam factor by the Laplace approximation within each cause's bounds
-(``whipple.diagnosis.evidence.OCCAM``); ``--cycles-above-noise C`` leaves out the windows
+(``DiagnosisOptions.occam``); ``--cycles-above-noise C`` leaves out the windows
 holding fewer than C weave cycles above the noise (``FitOptions.min_cycles_above_noise``; the
 package's 0.75 by default, 0: the rates before that check); ``--no-rigid-loads`` leaves the
-payloads' rigid-load form out of the candidates (``whipple.diagnosis.causes.RIGID_LOADS``, in by
+payloads' rigid-load form out of the candidates (``DiagnosisOptions.rigid_loads``, in by
 default); ``--fixed-point-start model``
 another: the fitting bias' fixed point starts from each model's weave
-(``whipple.diagnosis.fit_bias.FIXED_POINT_START``); ``--signals`` the signals fitted jointly in
+(``DiagnosisOptions.fixed_point_start``); ``--signals`` the signals fitted jointly in
 every window (``whipple diagnose --signals``; by default as ``whipple diagnose`` fits the trials'
 runs, the roll rate with the steer angle; ``roll_rate``: alone, as the rates before 2026-11-29,
 latest); ``--compare fitting-function`` compares each window's eigenvalue through the fitting
 function (the default until 2026-12-01), ``--compare eigenvalues`` directly; by default models
-are compared with the windows' samples (``diagnose_observations(comparison=...)``). The
+are compared with the windows' samples (``DiagnosisOptions.comparison``). Every trial is
+diagnosed by :func:`whipple.diagnose` with the options these flags build. The
 trials run on a local Dask cluster of N worker processes, or on an existing Dask cluster
 (:func:`whipple.distributed.map_ordered`; the workers of an existing cluster need this
 repository's ``tests`` folder on their path, for ``hidden_effects``). ``--from-log FILE [FILE ...]``
@@ -70,14 +71,15 @@ from hidden_effects import (  # noqa: E402
     given_data,
     hidden_bicycle,
     hidden_causes,
+    measurement_options,
     run_trial,
     trial_bicycle,
     trial_rng,
 )
 
-from whipple.cli.arguments import signal_names  # noqa: E402
-from whipple.diagnosis import causes, evidence, fit_bias, samples  # noqa: E402
+from whipple.cli.measurement_arguments import signal_names  # noqa: E402
 from whipple.diagnosis.fitting import COMPARISONS  # noqa: E402
+from whipple.diagnosis.options import DiagnosisOptions, PairRules  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
 from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
@@ -85,21 +87,13 @@ from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-Arguments = tuple[str, str, int, str, float, float, str, bool, bool, float, str, tuple[str, ...] | None, str]
+Arguments = tuple[str, str, int, float, bool, DiagnosisOptions]
 
 
 def _trial(arguments: Arguments) -> tuple:
-    (bicycle, family, seed, comparison, scale, combine_dispersion, occam, rigid_loads, twin, above_noise, start,
-     signals, amplitude_charge) = arguments
-    # Experiments' knobs, set in the worker process that runs the trial.
-    fit_bias.FIXED_POINT_START = start
-    evidence.COMBINE_DISPERSION = combine_dispersion
-    evidence.OCCAM = occam
-    causes.RIGID_LOADS = rigid_loads
-    samples.AMPLITUDE_CHARGE = amplitude_charge
+    bicycle, family, seed, scale, twin, options = arguments
     try:
-        trial = run_trial(family, seed, bicycle, comparison=comparison, scale=scale, twin=twin,
-                          min_cycles_above_noise=above_noise, signals=signals)
+        trial = run_trial(family, seed, bicycle, scale=scale, twin=twin, options=options)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
@@ -208,25 +202,24 @@ def main() -> None:
     parser.add_argument("--compare", choices=COMPARISONS, default="samples",
                         help="how models are compared with the windows (diagnose_observations(comparison=...); "
                              "default: with their samples)")
-    parser.add_argument("--amplitude-charge", choices=("bic", "noise"), default=samples.AMPLITUDE_CHARGE,
+    defaults = DiagnosisOptions()
+    parser.add_argument("--amplitude-charge", choices=("bic", "noise"), default=defaults.amplitude_charge,
                         help="experiment: how an extra state's modal amplitudes are charged when the samples are "
-                             "compared (whipple.diagnosis.samples.AMPLITUDE_CHARGE)")
-    parser.add_argument("--combine-dispersion", type=float, default=evidence.COMBINE_DISPERSION,
+                             "compared (DiagnosisOptions.amplitude_charge)")
+    parser.add_argument("--combine-dispersion", type=float, default=defaults.pairs.dispersion,
                         help="experiment: the dispersion of the best single cause above which pairs are tried "
-                             f"(whipple.diagnosis.evidence.COMBINE_DISPERSION, {evidence.COMBINE_DISPERSION:g}; "
-                             "0: always)")
-    parser.add_argument("--occam", choices=("bic", "laplace"), default=evidence.OCCAM,
-                        help="experiment: how the evidence charges fitted values (whipple.diagnosis.evidence.OCCAM)")
-    parser.add_argument("--rigid-loads", action=argparse.BooleanOptionalAction, default=causes.RIGID_LOADS,
-                        help="the payloads' rigid-load form among the candidates "
-                             "(whipple.diagnosis.causes.RIGID_LOADS, the default since 2026-12-01; "
+                             f"(PairRules.dispersion, {defaults.pairs.dispersion:g}; 0: always)")
+    parser.add_argument("--occam", choices=("bic", "laplace"), default=defaults.occam,
+                        help="experiment: how the evidence charges fitted values (DiagnosisOptions.occam)")
+    parser.add_argument("--rigid-loads", action=argparse.BooleanOptionalAction, default=defaults.rigid_loads,
+                        help="the payloads' rigid-load form among the candidates (DiagnosisOptions.rigid_loads; "
                              "--no-rigid-loads: point masses only)")
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE,
                         help="leave out windows holding fewer weave cycles above the noise "
                              f"(FitOptions.min_cycles_above_noise; default {MIN_CYCLES_ABOVE_NOISE:g}, 0: off)")
-    parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START,
+    parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=defaults.fixed_point_start,
                         help="experiment: where the fitting bias' fixed point starts "
-                             "(whipple.diagnosis.fit_bias.FIXED_POINT_START)")
+                             "(DiagnosisOptions.fixed_point_start)")
     parser.add_argument("--signals", type=signal_names, default=None,
                         help="signals fitted jointly in every window (whipple diagnose --signals; default: as whipple "
                              "diagnose chooses, roll_rate,steer_angle for the trials' runs)")
@@ -267,9 +260,12 @@ def main() -> None:
         if args.trials is not None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]
-        tasks = [(*job, args.compare, args.size_scale, args.combine_dispersion, args.occam,
-                  args.rigid_loads, args.twin, args.cycles_above_noise, args.fixed_point_start,
-                  args.signals, args.amplitude_charge) for job in jobs]
+        options = DiagnosisOptions(
+            measurement=measurement_options(args.signals or "auto", args.cycles_above_noise),
+            comparison=args.compare, rigid_loads=args.rigid_loads, occam=args.occam,
+            amplitude_charge=args.amplitude_charge, fixed_point_start=args.fixed_point_start,
+            pairs=PairRules(dispersion=args.combine_dispersion))
+        tasks = [(*job, args.size_scale, args.twin, options) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

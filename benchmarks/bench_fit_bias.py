@@ -23,7 +23,7 @@ left out (a catch, noise), as the diagnosis leaves their shapes out. A truth giv
 
 Run: ``python benchmarks/bench_fit_bias.py BICYCLE:FAMILY:SEED [...] [--windows]`` (``--windows``: each
 window's measured and true eigenvalue and both biases too; ``--fixed-point-start model``: an
-experiment, ``whipple.diagnosis.fit_bias.FIXED_POINT_START``; ``--signals roll_rate``: the roll rate alone,
+experiment, ``fitting_bias(start="model")``; ``--signals roll_rate``: the roll rate alone,
 as the docs' figures before 2026-11-29, latest, were measured).
 """
 
@@ -39,13 +39,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from hidden_effects import hidden_bicycle, trial_options, trial_rng, trial_runs  # noqa: E402
 
-from whipple.cli.arguments import signal_names  # noqa: E402
-from whipple.diagnosis import fit_bias  # noqa: E402
+from whipple.cli.measurement_arguments import signal_names  # noqa: E402
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR  # noqa: E402
-from whipple.diagnosis.observations import SHAPE_MATCH, Observation, observations, predicted_weave  # noqa: E402
+from whipple.diagnosis.observations import Observation, observations, predicted_weave  # noqa: E402
 from whipple.measurement.experiment import JOINT_SIGNALS, measure_run  # noqa: E402
 from whipple.model.linear_terms import LinearTerms  # noqa: E402
+from whipple.stability.nearest_modes import SHAPE_MATCH  # noqa: E402
 
 #: Trial families whose truth is a feedback torque, and the model term that is the same torque.
 FEEDBACK_TERMS = {"steer_spring": "K0_steer_steer", "roll_damping": "D_roll_roll"}
@@ -58,7 +58,8 @@ def floored_std(found: list[Observation]) -> np.ndarray:
 
 
 def dispersions(bicycle: str, family: str, seed: int, windows: bool = False,
-                signals: tuple[str, ...] = JOINT_SIGNALS) -> dict[str, tuple[float, float, int]]:
+                signals: tuple[str, ...] = JOINT_SIGNALS, start: str = "measured"
+                ) -> dict[str, tuple[float, float, int]]:
     """Return chi2/n and median whitened misfit of the true model's windows: raw, own bias, base
     bias, at the truth's weave. ``windows``: also print each window's numbers [1/s]; ``signals``:
     fitted jointly in every window."""
@@ -77,8 +78,9 @@ def dispersions(bicycle: str, family: str, seed: int, windows: bool = False,
         return ((difference.real / std[:, 0]) ** 2 + (difference.imag / std[:, 1]) ** 2)[keep] / 2.0
 
     results = {}
-    biases = {"raw": 0.0, "own bias": fitting_bias(truth, found), "base bias": fitting_bias(base, found),
-              "at the truth": fitting_bias(truth, found, amplitudes="model")}
+    biases = {"raw": 0.0, "own bias": fitting_bias(truth, found, start=start),
+              "base bias": fitting_bias(base, found, start=start),
+              "at the truth": fitting_bias(truth, found, amplitudes="model", start=start)}
     if windows:
         for n in np.flatnonzero(keep):
             print(f"  {found[n].speed:5.2f} m/s: measured {measured[n]:.3f}, true weave {predicted[n]:.3f}, bias: own "
@@ -93,20 +95,19 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("trials", nargs="+", metavar="BICYCLE:FAMILY:SEED")
     parser.add_argument("--windows", action="store_true", help="also each window's eigenvalue and biases")
-    parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START,
+    parser.add_argument("--fixed-point-start", choices=("measured", "model"), default="measured",
                         help="experiment: where the fixed point of the own bias starts "
-                             "(whipple.diagnosis.fit_bias.FIXED_POINT_START)")
+                             "(fitting_bias(start=...), DiagnosisOptions.fixed_point_start)")
     parser.add_argument("--signals", type=signal_names, default=JOINT_SIGNALS,
                         help="signals fitted jointly in every window (default roll_rate,steer_angle, as whipple "
                              "diagnose fits the trials' runs; docs' figures before 2026-11-29, latest: roll_rate)")
     args = parser.parse_args()
-    fit_bias.FIXED_POINT_START = args.fixed_point_start
     columns = ("raw", "own bias", "base bias", "at the truth")
     print(f"{'trial':<34}{'windows':>8}  chi2/n {' / '.join(columns)}   (median)")
     for name in args.trials:
         try:
             bicycle, family, seed = name.split(":")
-            results = dispersions(bicycle, family, int(seed), args.windows, args.signals)
+            results = dispersions(bicycle, family, int(seed), args.windows, args.signals, args.fixed_point_start)
         except ValueError as error:
             parser.error(f"{name}: {error}")
         count = results["raw"][2]

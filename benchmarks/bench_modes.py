@@ -9,7 +9,7 @@ evaluation, for the benchmark bicycle with a steer damping (the extended model's
 
 * ``eig`` (the baseline): the first-order model's state matrices at the speeds and one
   batched ``numpy.linalg.eig``, as the diagnosis did before 2026-11-26 (tests/eig_modes.py);
-* ``quartic``: :func:`whipple.diagnosis.observations.nearest_modes`, which takes M, C(v), K(v)
+* ``quartic``: :func:`whipple.stability.nearest_modes.nearest_modes`, which takes M, C(v), K(v)
   and the roots of ``det(M s^2 + C s + K)`` (:mod:`whipple.stability.quartic`);
 * the parts of each: building the model, and the eigen-solve alone.
 
@@ -29,9 +29,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from eig_modes import nearest_modes_by_eig  # noqa: E402
 
-from whipple.diagnosis.observations import nearest_modes  # noqa: E402
 from whipple.model.assembly import linear_model, second_order_matrices  # noqa: E402
 from whipple.model.parameters import load_bicycle  # noqa: E402
+from whipple.stability.nearest_modes import nearest_modes  # noqa: E402
 from whipple.stability.quartic import second_order_eigenvalues  # noqa: E402
 
 

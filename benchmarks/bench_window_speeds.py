@@ -38,15 +38,16 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from bench_fit_bias import floored_std  # noqa: E402
 from hidden_effects import PUSHES, trial_bicycle, trial_options, trial_speeds  # noqa: E402
 
-from whipple.cli.arguments import signal_names  # noqa: E402
+from whipple.cli.measurement_arguments import signal_names  # noqa: E402
 from whipple.diagnosis.fit_bias import fitting_bias  # noqa: E402
-from whipple.diagnosis.observations import SHAPE_MATCH, observations, predicted_weave  # noqa: E402
+from whipple.diagnosis.observations import observations, predicted_weave  # noqa: E402
 from whipple.measurement.bundled import bundled_runs  # noqa: E402
 from whipple.measurement.experiment import MIN_CYCLES, MIN_CYCLES_ABOVE_NOISE, FitOptions, measure_run  # noqa: E402
 from whipple.measurement.runs import read_run, run_from_simulation  # noqa: E402
 from whipple.model.parameters import Bicycle  # noqa: E402
 from whipple.simulation.scenario import RunScenario  # noqa: E402
 from whipple.simulation.simulator import simulate_run  # noqa: E402
+from whipple.stability.nearest_modes import SHAPE_MATCH  # noqa: E402
 
 #: Seeds of the runs start here, away from the trials' own.
 FIRST_SEED = 1000

@@ -22,10 +22,11 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from hidden_effects import run_trial  # noqa: E402
+from hidden_effects import measurement_options, run_trial  # noqa: E402
 
-from whipple.cli.arguments import signal_names  # noqa: E402
+from whipple.cli.measurement_arguments import signal_names  # noqa: E402
 from whipple.diagnosis.identifiability import open_values  # noqa: E402
+from whipple.diagnosis.options import DiagnosisOptions  # noqa: E402
 
 
 def main() -> None:
@@ -41,8 +42,8 @@ def main() -> None:
     for trial_name in args.trials:
         try:
             bicycle, family, seed = trial_name.split(":")
-            trial = run_trial(family, int(seed), bicycle, scale=args.size_scale, twin=args.twin,
-                              signals=args.signals)
+            options = DiagnosisOptions(measurement=measurement_options(args.signals or "auto"))
+            trial = run_trial(family, int(seed), bicycle, scale=args.size_scale, twin=args.twin, options=options)
         except ValueError as error:
             parser.error(f"{trial_name}: {error}")
         diagnosis = trial.diagnosis

@@ -1,6 +1,6 @@
 """The diagnosis' nearest modes by eig of the first-order state matrices (tests and benchmarks).
 
-The method :func:`whipple.diagnosis.observations.nearest_modes` used before it took the roots of
+The method :func:`whipple.stability.nearest_modes.nearest_modes` used before it took the roots of
 the characteristic quartic (:mod:`whipple.stability.quartic`): the independent check of that
 closed form, and the baseline of ``benchmarks/bench_modes.py``.
 """
@@ -9,14 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from whipple.diagnosis.observations import MODE_SHAPE_STATES
 from whipple.model.assembly import linear_model
+from whipple.stability.nearest_modes import MODE_SHAPE_STATES
 
 
 def nearest_modes_by_eig(bicycle, speeds, targets, signals):
     """Return the eigenvalue nearest each target [1/s] and its mode shape, from eig of A(v).
 
-    As :func:`whipple.diagnosis.observations.nearest_modes`, with a shape for every window
+    As :func:`whipple.stability.nearest_modes.nearest_modes`, with a shape for every window
     (``signals`` one pair of state names per window).
     """
     values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(bicycle.model_speed(speeds)))

@@ -33,18 +33,14 @@ from pathlib import Path
 
 import numpy as np
 
-from whipple.diagnosis.causes import cause_by_name
-from whipple.diagnosis.evidence import MARGIN, Diagnosis, diagnose_observations
-from whipple.diagnosis.observations import noise_free, observations
+from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
+from whipple.diagnosis.observations import noise_free
+from whipple.diagnosis.options import DiagnosisOptions
+from whipple.diagnosis.pipeline import diagnose
+from whipple.diagnosis.registry import cause_by_name
 from whipple.diagnosis.samples import noise_free_samples
-from whipple.measurement.experiment import (
-    JOINT_SIGNALS,
-    MIN_CYCLES_ABOVE_NOISE,
-    FitOptions,
-    diagnosis_signals,
-    measure_run,
-)
-from whipple.measurement.free_motion import diagnosis_windows
+from whipple.measurement.experiment import JOINT_SIGNALS, FitOptions
+from whipple.measurement.measure import MeasurementOptions
 from whipple.measurement.runs import run_from_simulation
 from whipple.model.assembly import linear_model
 from whipple.model.bodies import Body, combine, frame_body
@@ -128,6 +124,8 @@ class Trial:
     bicycle: str = "benchmark"
     #: The same diagnosis of the same windows without noise (:func:`noise_free_twin`), if run.
     twin: Diagnosis | None = None
+    #: The options the trial was diagnosed with (:func:`trial_options`).
+    options: DiagnosisOptions | None = None
 
     @property
     def expected(self) -> str | None:
@@ -159,17 +157,8 @@ class Trial:
 
     @property
     def contenders(self) -> tuple[str, ...]:
-        """Causes an ``ambiguous`` verdict leaves open: the leader and its rivals (pairs split).
-
-        Where the diagnosis names no rivals (before ambiguity by families), the causes within
-        the evidence margin of the best.
-        """
-        rivals = getattr(self.diagnosis, "rivals", None)
-        if rivals is not None:
-            names = (self.diagnosis.cause, *rivals)
-        else:
-            fits = self.diagnosis.fits
-            names = tuple(fit.cause for fit in fits if fit.evidence > fits[0].evidence - MARGIN) if fits else ()
+        """Causes an ``ambiguous`` verdict leaves open: the leader and its rivals (pairs split)."""
+        names = (self.diagnosis.cause, *self.diagnosis.rivals)
         # A pair "A + B" among them leaves each of its causes open.
         return tuple(dict.fromkeys(part for name in names for part in name.split(" + ")))
 
@@ -412,14 +401,24 @@ def trial_settle(bicycle: Bicycle) -> float:
     return 0.0 if bicycle.controller.is_empty() else 0.3
 
 
-def trial_options(bicycle: Bicycle, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE,
+def trial_diagnosis_options(bicycle: Bicycle, options: DiagnosisOptions | None = None) -> DiagnosisOptions:
+    """How a trial is diagnosed: ``options`` (default: what ``whipple diagnose`` does) with the
+    bicycle's settle time (:func:`trial_settle`), no held-out gain and no amplitude check (only
+    the verdict is scored)."""
+    options = options or DiagnosisOptions()
+    measurement = replace(options.measurement, settle=trial_settle(bicycle))
+    return replace(options, measurement=measurement, held_out_gain=False, amplitude_check=False)
+
+
+def trial_options(bicycle: Bicycle, min_cycles_above_noise: float | None = None,
                   signals: tuple[str, ...] = JOINT_SIGNALS) -> FitOptions:
-    """How a trial's windows are fitted: the automatic baseline, the bicycle's settle time
-    (:func:`trial_settle`), and the package's check of cycles above the noise unless another is
-    given; ``signals``: fitted jointly (``whipple diagnose --signals``; by default the roll rate
-    and the steer angle, as ``whipple diagnose`` fits the trials' runs, which measure both)."""
-    return FitOptions(signals=signals, baseline="auto", settle=trial_settle(bicycle),
-                      min_cycles_above_noise=min_cycles_above_noise)
+    """How a trial's windows are fitted one by one (:func:`~whipple.measurement.experiment.measure_run`):
+    as the trial's diagnosis fits them (:func:`trial_diagnosis_options`), with ``signals`` fitted
+    jointly and, where given, another check of cycles above the noise."""
+    measurement = trial_diagnosis_options(bicycle).measurement
+    if min_cycles_above_noise is not None:
+        measurement = replace(measurement, min_cycles_above_noise=min_cycles_above_noise)
+    return measurement.fit_options(signals)
 
 
 def trial_rng(cause: str, seed: int) -> np.random.Generator:
@@ -477,28 +476,33 @@ def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
         twins = noise_free_samples(truth_bicycle, trial.diagnosis.observations)
     else:
         twins, comparison = noise_free(truth_bicycle, trial.diagnosis.observations), "eigenvalues"
-    return diagnose_observations(base, twins, estimate_spread=False, comparison=comparison)
+    options = replace(trial.options or trial_diagnosis_options(base), comparison=comparison)
+    return diagnose_observations(base, twins, options=options, estimate_spread=False)
 
 
-def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, comparison: str = "samples",
-              scale: float = 1.0, twin: bool = False, min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE,
-              signals: tuple[str, ...] | None = None) -> Trial:
-    """Simulate runs of a hidden effect and diagnose them against the base bicycle.
+def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, scale: float = 1.0,
+              twin: bool = False, options: DiagnosisOptions | None = None) -> Trial:
+    """Simulate runs of a hidden effect and diagnose them against the base bicycle, as ``whipple diagnose`` would.
 
-    The controlled bicycles' windows leave out their first seconds (:func:`trial_settle`).
-    ``comparison``: how the diagnosis compares models with the windows (as
-    ``diagnose_observations`` takes it; by default with their samples); ``scale`` multiplies the
-    effect's size (:func:`hidden_bicycle`); ``min_cycles_above_noise`` is the windows' check and
-    ``signals`` the signals fitted jointly (:class:`~whipple.measurement.experiment.FitOptions`;
-    by default those ``whipple diagnose`` chooses, :func:`~whipple.measurement.experiment.diagnosis_signals`).
+    ``options``: the diagnosis' options (default: ``whipple diagnose``'s), with the trial's
+    settle time and without the held-out gain (:func:`trial_options`); ``scale`` multiplies the
+    effect's size (:func:`hidden_bicycle`); ``twin`` also diagnoses the windows without noise
+    (:func:`noise_free_twin`).
     """
     base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
-    options = trial_options(base, min_cycles_above_noise, diagnosis_signals(runs) if signals is None else signals)
-    # The windows as whipple diagnose uses them.
-    measurements = diagnosis_windows([m for run in runs for m in measure_run(run, None, options)])
-    diagnosis = diagnose_observations(base, observations(measurements), comparison=comparison)
-    trial = Trial(cause, seed, truth, diagnosis, base_name)
+    options = trial_diagnosis_options(base, options)
+    report = diagnose(runs, base, options)
+    trial = Trial(cause, seed, truth, report.diagnosis, base_name, options=options)
     return replace(trial, twin=noise_free_twin(trial, scale)) if twin else trial
+
+
+def measurement_options(signals: str | tuple[str, ...] = "auto",
+                        min_cycles_above_noise: float | None = None) -> MeasurementOptions:
+    """The measurement of the trials with other signals or another check of cycles above the noise."""
+    defaults = MeasurementOptions()
+    return replace(defaults, signals=signals, min_cycles_above_noise=(defaults.min_cycles_above_noise
+                                                                      if min_cycles_above_noise is None
+                                                                      else min_cycles_above_noise))
 
 
 def families(bicycle: str, two: bool = False) -> tuple[str, ...]:
@@ -524,6 +528,6 @@ def _supports(names: tuple[str, ...]) -> bool:
 __all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLED_BICYCLES", "CONTROLLED_VARIANTS", "CONTROLLER", "EXPECTED",
            "PHYSICAL", "TWO", "Trial", "box",
            "cause_by_name", "cause_of_truth", "families", "given_data", "hidden_bicycle", "hidden_causes",
-           "noise_free_twin", "run_trial", "trial_bicycle", "trial_options", "trial_runs", "trial_settle",
-           "trial_speeds",
-           "two_effects", "with_body"]
+           "measurement_options", "noise_free_twin", "run_trial", "trial_bicycle", "trial_diagnosis_options",
+           "trial_options", "trial_runs",
+           "trial_settle", "trial_speeds", "two_effects", "with_body"]

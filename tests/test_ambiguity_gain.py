@@ -12,7 +12,7 @@ import numpy as np
 from synthetic_windows import STD, synthetic_observations
 
 from whipple.diagnosis import evidence
-from whipple.diagnosis.causes import candidate_causes, cause_by_name, payload_causes, with_cause
+from whipple.diagnosis.causes import with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import (
     cause_pairs,
@@ -25,6 +25,8 @@ from whipple.diagnosis.families import (
 from whipple.diagnosis.fitting import CauseFit, fit_cause, pinned_values
 from whipple.diagnosis.gain import cause_gains, held_out_gain
 from whipple.diagnosis.observations import Observation, noise_free, speed_groups
+from whipple.diagnosis.options import DiagnosisOptions, PairRules, VerdictRules
+from whipple.diagnosis.registry import candidate_causes, cause_by_name, payload_causes
 from whipple.model.parameters import Bicycle, load_bicycle
 
 SPEEDS = np.repeat([3.5, 4.5, 5.5, 6.5, 7.5], 4)
@@ -61,12 +63,13 @@ def test_causes_that_predict_alike_give_an_ambiguous_verdict_naming_the_family()
     # The reason says how many times as many windows would separate the two beyond the noise;
     # windows that many times as many (noise-free, so that only their number changes) do.
     fit_of = {fit.cause: fit for fit in diagnosis.fits}
-    factor = int(np.ceil(evidence.SEPARATION / evidence.separation(fit_of["steer_inertia"], fit_of["parameter:IFxx"])))
+    apart = evidence.separation(fit_of["steer_inertia"], fit_of["parameter:IFxx"])
+    factor = int(np.ceil(VerdictRules().separation / apart))
     assert f"about {factor} times as many windows at these speeds" in diagnosis.reasons[0]
     truth = bicycle.with_extensions(steer_inertia=0.04)
     more = diagnose_observations(bicycle, noise_free(truth, _observations(truth, 0, np.repeat(SPEEDS, factor))), causes)
     fit_of = {fit.cause: fit for fit in more.fits}
-    assert evidence.separation(fit_of["steer_inertia"], fit_of["parameter:IFxx"]) > 0.8 * evidence.SEPARATION
+    assert evidence.separation(fit_of["steer_inertia"], fit_of["parameter:IFxx"]) > 0.8 * VerdictRules().separation
     # Without the mimic among the candidates, the same data name steer inertia.
     alone = diagnose_observations(bicycle, _observations(bicycle.with_extensions(steer_inertia=0.04), 0),
                                   [c for c in causes if c.name != "parameter:IFxx"])
@@ -130,14 +133,14 @@ def _damping_and_roll_inertia() -> tuple[Bicycle, list[Observation]]:
     return bicycle, _observations(truth, 0, np.repeat([4.0, 5.0, 6.0, 7.0, 8.0], 4))
 
 
-def test_a_cause_stretched_to_the_edge_of_its_physical_range_is_not_named(monkeypatch):
+def test_a_cause_stretched_to_the_edge_of_its_physical_range_is_not_named():
     # Two effects: the best single cause is a front payload of 0.7 kg ahead of the front wheel
     # at the height of the ground (the bound of its heights), within a dispersion of 2 of the
     # data. With pairs not tried (as for a single cause with fewer values), the edge alone
     # must keep it from a confident name: a load cannot sit lower, the data ask for more.
-    monkeypatch.setattr(evidence, "FLEXIBLE_VALUES", 99)
     bicycle, observations = _damping_and_roll_inertia()
-    diagnosis = diagnose_observations(bicycle, observations)
+    never_paired = DiagnosisOptions(pairs=PairRules(flexible_values=99))
+    diagnosis = diagnose_observations(bicycle, observations, options=never_paired)
     assert diagnosis.cause == "front_payload" and diagnosis.best.pinned == (("front_payload_z", 0.0),)
     assert diagnosis.verdict == "ambiguous"
     # The edge of the range is the only reason given: without it the verdict would be "named".
@@ -297,15 +300,14 @@ def test_two_other_causes_ahead_of_the_best_single_one_make_it_ambiguous():
     # trials with two effects, docs/diagnosis.md).
     scored = [_fit("front_payload + tyre_compliance", 101.0), _fit("parameter:IFyy + reflected_steer_inertia", 100.7),
               _fit("front_payload", 100.0), _fit("payload + parameter:xH", 99.0), _fit("speed_scale", 90.0)]
-    kept, rivals = evidence._clearly_better_pairs(scored, evidence.MARGIN)
+    kept, rivals = evidence._clearly_better_pairs(scored, VerdictRules().margin)
     assert [fit.cause for fit in kept] == ["front_payload", "speed_scale"]
     # The pair holding the best adds a second cause to it; a pair behind the best is no rival
     # (among many pairs tried, one comes close by chance).
     assert [fit.cause for fit in rivals] == ["parameter:IFyy + reflected_steer_inertia"]
-    verdict, name, contenders, reasons = evidence._verdict(kept, (1.0, 1.0), evidence.NAMED_THRESHOLD,
-                                                           evidence.MARGIN, rivals)
+    verdict, name, contenders, reasons = evidence._verdict(kept, (1.0, 1.0), VerdictRules(), rivals)
     assert (verdict, name) == ("ambiguous", "front_payload")
     assert contenders == ("parameter:IFyy + reflected_steer_inertia",)
     assert "two causes together" in reasons[0] and "more evidence than front_payload" in reasons[0]
     # Without the rival pair the same ranking names the single cause.
-    assert evidence._verdict(kept, (1.0, 1.0), evidence.NAMED_THRESHOLD, evidence.MARGIN)[0] == "named"
+    assert evidence._verdict(kept, (1.0, 1.0), VerdictRules())[0] == "named"

@@ -201,7 +201,7 @@ def test_valid_layout_through_the_cli(tmp_path, run_text, capsys):
     code = main(["fit", str(run), "--layout", str(write(tmp_path, "layout.toml", LAYOUT))])
     captured = capsys.readouterr()
     assert code == 0, captured.err
-    assert captured.out.startswith("run5: 3 window(s) fitted")
+    assert captured.out.splitlines()[1].startswith("run5: 3 window(s) fitted")
 
 
 def test_metadata_key_given_twice(tmp_path, run_text, capsys):

@@ -8,18 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from whipple.diagnosis.causes import (
-    MAX_GYRATION,
-    POSITIVE_PARAMETERS,
-    candidate_causes,
-    cause_by_name,
-    payload_bounds,
-    payload_causes,
-    payload_form,
-    with_cause,
-)
+from whipple.diagnosis.causes import MAX_GYRATION, POSITIVE_PARAMETERS, payload_bounds, payload_form, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.observations import observations
+from whipple.diagnosis.registry import candidate_causes, cause_by_name, payload_causes
 from whipple.diagnosis.starts import grid_starts
 from whipple.measurement.experiment import measure_run
 from whipple.measurement.runs import run_from_simulation

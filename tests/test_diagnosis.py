@@ -16,11 +16,11 @@ import numpy as np
 import pytest
 
 from whipple.cli import main
-from whipple.diagnosis import starts
-from whipple.diagnosis.causes import cause_by_name, payload_form, with_cause
+from whipple.diagnosis.causes import payload_form, with_cause
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import fit_cause, model_residuals, window_whitening
 from whipple.diagnosis.observations import Observation, predicted_modes, predicted_weave
+from whipple.diagnosis.registry import cause_by_name
 from whipple.diagnosis.report import ShapeComparison, caveats
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import Payload, load_bicycle
@@ -106,7 +106,7 @@ def test_mode_shapes_tell_a_longer_trail_from_a_high_payload():
 BROWSER = Path(__file__).resolve().parent / "data" / "bicycleparameters" / "bicycles" / "BrowserBenchmark.txt"
 
 
-def test_a_load_ahead_of_the_steer_axis_is_found(monkeypatch):
+def test_a_load_ahead_of_the_steer_axis_is_found():
     # A 4 kg basket load 0.1 m ahead of the Browser's front contact: fits started near the
     # front frame's mass centre end at the frame's rear bound (chi-square ~1800 for 24
     # residuals); the coarse grid over the bounds starts one near the load.
@@ -118,8 +118,7 @@ def test_a_load_ahead_of_the_steer_axis_is_found(monkeypatch):
     fit = fit_cause(bicycle, cause, observations)
     assert fit.chi2 < 2 * len(observations) * 2
     assert all(abs(value - true) < 3 * std for value, true, std in zip(fit.values, load, fit.std, strict=True))
-    monkeypatch.setattr(starts, "GRID_STARTS", 0)
-    assert fit_cause(bicycle, cause, observations).chi2 > 100 * fit.chi2
+    assert fit_cause(bicycle, cause, observations, grid=False).chi2 > 100 * fit.chi2
 
 
 def test_a_named_payload_with_a_fitted_position_carries_the_two_effects_caveat():
@@ -225,7 +224,8 @@ def test_a_flipped_steer_sign_is_reported(damped_runs, tmp_path, capsys):
                for note in data["caveats"])
     assert data["cause"] == "steer_damping"  # the eigenvalues still carry the diagnosis
     # Such a steer angle is not fitted jointly by default: it would mislead the fitting bias.
-    assert "(4 runs; fitted: roll_rate)" in capsys.readouterr().out
+    assert ("(4 runs; fitted roll_rate, baseline auto; the steer signal's sign is opposite to the model's, so the "
+            "roll rate was fitted alone)") in capsys.readouterr().out
     assert all("mode_shape" in window for window in data["windows"])  # reported as measured
 
 

@@ -6,7 +6,7 @@ against the base model (residuals r_base) is (chi2_base - chi2_min) / 2 + occam.
 integral of the likelihood over the box checks :func:`~whipple.diagnosis.evidence.occam_factor`,
 with values that trade off against each other and without. Where the data barely set a value
 the approximation fails, and each direction is charged at least the BIC's ln(n) / 2. The
-Laplace form is an experiment (``evidence.OCCAM = "laplace"``); the default charges ln(n) / 2
+Laplace form is an experiment (``DiagnosisOptions(occam="laplace")``); the default charges ln(n) / 2
 per value.
 """
 
@@ -15,15 +15,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from whipple.diagnosis import evidence
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.evidence import occam_factor
 from whipple.diagnosis.fitting import CauseFit
-
-
-@pytest.fixture(autouse=True)
-def _laplace(monkeypatch):
-    monkeypatch.setattr(evidence, "OCCAM", "laplace")
 
 
 def _cause(bounds):
@@ -54,13 +48,13 @@ def _log_integral(jacobian, bounds, n=801):
 def test_occam_factor_is_the_integrated_likelihood(jacobian):
     bounds = [(-2.0, 3.0)] * jacobian.shape[1]
     expected = _log_integral(jacobian, bounds, n=801 if jacobian.shape[1] == 1 else 401)
-    assert occam_factor(_cause(bounds), _fit(jacobian), n=1) == pytest.approx(expected, abs=0.02)
+    assert occam_factor(_cause(bounds), _fit(jacobian), n=1, occam="laplace") == pytest.approx(expected, abs=0.02)
 
 
 def test_a_value_set_twice_as_finely_costs_ln_2_more():
     bounds = [(-2.0, 3.0)] * 2
     jacobian = np.array([[20.0, 17.0], [10.0, 12.0], [5.0, 4.0]])
-    once, twice = (occam_factor(_cause(bounds), _fit(scale * jacobian), n=1) for scale in (1.0, 2.0))
+    once, twice = (occam_factor(_cause(bounds), _fit(scale * jacobian), n=1, occam="laplace") for scale in (1.0, 2.0))
     assert twice == pytest.approx(once - 2 * np.log(2.0))  # two values, each set twice as finely
     assert once < 0.0
 
@@ -69,14 +63,14 @@ def test_a_barely_informed_value_costs_the_bic_charge():
     bounds = [(0.0, 1.0), (0.0, 1.0)]
     held_at_bound = np.array([[40.0, 0.0], [10.0, 0.0]])  # the second value moves no residual
     n = 30
-    one = occam_factor(_cause(bounds[:1]), _fit(held_at_bound[:, :1]), n)
+    one = occam_factor(_cause(bounds[:1]), _fit(held_at_bound[:, :1]), n, occam="laplace")
     assert one == pytest.approx(0.5 * np.log(2 * np.pi / (40.0**2 + 10.0**2)))  # finely set: Laplace
-    assert occam_factor(_cause(bounds), _fit(held_at_bound), n) == pytest.approx(one - 0.5 * np.log(n))
-    assert occam_factor(_cause(bounds), _fit(np.array([[1e-3, 0.0], [0.0, 1e-3]])), n) == pytest.approx(-np.log(n))
-    assert occam_factor(_cause([]), _fit(np.zeros((3, 0))), n) == 0.0
+    assert occam_factor(_cause(bounds), _fit(held_at_bound), n, occam="laplace") == pytest.approx(one - 0.5 * np.log(n))
+    barely = _fit(np.array([[1e-3, 0.0], [0.0, 1e-3]]))
+    assert occam_factor(_cause(bounds), barely, n, occam="laplace") == pytest.approx(-np.log(n))
+    assert occam_factor(_cause([]), _fit(np.zeros((3, 0))), n, occam="laplace") == 0.0
 
 
-def test_the_default_charges_ln_n_over_2_per_value(monkeypatch):
-    monkeypatch.setattr(evidence, "OCCAM", "bic")
+def test_the_default_charges_ln_n_over_2_per_value():
     jacobian = np.array([[20.0, 17.0], [10.0, 12.0], [5.0, 4.0]])
     assert occam_factor(_cause([(-2.0, 3.0)] * 2), _fit(jacobian), 40) == pytest.approx(-np.log(40))

@@ -11,11 +11,12 @@ from synthetic_windows import synthetic_observations
 
 from whipple.cli import main
 from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias
-from whipple.diagnosis.causes import candidate_causes
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
 from whipple.diagnosis.fitting import model_residuals, robust_chi2, window_whitening
 from whipple.diagnosis.observations import observations, predicted_weave
+from whipple.diagnosis.options import DiagnosisOptions
+from whipple.diagnosis.registry import candidate_causes
 from whipple.measurement.experiment import measure_run
 from whipple.measurement.refit import refit_weave, refit_weaves
 from whipple.measurement.runs import run_from_simulation
@@ -44,13 +45,13 @@ def steer_damper():
     return base, bicycle, _observations(bicycle, (5.0, 6.0, 8.0))
 
 
-def _misfit(model, found, amplitudes="own"):
+def _misfit(model, found, amplitudes="own", start="measured"):
     """Median |measured - model weave - model's bias| [1/s] over the windows whose eigenvalue the model's weave
     matches within 30%."""
     measured = np.array([o.eigenvalue for o in found])
     deviation = measured - predicted_weave(model, found)
     keep = np.abs(deviation) < 0.3 * np.abs(measured)
-    return np.median(np.abs(deviation - fitting_bias(model, found, amplitudes=amplitudes))[keep])
+    return np.median(np.abs(deviation - fitting_bias(model, found, amplitudes=amplitudes, start=start))[keep])
 
 
 def test_the_bias_of_the_true_model_explains_the_fitted_eigenvalues(steer_damper):
@@ -89,16 +90,13 @@ def test_amplitudes_at_the_model_weave_are_exact_for_the_truth_and_swallow_a_wro
         fitting_bias(bicycle, found, amplitudes="window")
 
 
-def test_the_experimental_start_of_the_fixed_point_from_the_model_weave(steer_damper, monkeypatch):
+def test_the_experimental_start_of_the_fixed_point_from_the_model_weave(steer_damper):
     # Started from the model's weave, the fixed point leaves the truth closer to its windows and
     # keeps nearly all of a wrong model's error (97% here; amplitudes fitted at the model's
     # weave keep two thirds of it).
-    from whipple.diagnosis import fit_bias as module
-
     base, bicycle, found = steer_damper
     from_measured = _misfit(bicycle, found), _misfit(base, found)
-    monkeypatch.setattr(module, "FIXED_POINT_START", "model")
-    from_model = _misfit(bicycle, found), _misfit(base, found)
+    from_model = _misfit(bicycle, found, start="model"), _misfit(base, found, start="model")
     assert from_model[0] < from_measured[0]
     assert from_model[1] >= 0.9 * from_measured[1]
 
@@ -197,7 +195,8 @@ def test_diagnosis_through_the_fitting_function_estimates_the_truth_better():
                           seed=11)
     error = {}
     for comparison in ("eigenvalues", "fitting-function", "samples"):
-        diagnosis = diagnose_observations(base, found, comparison=comparison, estimate_spread=False)
+        diagnosis = diagnose_observations(base, found, options=DiagnosisOptions(comparison=comparison),
+                                          estimate_spread=False)
         assert diagnosis.comparison == comparison
         error[comparison] = abs({fit.cause: fit.values for fit in diagnosis.fits}["steer_damping"][0] - truth)
     assert error["samples"] < error["fitting-function"] < error["eigenvalues"]
@@ -220,8 +219,8 @@ def test_diagnose_cli_compares_with_the_samples_by_default(tmp_path, capsys):
         assert data["verdict"] == "named" and data["cause"] == "steer_damping"
         assert abs(data["estimate"]["steer_damping"]["value"] - 0.8) < 0.2
         spread[" ".join(option)] = data["estimate"]["steer_damping"]["std"]
-        fitted = "roll_rate" if option == roll_rate_alone else "roll_rate, steer_angle"
-        assert f"(4 runs; fitted: {fitted})" in capsys.readouterr().out
+        fitted = "roll_rate" if option == roll_rate_alone else "roll_rate and steer_angle jointly"
+        assert f"(4 runs; fitted {fitted}, baseline auto)" in capsys.readouterr().out
     # The runs measure the steer angle, so by default its weave is fitted jointly with the roll
     # rate, which sharpens every eigenvalue.
     assert spread[""] < spread[" ".join(roll_rate_alone)]
@@ -235,7 +234,8 @@ def test_observations_without_samples_are_compared_directly():
     base = load_bicycle("benchmark")
     listed = synthetic_observations(base.with_extensions(steer_damping=0.8), 2, (3.0, 4.0, 5.0, 6.0))
     by_default = diagnose_observations(base, listed, estimate_spread=False)
-    directly = diagnose_observations(base, listed, estimate_spread=False, comparison="eigenvalues")
+    directly = diagnose_observations(base, listed, options=DiagnosisOptions(comparison="eigenvalues"),
+                                     estimate_spread=False)
     assert by_default.comparison == "eigenvalues"
     assert by_default.ranking() == directly.ranking()
 

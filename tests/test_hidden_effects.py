@@ -32,6 +32,7 @@ from hidden_effects import (
     with_body,
 )
 
+from whipple.diagnosis.options import DiagnosisOptions
 from whipple.model.assembly import linear_model
 from whipple.model.bodies import combine, frame_body
 from whipple.model.parameters import load_bicycle
@@ -171,7 +172,8 @@ def test_the_noise_free_twin_tells_forced_ambiguity_from_caution():
     counted right given the data. Compared with the samples (the default), the same windows name
     it, and so does their twin (the true model's response fitted to each window, at its noise).
     A trial named right has a twin that names the truth too."""
-    open_trial = run_trial("steer_inertia", 0, "benchmark", twin=True, comparison="eigenvalues")
+    open_trial = run_trial("steer_inertia", 0, "benchmark", twin=True,
+                           options=DiagnosisOptions(comparison="eigenvalues"))
     assert open_trial.outcome == "ambiguous_truth" and open_trial.twin_outcome == "ambiguous_truth"
     assert "parameter:IFxx" in open_trial.twin.rivals and open_trial.outcome_given_data == "right"
     told = run_trial("steer_inertia", 0, "benchmark", twin=True)

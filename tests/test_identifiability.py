@@ -12,9 +12,10 @@ from dataclasses import replace
 import numpy as np
 from synthetic_windows import synthetic_observations
 
-from whipple.diagnosis.causes import cause_by_name, payload_form
+from whipple.diagnosis.causes import payload_form
 from whipple.diagnosis.fitting import fit_cause
 from whipple.diagnosis.identifiability import FAMILY_SIGMAS, open_values
+from whipple.diagnosis.registry import cause_by_name
 from whipple.model.parameters import Payload, load_bicycle
 
 SPEEDS = np.repeat([3.5, 4.5, 5.5, 6.5, 7.5], 4)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from whipple.diagnosis.observations import MODE_SHAPE_STATES
 from whipple.errors import InputError
 from whipple.measurement.experiment import measure_run
 from whipple.measurement.mode_shape import amplitude_ratio
@@ -16,6 +15,7 @@ from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
 from whipple.simulation.scenario import RunScenario, Sensor, Sensors
 from whipple.simulation.simulator import parse_true_windows, simulate_run
+from whipple.stability.nearest_modes import MODE_SHAPE_STATES
 
 QUIET = Sensors(Sensor(1e-6, 0.0), Sensor(1e-6, 0.0), Sensor(1e-6, 0.0))
 

@@ -13,9 +13,9 @@ from scipy.optimize import least_squares as scipy_least_squares
 from synthetic_windows import synthetic_observations
 
 from whipple.diagnosis import fitting
-from whipple.diagnosis.causes import candidate_causes
 from whipple.diagnosis.families import combined_cause
 from whipple.diagnosis.fitting import fit_cause, model_residuals, models_residuals, window_whitening
+from whipple.diagnosis.registry import candidate_causes
 from whipple.model.parameters import Payload, TyreCompliance, load_bicycle
 
 SPEEDS = (3.0, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0, 7.0)

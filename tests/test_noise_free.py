@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 from synthetic_windows import synthetic_observations
 
-from whipple.diagnosis.causes import cause_by_name
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import model_residuals, window_whitening
 from whipple.diagnosis.observations import noise_free, observations, predicted_modes
+from whipple.diagnosis.registry import cause_by_name
 from whipple.diagnosis.samples import SampleComparison, noise_free_samples
 from whipple.measurement.experiment import measure_run
 from whipple.measurement.runs import run_from_simulation

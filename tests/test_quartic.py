@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from eig_modes import nearest_modes_by_eig
 
-from whipple.diagnosis.causes import candidate_causes
-from whipple.diagnosis.observations import MODE_SHAPE_STATES, nearest_modes
+from whipple.diagnosis.registry import candidate_causes
 from whipple.model.assembly import linear_model, second_order_matrices
 from whipple.model.linear import second_order_model
 from whipple.model.parameters import Controller, TyreCompliance, load_bicycle
+from whipple.stability.nearest_modes import MODE_SHAPE_STATES, nearest_modes
 from whipple.stability.quartic import (
     VIETA_TOLERANCE,
     matrix_quartic,

@@ -7,8 +7,9 @@ import pytest
 from synthetic_windows import synthetic_observations
 
 from whipple.diagnosis import candidate_fits
-from whipple.diagnosis.causes import payload_causes, payload_form
+from whipple.diagnosis.causes import payload_form
 from whipple.diagnosis.fitting import fit_cause, window_whitening
+from whipple.diagnosis.registry import payload_causes
 from whipple.diagnosis.starts import refinement_starts
 from whipple.model.parameters import load_bicycle
 

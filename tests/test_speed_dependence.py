@@ -11,11 +11,12 @@ import dataclasses
 
 import numpy as np
 
-from whipple.diagnosis.causes import cause_by_name
 from whipple.diagnosis.consistency import jackknife_std, speed_dependence, speed_group_sums
-from whipple.diagnosis.evidence import SPEED_DEPENDENCE, diagnose_observations
+from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import fit_cause, window_whitening
 from whipple.diagnosis.observations import Observation, predicted_weave
+from whipple.diagnosis.options import VerdictRules
+from whipple.diagnosis.registry import cause_by_name
 from whipple.model.parameters import load_bicycle
 
 SPEEDS = np.repeat([3.0, 4.0, 5.0, 6.0, 7.0, 8.0], 3)  # m/s
@@ -50,7 +51,7 @@ def _dependence(damping_at_speed, **noise):
 def test_a_cause_of_its_own_form_has_the_same_values_at_low_and_high_speeds():
     dependence = _dependence(lambda v: 0.8)
     assert dependence is not None
-    assert dependence.evidence < SPEED_DEPENDENCE
+    assert dependence.evidence < VerdictRules().speed_dependence
     assert abs(dependence.low[0] - 0.8) < 0.1 and abs(dependence.high[0] - 0.8) < 0.1
     assert 5.0 < dependence.split < 6.0  # between the third and the fourth speed
 
@@ -58,7 +59,7 @@ def test_a_cause_of_its_own_form_has_the_same_values_at_low_and_high_speeds():
 def test_values_that_drift_with_speed_are_found():
     dependence = _dependence(lambda v: 0.3 if v < 5.5 else 1.3)
     assert dependence is not None
-    assert dependence.evidence > SPEED_DEPENDENCE
+    assert dependence.evidence > VerdictRules().speed_dependence
     assert abs(dependence.low[0] - 0.3) < 0.15 and abs(dependence.high[0] - 1.3) < 0.15
 
 
@@ -75,7 +76,7 @@ def test_a_constant_cause_is_still_named():
     diagnosis = diagnose_observations(bicycle, observations)
     assert (diagnosis.verdict, diagnosis.cause) == ("named", "steer_damping")
     assert diagnosis.speed_dependence is not None
-    assert diagnosis.speed_dependence.evidence < SPEED_DEPENDENCE
+    assert diagnosis.speed_dependence.evidence < VerdictRules().speed_dependence
 
 
 def test_too_few_windows_for_a_half_give_no_check():
@@ -101,10 +102,10 @@ def test_a_bias_shared_by_each_speed_is_not_taken_for_a_drift():
     shared = [_dependence(lambda v: 0.8, seed=seed, shared=4 * STD) for seed in range(6)]
     assert all(d is not None and d.design_effect < 2.0 for d in independent)
     assert all(d is not None and d.design_effect > 2.0 for d in shared)
-    assert all(d.evidence < SPEED_DEPENDENCE for d in shared)
+    assert all(d.evidence < VerdictRules().speed_dependence for d in shared)
     # Without the discount, the same chi-square differences would read as a drift.
     penalty = 0.5 * np.log(2 * len(SPEEDS))
-    assert any((d.evidence + penalty) * d.design_effect - penalty > SPEED_DEPENDENCE for d in shared)
+    assert any((d.evidence + penalty) * d.design_effect - penalty > VerdictRules().speed_dependence for d in shared)
 
 
 def _jackknife_and_fit_std(**noise):

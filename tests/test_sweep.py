@@ -237,13 +237,22 @@ def test_map_ordered_keeps_the_order_on_a_local_cluster():
     assert texts == [analyse_chunk(task).text for task in tasks]
 
 
-def test_cluster_option_errors_are_one_line(tmp_path, capsys, monkeypatch):
+def test_cluster_option_errors_are_one_line(tmp_path, capsys):
     pytest.importorskip("distributed")
     sets = tmp_path / "sets.csv"
     sets.write_text("c\n0.08\n")
     assert main(["sweep", str(sets), "-o", str(tmp_path / "o.csv"), "--workers", "0"]) == 2
     assert capsys.readouterr().err.strip() == "whipple sweep: error: the number of workers must be at least 1, got 0"
-    monkeypatch.setattr(distributed, "CONNECT_TIMEOUT", 0.5)
+    unreachable = "cannot reach the Dask scheduler at tcp://127.0.0.1:9 within 0.5 s"
+    with pytest.raises(distributed.ClusterError, match=unreachable):
+        distributed.map_ordered(str, [1], scheduler="tcp://127.0.0.1:9", connect_timeout=0.5)
+
+
+@pytest.mark.slow
+def test_an_unreachable_scheduler_is_one_line_and_writes_nothing(tmp_path, capsys):
+    pytest.importorskip("distributed")
+    sets = tmp_path / "sets.csv"
+    sets.write_text("c\n0.08\n")
     assert main(["sweep", str(sets), "-o", str(tmp_path / "o.csv"), "--scheduler", "tcp://127.0.0.1:9"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in err

@@ -23,7 +23,7 @@ On the bundled treadmill runs (sbw2024 with its controller):
 ``--cycles-above-noise C`` leaves out the windows holding fewer than C weave cycles above the
 noise (``FitOptions.min_cycles_above_noise``; default the package's 0.75, 0: the windows before
 that check). ``--fixed-point-start model`` is an experiment: the fitting bias' fixed point starts
-from each model's weave (``whipple.diagnosis.fit_bias.FIXED_POINT_START``); ``--signals`` the
+from each model's weave (``DiagnosisOptions.fixed_point_start``); ``--signals`` the
 signals fitted jointly in every window (``whipple diagnose --signals``; by default as ``whipple
 diagnose`` chooses: the roll rate with the steer angle, which the bundled runs measure).
 Every number is an RMS or median of |measured - predicted| weave eigenvalue [1/s].
@@ -35,17 +35,16 @@ import argparse
 
 import numpy as np
 
-from whipple.cli.arguments import signal_names
-from whipple.diagnosis import fit_bias
-from whipple.diagnosis.causes import candidate_causes
+from whipple.cli.measurement_arguments import signal_names
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import combined_cause, general_forms
 from whipple.diagnosis.fitting import fit_cause, window_whitening
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import observations, predicted_weave, speed_groups
+from whipple.diagnosis.options import DiagnosisOptions
 from whipple.measurement.bundled import bundled_runs
-from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE, FitOptions, diagnosis_signals, measure_run
-from whipple.measurement.free_motion import diagnosis_windows
+from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE
+from whipple.measurement.measure import MeasurementOptions, measure_runs
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import load_bicycle
 
@@ -60,26 +59,28 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-parameters", action="store_true")
     parser.add_argument("--cycles-above-noise", type=float, default=MIN_CYCLES_ABOVE_NOISE)
-    parser.add_argument("--fixed-point-start", choices=("measured", "model"), default=fit_bias.FIXED_POINT_START)
+    parser.add_argument("--fixed-point-start", choices=("measured", "model"), default="measured")
     parser.add_argument("--signals", type=signal_names, default=None,
                         help="signals fitted jointly (whipple diagnose --signals; default: as it chooses)")
     args = parser.parse_args()
-    fit_bias.FIXED_POINT_START = args.fixed_point_start  # an experiment's knob
+    options = DiagnosisOptions(measurement=MeasurementOptions(signals=args.signals or "auto",
+                                                              min_cycles_above_noise=args.cycles_above_noise),
+                               parameters=not args.no_parameters, fixed_point_start=args.fixed_point_start)
     bicycle = load_bicycle("sbw2024")
     runs = [read_run(source) for source in bundled_runs()]
-    options = FitOptions(signals=diagnosis_signals(runs) if args.signals is None else args.signals, baseline="auto",
-                         min_cycles_above_noise=args.cycles_above_noise)
-    seen = observations(diagnosis_windows([m for run in runs for m in measure_run(run, None, options)]))
-    causes = candidate_causes(bicycle, include_parameters=not args.no_parameters)
-    print(f"{len(seen)} windows fitted to {', '.join(options.signals)}; "
+    # The windows as whipple diagnose measures them (the one measurement of the package).
+    measured = measure_runs(runs, options.measurement, bicycle=bicycle)
+    seen = observations(measured.windows)
+    causes = options.candidates(bicycle)
+    print(f"{len(seen)} windows; {measured.describe()}; "
           f"candidates: {'physical causes only' if args.no_parameters else 'all'}")
 
-    full = diagnose_observations(bicycle, seen, causes)
+    full = diagnose_observations(bicycle, seen, causes, options)
     print(f"all speeds: {full.verdict} ({full.cause}); median dispersion {full.typical_scales[0]:.1f} "
           f"(the comparison's first kind: {full.comparison}), {full.typical_scales[1]:.1f} (mode shapes)")
 
     print("1. each speed left out, cause chosen again on the others:")
-    gain = held_out_gain(bicycle, seen, causes)
+    gain = held_out_gain(bicycle, seen, causes, options=options)
     for s in gain.speeds:
         print(f"   {s.speed:.2f} m/s, {s.windows} windows, {s.cause} chosen: RMS {s.base_rms:.2f} -> "
               f"{s.extended_rms:.2f} (cut {100 * s.cut:+.0f}%), median {s.base_median:.2f} -> {s.extended_median:.2f}")
@@ -87,7 +88,7 @@ def main() -> None:
           f"median {gain.base:.2f} -> {gain.extended:.2f}")
 
     if full.chosen is not None:
-        fixed = held_out_gain(bicycle, seen, causes, fixed=full.chosen)
+        fixed = held_out_gain(bicycle, seen, causes, fixed=full.chosen, options=options)
         print(f"2. earlier figure ({full.cause} chosen on all speeds, refitted per fold): pooled median "
               f"{fixed.base:.2f} -> {fixed.extended:.2f}; RMS {fixed.base_rms:.2f} -> {fixed.extended_rms:.2f} "
               f"(cut {100 * fixed.cut:+.0f}%)")
@@ -95,7 +96,7 @@ def main() -> None:
     groups = speed_groups(seen)
     training = [i for k, group in enumerate(groups) if k % 2 == 0 for i in group]
     held = [i for k, group in enumerate(groups) if k % 2 == 1 for i in group]
-    diagnosis = diagnose_observations(bicycle, [seen[i] for i in training], causes, estimate_spread=False)
+    diagnosis = diagnose_observations(bicycle, [seen[i] for i in training], causes, options, estimate_spread=False)
     extended = bicycle
     if diagnosis.chosen is not None and diagnosis.best is not None:
         extended = diagnosis.chosen.apply(bicycle, diagnosis.best.values)

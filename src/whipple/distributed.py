@@ -27,7 +27,7 @@ Result = TypeVar("Result")
 #: Tasks submitted ahead per worker thread: enough to keep workers busy while results are
 #: written, few enough to bound the memory of queued tasks and results.
 IN_FLIGHT = 2
-#: Seconds to wait for a scheduler to answer before giving up.
+#: Seconds to wait for a scheduler to answer before giving up (:func:`map_ordered`'s default).
 CONNECT_TIMEOUT = 10.0
 
 
@@ -45,7 +45,7 @@ def check_cluster_options(scheduler: str | None, workers: int | None) -> None:
         raise ClusterError("empty scheduler address")
 
 
-def _connect(scheduler: str | None, workers: int | None, processes: bool) -> tuple[Any, Any]:
+def _connect(scheduler: str | None, workers: int | None, processes: bool, timeout: float) -> tuple[Any, Any]:
     """Return (client, local cluster or None); Dask is imported here, only when asked for."""
     import logging  # with Dask only: the serial sweep starts ~10 ms sooner
 
@@ -65,10 +65,10 @@ def _connect(scheduler: str | None, workers: int | None, processes: bool) -> tup
                                silence_logs=logging.CRITICAL)
         return Client(cluster), cluster
     try:
-        return Client(scheduler, timeout=CONNECT_TIMEOUT), None
+        return Client(scheduler, timeout=timeout), None
     except (OSError, TimeoutError) as error:
         reason = str(error).splitlines()[0] if str(error) else type(error).__name__
-        raise ClusterError(f"cannot reach the Dask scheduler at {scheduler} within {CONNECT_TIMEOUT:g} s "
+        raise ClusterError(f"cannot reach the Dask scheduler at {scheduler} within {timeout:g} s "
                            f"({reason})") from None
     except ValueError as error:  # a malformed address
         raise ClusterError(f"bad Dask scheduler address {scheduler!r}: {error}") from None
@@ -76,7 +76,7 @@ def _connect(scheduler: str | None, workers: int | None, processes: bool) -> tup
 
 def map_ordered(function: Callable[[Task], Result], tasks: Iterable[Task], *,
                 scheduler: str | None = None, workers: int | None = None,
-                processes: bool = True) -> OrderedMap[Result]:
+                processes: bool = True, connect_timeout: float = CONNECT_TIMEOUT) -> OrderedMap[Result]:
     """Map ``function`` over `tasks`: an iterator of the results, in the order of `tasks`.
 
     The cluster is reached (or started) here, before any result is asked for, so that a bad
@@ -94,6 +94,8 @@ def map_ordered(function: Callable[[Task], Result], tasks: Iterable[Task], *,
         Start a local Dask cluster with this many workers (one thread each) for the mapping.
     processes : bool
         Local workers as processes (default) or threads of this process.
+    connect_timeout : float
+        Seconds [s] to wait for the scheduler at ``scheduler`` to answer.
 
     Returns
     -------
@@ -116,7 +118,7 @@ def map_ordered(function: Callable[[Task], Result], tasks: Iterable[Task], *,
     check_cluster_options(scheduler, workers)
     if scheduler is None and workers is None:
         return OrderedMap(map(function, tasks))
-    client, cluster = _connect(scheduler, workers, processes)
+    client, cluster = _connect(scheduler, workers, processes, connect_timeout)
     return OrderedMap(_submitted(client, _OneAtATime(function), iter(tasks)), client, cluster)
 
 

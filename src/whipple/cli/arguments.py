@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import math
 
-from whipple.errors import InputError
-from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE
 from whipple.number_text import parse_integer, parse_number
 
 
@@ -65,27 +63,3 @@ def add_rider_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--rider", metavar="FILE",
                         help="BicycleParameters rider file (<Rider><Bicycle>Benchmark.txt): the rider's body, "
                              "joined to the rear frame as a rigid rider")
-
-
-def add_window_check_argument(parser: argparse.ArgumentParser) -> None:
-    """Add ``--min-cycles-above-noise`` (:attr:`whipple.measurement.experiment.FitOptions.min_cycles_above_noise`)."""
-    parser.add_argument("--min-cycles-above-noise", type=number, default=MIN_CYCLES_ABOVE_NOISE, metavar="CYCLES",
-                        help="leave out windows holding fewer weave cycles than this while the oscillation stands "
-                             "above the noise (default %(default)s; 0: no such check, as in the seed paper)")
-
-
-def add_signals_argument(parser: argparse.ArgumentParser, also: str = "", default: str = "roll_rate") -> None:
-    """Add ``--signals`` (:attr:`whipple.measurement.experiment.FitOptions.signals`).
-
-    ``also`` is more help text; it also says what a `default` other than the roll rate means.
-    """
-    parser.add_argument("--signals", default=default, metavar="NAME[,NAME...]",
-                        help=f"signals fitted jointly, sharing one eigenvalue (default {default}){also}")
-
-
-def signal_names(text: str) -> tuple[str, ...]:
-    """Return the run-file signal names of a ``--signals`` value (comma-separated)."""
-    names = tuple(name.strip() for name in text.split(",") if name.strip())
-    if not names:
-        raise InputError("--signals names no signal")
-    return names

@@ -1,13 +1,13 @@
 """Diagnose what the model gets wrong on measured runs, name the cause, extend, measure the gain.
 
-Every free-coasting window of the runs is fitted; each candidate cause (steer damping, steer
-inertia rigid or reflected, speed scale, rear or front payload, tyre compliance, the
-controller's gain, delay or lag, a wrong parameter) is fitted to all windows jointly and
-compared by its evidence; the chosen cause's extended model is tested on held-out speeds
-(with --gain-by-cause, every candidate too, and a choice by prediction). The bicycle file
-carries the controller, if any. --workers N runs the held-out speeds' diagnoses on a local
-Dask cluster of N processes, --scheduler ADDRESS on an existing one; the results are those of
-the serial run.
+Every free-coasting window of the runs is fitted (the same measurement as ``whipple fit``); each
+candidate cause (steer damping, steer inertia rigid or reflected, speed scale, rear or front
+payload, tyre compliance, the controller's gain, delay or lag, a wrong parameter) is fitted to
+all windows jointly and compared by its evidence; the chosen cause's extended model is tested on
+held-out speeds (with --gain-by-cause, every candidate too, and a choice by prediction). The
+bicycle file carries the controller, if any. --workers N runs the held-out speeds' diagnoses on a
+local Dask cluster of N processes, --scheduler ADDRESS on an existing one; the results are those
+of the serial run. The library does the same in one call: whipple.diagnose(runs, bicycle, options).
 """
 
 from __future__ import annotations
@@ -19,35 +19,21 @@ import sys
 from pathlib import Path
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import (
-    add_rider_argument,
-    add_signals_argument,
-    add_window_check_argument,
-    bicycle_inputs,
-    integer,
-    number,
-    signal_names,
-)
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer
+from whipple.cli.measurement_arguments import add_measurement_arguments, measurement_options
 from whipple.cli.outputs import check_outputs, save_figure
+from whipple.cli.progress import ProgressBars
 from whipple.diagnosis.fitting import COMPARISONS
+from whipple.diagnosis.gain_text import cause_gain_sentences, gain_sentences
 from whipple.diagnosis.markdown import report_markdown
+from whipple.diagnosis.options import DiagnosisOptions
+from whipple.diagnosis.pipeline import diagnose
 from whipple.diagnosis.plots import report_figures
-from whipple.diagnosis.report import assemble, cause_gain_sentences, gain_sentences, report_json, steer_sign_flipped
+from whipple.diagnosis.report import DiagnosisReport
 from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
-from whipple.measurement.experiment import (
-    MIN_CYCLES,
-    MIN_WINDOWS,
-    SHORT_WINDOW_CYCLES,
-    SHORT_WINDOW_NOTE,
-    FitOptions,
-    diagnosis_signals,
-    measure_run,
-)
-from whipple.measurement.free_motion import diagnosis_windows
-from whipple.measurement.reference_windows import read_windows
-from whipple.measurement.runs import check_distinct_names, read_run
+from whipple.measurement.experiment import MIN_CYCLES, MIN_WINDOWS, SHORT_WINDOW_CYCLES
 from whipple.model.parameters import load_bicycle, write_bicycle_toml
 
 
@@ -66,21 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="write the extended model as a bicycle file")
     parser.add_argument("--no-parameters", action="store_true",
                         help="do not consider a wrong benchmark parameter as a cause")
-    parser.add_argument("--baseline", default="auto", choices=("auto", "constant", "linear", "quadratic"),
-                        help="non-oscillating part of the window fits (default auto: quadratic, following the "
-                             "capsize mode, in windows of two weave cycles or more; constant otherwise)")
-    parser.add_argument("--settle", type=number, default=0.0, metavar="SECONDS",
-                        help="leave the first SECONDS of every window out of the eigenvalue fits (default 0, as "
-                             "in the seed paper); e.g. 0.3 for a bicycle whose castering mode is slow at the "
-                             "measured speeds (see docs/diagnosis.md)")
-    add_window_check_argument(parser)
-    parser.add_argument("--keep-outliers", action="store_true",
-                        help="use every window that passes the window checks, also those that no free response "
-                             "of a linear model follows nearly as well as the others (by default set aside as "
-                             "holding a catch or a push; see docs/diagnosis.md)")
-    add_signals_argument(parser, ": roll_rate,steer_angle where every run measures the steer angle wherever it "
-                                 "measures the roll rate, roll_rate otherwise (the first signal is the mode shape's "
-                                 "reference; see docs/diagnosis.md)", default="auto")
+    add_measurement_arguments(parser)
     parser.add_argument("--compare", choices=COMPARISONS, default="samples",
                         help="how each model is compared with the windows: samples (default), its free response "
                              "fitted to every window's samples; fitting-function, its weave eigenvalue plus the bias "
@@ -96,12 +68,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          help="diagnose the held-out speeds on an existing Dask cluster (e.g. tcp://host:8786)")
 
 
-def _measured(runs: list, windows: tuple | None, signals: tuple[str, ...], args: argparse.Namespace) -> list:
-    """Fit every window of `runs` to `signals` with the command's fit options."""
-    options = FitOptions(signals=signals, baseline=args.baseline, settle=args.settle,
-                         min_cycles_above_noise=args.min_cycles_above_noise)
-    measured = [m for run_ in runs for m in measure_run(run_, windows, options)]
-    return diagnosis_windows(measured, keep_outliers=args.keep_outliers)
+def options_of(args: argparse.Namespace) -> DiagnosisOptions:
+    """Return the diagnosis options of the command's flags."""
+    return DiagnosisOptions(measurement=measurement_options(args), comparison=args.compare,
+                            parameters=not args.no_parameters, gain_by_cause=args.gain_by_cause)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -118,26 +88,39 @@ def run(args: argparse.Namespace) -> int:
     report_file = args.report / "report.md" if args.report is not None else None
     check_outputs({"--json": args.json, "--save-model": args.save_model, "--report's report.md": report_file},
                   inputs, {"--report": args.report})
+    options = options_of(args)
     bicycle = load_bicycle(args.bicycle, rider=args.rider)
-    runs = [read_run(source, args.layout) for source in sources]
-    check_distinct_names(runs)
-    windows = read_windows(args.windows, runs) if args.windows is not None else None
-    signals = diagnosis_signals(runs) if args.signals == "auto" else signal_names(args.signals)
-    measurements = _measured(runs, windows, signals, args)
-    if args.signals == "auto" and len(signals) > 1 and steer_sign_flipped(bicycle, measurements):
-        signals = signals[:1]  # the roll rate alone: a flipped steer angle would mislead the comparison
-        measurements = _measured(runs, windows, signals, args)
-    report = assemble(bicycle, measurements, baseline=args.baseline, include_parameters=not args.no_parameters,
-                      scheduler=args.scheduler, workers=args.workers, gain_by_cause=args.gain_by_cause,
-                      comparison=args.compare)
-    data = report_json(report)
-    diagnosis = report.diagnosis
-    print(f"{len(report.used)} windows used of {len(measurements)} ({len(runs)} runs; fitted: {', '.join(signals)})")
-    short = sum(m.usable and any(note.startswith(SHORT_WINDOW_NOTE) for note in m.window.notes)
-                for m in measurements)
-    if short:
-        print(f"  fewer than {MIN_WINDOWS} windows passed the checks: {short} windows of {SHORT_WINDOW_CYCLES:g} to "
-              f"{MIN_CYCLES:g} weave cycles are used, whose eigenvalues are less certain")
+    with ProgressBars() as progress:
+        report = diagnose(sources, bicycle, options, layout=args.layout, windows=args.windows, progress=progress,
+                          workers=args.workers, scheduler=args.scheduler)
+    data = report.to_dict()
+    _print_report(report, data)
+    if args.json is not None:
+        write_text_atomic(args.json, json.dumps(data, indent=2) + "\n")
+        print(f"wrote {args.json}")
+    if args.report is not None:
+        figures = {}
+        for key, figure in report_figures(report).items():
+            figures[key] = f"{key}.png"
+            save_figure(figure, args.report / figures[key], dpi=120)
+        command = "whipple " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:] else ""
+        write_text_atomic(args.report / "report.md", report_markdown(report, figures, command))
+        print(f"wrote {args.report / 'report.md'}")
+    if args.save_model is not None:
+        write_bicycle_toml(report.extended, args.save_model)
+        print(f"wrote {args.save_model}")
+    return 0
+
+
+def _print_report(report: DiagnosisReport, data: dict) -> None:
+    """Print the report's findings, the headline first."""
+    diagnosis, measured = report.diagnosis, report.measured
+    runs = len({m.run.name for m in report.measurements})
+    how = f"; {measured.describe()}" if measured is not None else ""
+    print(f"{len(report.used)} windows used of {len(report.measurements)} ({runs} runs{how})")
+    if measured is not None and measured.short:
+        print(f"  fewer than {MIN_WINDOWS} windows passed the checks: {measured.short} windows of "
+              f"{SHORT_WINDOW_CYCLES:g} to {MIN_CYCLES:g} weave cycles are used, whose eigenvalues are less certain")
     print(f"what the model gets wrong: {report.residual_summary[0]}")
     print(f"verdict: {diagnosis.verdict}" + (f" ({diagnosis.cause})" if diagnosis.verdict != "none" else ""))
     if diagnosis.family:
@@ -166,18 +149,3 @@ def run(args: argparse.Namespace) -> int:
     for sentence in cause_gain_sentences(report.cause_gains, report.gain, report.prediction_gain,
                                          report.prediction_fit):
         print(f"every candidate held out: {sentence}")
-    if args.json is not None:
-        write_text_atomic(args.json, json.dumps(data, indent=2) + "\n")
-        print(f"wrote {args.json}")
-    if args.report is not None:
-        figures = {}
-        for key, figure in report_figures(report).items():
-            figures[key] = f"{key}.png"
-            save_figure(figure, args.report / figures[key], dpi=120)
-        command = "whipple " + " ".join(shlex.quote(a) for a in sys.argv[1:]) if sys.argv[1:] else ""
-        write_text_atomic(args.report / "report.md", report_markdown(report, figures, command))
-        print(f"wrote {args.report / 'report.md'}")
-    if args.save_model is not None:
-        write_bicycle_toml(report.extended, args.save_model)
-        print(f"wrote {args.save_model}")
-    return 0

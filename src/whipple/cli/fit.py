@@ -1,14 +1,19 @@
 """Find the free-coasting windows of measured runs and fit their weave eigenvalues.
 
-For every run the free-coasting windows are found automatically (or read from --windows), the
-roll rate (or the --signals, jointly) is fitted with c1 + exp(d t)[c2 cos wt + c3 sin wt] by
-separable least squares, and the speed range of each window is the linear regression of the
-speed over it. One line per window: run, window number, start and stop [s], speed range
-[m/s], eigenvalue d + i w [1/s] with standard deviations, R^2, and with --bicycle the model's
-weave eigenvalue at the window's mean speed (divided by the bicycle's speed_scale: measured
-speed = speed_scale * true speed). Stretches the window finder rejected, windows that cannot
-be fitted and fits too poor to use (R^2 under 0.5, under 0.75 weave cycle in all or above the
-noise, see --min-cycles-above-noise) are listed as skipped, with the reason.
+The same measurement as ``whipple diagnose`` (whipple.measurement.measure.measure_runs): for
+every run the free-coasting windows are found automatically (or read from --windows); the roll
+rate and, where every run measures it, the steer angle are fitted jointly with
+c1 + exp(d t)[c2 cos wt + c3 sin wt] sharing one eigenvalue (--signals, --baseline); windows that
+no free motion follows nearly as well as the others are set aside (--keep-outliers keeps them);
+with --bicycle the steer signal's sign is checked against the model. --method seed-paper fits
+the roll rate alone with a constant baseline, as the seed paper does. The speed range of each
+window is the linear regression of the speed over it. One line per window: run, window number,
+start and stop [s], speed range [m/s], eigenvalue d + i w [1/s] with standard deviations, R^2,
+and with --bicycle the model's oscillating mode nearest the measured eigenvalue at the window's
+mean speed (divided by the bicycle's speed_scale: measured speed = speed_scale * true speed), or
+"no mode near" where the model has no oscillation near it. Stretches the window finder rejected,
+windows that cannot be fitted and fits too poor to use (R^2 under 0.5, under 0.75 weave cycle in
+all or above the noise, see --min-cycles-above-noise) are listed as skipped, with the reason.
 
 --bundled adds the measured runs shipped with whipple (a steer-by-wire bicycle on a treadmill;
 fit them with --bicycle sbw2024) and compares the automatic windows with the windows picked
@@ -30,19 +35,23 @@ from typing import Any
 import numpy as np
 
 from whipple.atomic import refuse_input_overwrite, write_text_atomic
-from whipple.cli.arguments import add_rider_argument, add_signals_argument, add_window_check_argument, signal_names
+from whipple.cli.arguments import add_rider_argument
+from whipple.cli.measurement_arguments import add_measurement_arguments, measurement_options
 from whipple.cli.outputs import check_outputs, save_figure
+from whipple.cli.progress import ProgressBars
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_reference_windows, bundled_runs
-from whipple.measurement.experiment import CSV_COLUMNS, FitOptions, RunMeasurement, measure_run, measure_window
+from whipple.measurement.experiment import CSV_COLUMNS, FitOptions, measure_window
+from whipple.measurement.measure import MeasuredRuns, measure_runs, model_modes
 from whipple.measurement.plots import fit_figures
 from whipple.measurement.reference_windows import compare_windows, read_windows
 from whipple.measurement.runs import check_distinct_names, read_run
 from whipple.measurement.windows import Window
-from whipple.model.assembly import linear_model
 from whipple.model.parameters import Bicycle, load_bicycle
-from whipple.stability.eigen import weave_eigenvalue
+from whipple.stability.nearest_modes import SHAPE_MATCH
 
+#: Per window, the model's nearest oscillating mode and whether it is near (measure.model_modes).
+Modes = list[tuple[complex | None, bool] | None]
 #: The word that names the hand-picked windows of the bundled runs in --windows/--compare.
 BUNDLED = "bundled"
 
@@ -66,19 +75,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--compare", metavar="FILE",
                         help="windows file to compare the automatic windows with (they are "
                              "still the ones fitted); 'bundled' as for --windows")
-    add_signals_argument(parser)
-    parser.add_argument("--baseline", choices=("constant", "linear", "quadratic"), default="constant",
-                        help="non-oscillating part of the fitted function: the seed paper's "
-                             "constant c1 (default), or a polynomial in time that also absorbs "
-                             "a slow capsize-mode drift")
-    parser.add_argument("--noise", choices=("auto", "white", "correlated"), default="auto",
-                        help="covariance of the eigenvalue: white residuals, Newey-West for "
-                             "autocorrelated ones, or Newey-West when the residual's lag-1 "
-                             "autocorrelation is significant (default auto)")
-    add_window_check_argument(parser)
+    add_measurement_arguments(parser)
     parser.add_argument("--bicycle", metavar="PARAMS",
-                        help="bicycle file or built-in name: list its model weave eigenvalue "
-                             "at each window's speed")
+                        help="bicycle file or built-in name: list its mode nearest each window's eigenvalue at "
+                             "the window's speed, and check the steer signal's sign against it")
     parser.add_argument("--json", metavar="OUT", help="write the windows as a JSON list")
     parser.add_argument("--csv", metavar="OUT", help="write the table as CSV")
     parser.add_argument("--plot", "--plots", dest="plot", metavar="DIR",
@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     if not args.runs and not args.bundled:
         raise InputError("no runs: name run files, or use --bundled for the runs shipped with whipple")
-    signals = signal_names(args.signals)
+    options = measurement_options(args)
     inputs = [*args.runs, *(f for f in (args.windows, args.compare, args.bicycle, args.rider, args.layout)
                             if f and f != BUNDLED)]
     check_outputs({"--json": args.json, "--csv": args.csv}, inputs, {"--plot": args.plot})
@@ -116,24 +116,22 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--rider needs --bicycle (the bicycle the rider sits on)")
     bicycle = load_bicycle(args.bicycle, rider=args.rider) if args.bicycle else None
 
-    options = FitOptions(signals=signals, baseline=args.baseline, noise=args.noise, shape_signal=None,
-                         min_cycles_above_noise=args.min_cycles_above_noise)
-    measured = [measure_run(run_, chosen, options) for run_ in runs]
-    models = _model_eigenvalues(measured, bicycle)
-    _print_table(measured, models)
+    with ProgressBars() as progress:
+        measured = measure_runs(runs, options, windows=chosen, bicycle=bicycle, progress=progress)
+    modes: Modes = model_modes(measured.windows, bicycle) if bicycle is not None else [None] * len(measured.windows)
+    _print_table(measured, modes)
     if reference is not None:
-        _print_comparison(reference_name, reference, measured, options)
-    _write_outputs(args, measured, models, bicycle, inputs)
+        _print_comparison(reference_name, reference, measured, options.fit_options(measured.signals))
+    _write_outputs(args, measured, modes, bicycle, inputs)
     return 0
 
 
-def _model_eigenvalues(measured: list[RunMeasurement], bicycle: Bicycle | None) -> dict[int, complex | None]:
-    """Return the model's weave eigenvalue at each timed window's mean speed (by id), in one call."""
-    timed = [(m, m.speed.mean) for run_ in measured for m in run_ if m.speed is not None]
-    if bicycle is None or not timed:
-        return {}
-    values = weave_eigenvalue(linear_model(bicycle), bicycle.model_speed([speed for _, speed in timed]))
-    return {id(m): None if np.isnan(value) else complex(value) for (m, _), value in zip(timed, values, strict=True)}
+def _model_text(mode: tuple[complex | None, bool] | None) -> str:
+    """Return the model column: the nearest oscillating mode, marked "far" where it is not near the measurement."""
+    if mode is None:
+        return ""
+    value, near = mode
+    return "no oscillation" if value is None else _complex(value) + ("" if near else " far")
 
 
 def _pair(value: complex | None) -> list[float] | None:
@@ -148,8 +146,9 @@ def _time(seconds: float) -> str:  # a mistyped window file may hold any number
     return f"{seconds:7.2f}" if abs(seconds) < 1e6 else f"{seconds:7.2g}"
 
 
-def _print_table(measured: list[RunMeasurement], models: dict[int, complex | None]) -> None:
+def _print_table(measured: MeasuredRuns, modes: Modes) -> None:
     width = max(len("run"), *(len(r.run.name) for r in measured))
+    print(f"{measured.describe()} (method {measured.options.method})")
     for run_ in measured:
         fitted = len(run_.fitted)
         origin = "from the windows file" if run_.from_file else "found automatically"
@@ -160,22 +159,26 @@ def _print_table(measured: list[RunMeasurement], models: dict[int, complex | Non
             print(f"  note: {warning}")
     print()
     print(f"{'run':<{width}}  {'#':>3}  {'start':>7}  {'stop':>7}  {'speed [m/s]':<11}  "
-          f"{'eigenvalue d + iw [1/s] (± 1 std)':<31}  {'R^2':>5}  {'model [1/s]':<13}  notes")
-    for m in (m for run_ in measured for m in run_):
+          f"{'eigenvalue d + iw [1/s] (± 1 std)':<31}  {'R^2':>5}  {'model [1/s]':<17}  notes")
+    for m, mode in zip(measured.windows, modes, strict=True):
         w = m.window
         speed = f"{m.speed.low:.2f}-{m.speed.high:.2f}" if m.speed else ""
-        model = _complex(models.get(id(m)))
+        model = _model_text(mode)
         head = f"{m.run.name:<{width}}  {m.number:>3}  {_time(w.start)}  {_time(w.stop)}  {speed:<11}  "
         if m.fit is None:
-            print(f"{head}{'skipped':<31}  {'':>5}  {model:<13}  {m.rejected}")
+            print(f"{head}{'skipped':<31}  {'':>5}  {model:<17}  {m.rejected}")
             continue
         d_std, w_std = m.fit.eigenvalue_std
         value = f"{m.fit.damping:+.2f}±{d_std:.2f} {m.fit.frequency:+.2f}±{w_std:.2f}i"
         notes = f"not used: {m.quality}; {m.notes}" if m.quality else m.notes
-        print(f"{head}{value:<31}  {m.fit.r_squared:5.3f}  {model:<13}  {notes}")
+        print(f"{head}{value:<31}  {m.fit.r_squared:5.3f}  {model:<17}  {notes}")
+    if any(mode is not None and not mode[1] for mode in modes):
+        print("model: the model's oscillating mode nearest the measured eigenvalue; 'far': more than "
+              f"{100 * SHAPE_MATCH:.0f}% of |eigenvalue| from it, so the window describes no mode of this model; "
+              "'no oscillation': the model has no oscillating mode at that speed")
 
 
-def _print_comparison(name: str, reference: tuple[Window, ...], measured: list[RunMeasurement],
+def _print_comparison(name: str, reference: tuple[Window, ...], measured: MeasuredRuns,
                       options: FitOptions) -> None:
     """How the automatic windows match the reference ones, and the eigenvalues of both.
 
@@ -216,21 +219,23 @@ def _print_comparison(name: str, reference: tuple[Window, ...], measured: list[R
               f"median |Δw| {np.median(np.abs(delta.imag)):.2f} rad/s")
 
 
-def _write_outputs(args: argparse.Namespace, measured: list[RunMeasurement], models: dict[int, complex | None],
+def _write_outputs(args: argparse.Namespace, measured: MeasuredRuns, modes: Modes,
                    bicycle: Bicycle | None, inputs: list[str]) -> None:
-    windows = [m for run_ in measured for m in run_]
+    windows = measured.windows
     if args.json:
         entries: list[dict[str, Any]] = [
-            {**m.to_dict(), "model_eigenvalue": _pair(models.get(id(m)))} for m in windows]
+            {**m.to_dict(), "model_eigenvalue": _pair(mode[0] if mode else None),
+             "model_mode_near": mode[1] if mode else None} for m, mode in zip(windows, modes, strict=True)]
         write_text_atomic(args.json, json.dumps(entries, indent=1, allow_nan=False) + "\n")
         print(f"wrote {args.json}")
     if args.csv:
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow([*CSV_COLUMNS[:-2], "model_damping", "model_frequency", *CSV_COLUMNS[-2:]])
-        for m in windows:
-            row, model = m.csv_row(), models.get(id(m))
-            cells = ["", ""] if model is None else [f"{model.real:.6g}", f"{model.imag:.6g}"]
+        writer.writerow([*CSV_COLUMNS[:-2], "model_damping", "model_frequency", "model_near", *CSV_COLUMNS[-2:]])
+        for m, mode in zip(windows, modes, strict=True):
+            model, near = mode if mode else (None, False)
+            row = m.csv_row()
+            cells = ["", "", ""] if model is None else [f"{model.real:.6g}", f"{model.imag:.6g}", str(near).lower()]
             writer.writerow([*row[:-2], *cells, *row[-2:]])
         write_text_atomic(args.csv, buffer.getvalue())
         print(f"wrote {args.csv}")

@@ -39,12 +39,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.observations import nearest_eigen
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.weavefit import fit_weave
 from whipple.model.parameters import Bicycle
 from whipple.simulation.nonlinear_bicycle import ForcedBicycle, coast
+from whipple.stability.nearest_modes import nearest_eigen
 
 #: A difference above this fraction of |eigenvalue| flags a window whatever its uncertainty.
 RELATIVE_LIMIT = 0.05

@@ -25,13 +25,18 @@ from whipple.diagnosis.fit_bias import fitting_bias
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, model_states, robust_chi2
 from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.starts import GRID_MAX_VALUES, refinement_starts
+from whipple.measurement.measure import Progress
 from whipple.model.parameters import Bicycle
 
 
 def fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
             whitening: Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None,
-            biases: Sequence[NDArray[np.complex128]] | None = None) -> tuple[CauseFit, list[CauseFit]]:
-    """Fit the base model and every cause; ``biases``: the fitting bias of the base model, then of each cause."""
+            biases: Sequence[NDArray[np.complex128]] | None = None,
+            progress: Progress | None = None) -> tuple[CauseFit, list[CauseFit]]:
+    """Fit the base model and every cause; ``biases``: the fitting bias of the base model, then of each cause.
+
+    ``progress`` is called as ``progress("candidates", done, total)`` after each cause.
+    """
     own = [whitening] * (1 + len(causes)) if biases is None else [replace(whitening, bias=b) for b in biases]
     base = _evaluated(bicycle, CauseFit("none", (), (), (), (), 0.0), observations, own[0])
     starts = [None] * len(causes) if starts is None else starts
@@ -45,6 +50,8 @@ def fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Ob
         else:  # a refinement of a form fitted just before: start from its fit, no search
             fits.append(fit_cause(bicycle, cause, observations, cause_whitening,
                                   refinement_starts(cause, simpler.values), grid=False))
+        if progress is not None:
+            progress("candidates", len(fits), len(causes))
     return base, fits
 
 
@@ -81,12 +88,13 @@ def refit_to_samples(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[C
 
 def refit_through_bias(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
                        observations: Sequence[Observation], whitening: Whitening,
-                       base_bias: NDArray[np.complex128], near: Sequence[bool]
+                       base_bias: NDArray[np.complex128], near: Sequence[bool], start: str = "measured"
                        ) -> tuple[CauseFit, list[CauseFit], list[NDArray[np.complex128]]]:
     """Compare the base model and each fitted cause with the windows through the fitting function.
 
     A cause ``near`` the best is refitted from its values with its own model's bias at them;
-    any other is evaluated at its values with the base model's bias ``base_bias``.
+    any other is evaluated at its values with the base model's bias ``base_bias``. ``start``:
+    where the bias' fixed point starts (:func:`~whipple.diagnosis.fit_bias.fitting_bias`).
 
     Returns
     -------
@@ -97,7 +105,8 @@ def refit_through_bias(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence
     biases : list of ndarray of complex
         The bias each cause was compared with [1/s], per window.
     """
-    biases = [fitting_bias(cause.apply(bicycle, list(fit.values)), observations) if is_near else base_bias
+    biases = [fitting_bias(cause.apply(bicycle, list(fit.values)), observations, start=start) if is_near
+              else base_bias
               for cause, fit, is_near in zip(causes, fits, near, strict=True)]
     chosen = [k for k, is_near in enumerate(near) if is_near]
     base, refitted = fit_all(bicycle, [causes[k] for k in chosen], observations, whitening,

@@ -1,11 +1,11 @@
-"""Candidate causes of model error: each a model change with one or two physical parameters.
+"""Candidate causes of model error: what a cause is, and the building blocks of the loads and parameters.
 
-Names follow the diagnosis-report vocabulary: ``steer_damping``, ``steer_inertia``,
-``reflected_steer_inertia``, ``tyre_compliance``, ``speed_scale``, ``payload``,
-``front_payload``, for a bicycle with a controller ``controller_gain``, ``controller_delay`` and
-``controller_lag``, and ``parameter:<key>`` for one wrong benchmark parameter. Each cause maps
-fitted values onto a modified bicycle, so that every cause passes through the same derived
-equations.
+A :class:`Cause` is one form of a candidate cause for one bicycle: its fitted values with units,
+bounds, start and no-effect values, prior, and how they change the bicycle, so that every cause
+passes through the same derived equations. The causes themselves are declared in
+:mod:`whipple.diagnosis.registry`; here are the forms that need more than one line: a payload on
+the rear or front frame (:func:`payload_form`) and one wrong benchmark parameter
+(:func:`parameter_cause`).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.model.parameter_set import PARAMETER_UNITS
-from whipple.model.parameters import Bicycle, Payload, TyreCompliance
+from whipple.model.parameters import Bicycle, Payload
 
 # Reported bicycle tyre values (shared spec tyre-model.md): the camber stiffness is not fitted
 # (eigenvalues barely constrain it); cornering stiffness and relaxation length are.
@@ -69,38 +69,6 @@ class Cause:
         """Lower and upper bounds of the values, as arrays (units as ``units``)."""
         bounds = np.array(self.bounds, dtype=float).reshape(-1, 2)
         return bounds[:, 0], bounds[:, 1]
-
-
-def _steer_damping(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    return bicycle.with_extensions(steer_damping=bicycle.extensions.steer_damping + float(values[0]))
-
-
-def _steer_inertia(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    return bicycle.with_extensions(steer_inertia=bicycle.extensions.steer_inertia + float(values[0]))
-
-
-def _speed_scale(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    return bicycle.with_extensions(speed_scale=bicycle.extensions.speed_scale * float(values[0]))
-
-
-def _reflected_steer_inertia(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    return bicycle.with_extensions(
-        reflected_steer_inertia=bicycle.extensions.reflected_steer_inertia + float(values[0]))
-
-
-def _controller_gain(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    controller = bicycle.controller
-    return bicycle.with_controller(replace(controller, gain_scale=controller.gain_scale * float(values[0])))
-
-
-def _controller_delay(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    controller = bicycle.controller
-    return bicycle.with_controller(replace(controller, delay=controller.delay + float(values[0])))
-
-
-def _controller_lag(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    controller = bicycle.controller
-    return bicycle.with_controller(replace(controller, lag=controller.lag + float(values[0])))
 
 
 #: The frame letter of each payload cause: its mass centre anchors the simpler forms.
@@ -181,57 +149,6 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> 
                  refines=tuple(f"{name}_{axis}" for axis in ("mass", "x", "z")) if "k" in free else None)
 
 
-#: Whether the payloads' rigid-load form is among the candidates (an experiment, not the
-#: default): over seeds 0-24 of every family and bicycle it named a rack load right more often
-#: (64 -> 66 of 75) but a basket less often (55 -> 46; docs/diagnosis.md, "A rigid load").
-RIGID_LOADS = True
-
-
-def payload_causes(bicycle: Bicycle, name: str, rigid: bool | None = None) -> list[Cause]:
-    """Return the forms of a payload cause: ``payload`` (rear frame) or ``front_payload``.
-
-    Three forms for the evidence, sharing the cause's one unit of prior weight (so that taking
-    the best of them is not a free extra chance): the mass alone at the frame's mass centre;
-    mass and height at the mass centre's fore-aft position (height changes the roll inertia,
-    which a mass alone cannot mimic); and mass and full position, for a load on a rack behind
-    the saddle or in a basket ahead of the steer axis. The full-position form was once kept out
-    of the evidence because it mimicked steer inertia and trail; with the ambiguity rules
-    (:mod:`whipple.diagnosis.families`) such mimicry is reported as ``ambiguous`` instead, and
-    without the form a real rack or basket load (a rigid body away from the mass centre) was
-    named right in 0% and 6% of hidden-effect trials; with it, in most (docs/diagnosis.md).
-    ``rigid`` (default :data:`RIGID_LOADS`): a fourth form, the same load as a rigid body with
-    its own radii of gyration about the roll and yaw axes, refining the third. Other forms:
-    :func:`payload_form`.
-    """
-    rigid = RIGID_LOADS if rigid is None else rigid
-    forms = ("m", "mz", "mxz", "mxzk") if rigid else ("m", "mz", "mxz")
-    return [payload_form(bicycle, name, free, prior=1.0 / len(forms)) for free in forms]
-
-
-def controller_causes(bicycle: Bicycle) -> list[Cause]:
-    """Return the causes in the bicycle's controller: none for a bicycle without one.
-
-    ``controller_gain`` scales every commanded torque [-]; ``controller_delay`` delays it [s]
-    (Pade approximant in the linear model, see :mod:`whipple.model.actuator`);
-    ``controller_lag`` passes it through a first-order lag of that time constant [s].
-    """
-    if bicycle.controller.is_empty():
-        return []
-    return [
-        Cause("controller_gain", ("controller_gain",), ("",), (1.0,), ((0.2, 5.0),), _controller_gain, null=(1.0,)),
-        Cause("controller_delay", ("controller_delay",), ("s",), (0.0,), ((0.0, 0.3),), _controller_delay,
-              null=(0.0,)),
-        Cause("controller_lag", ("controller_lag",), ("s",), (0.0,), ((0.0, 0.3),), _controller_lag, null=(0.0,)),
-    ]
-
-
-def _tyre(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-    camber = (bicycle.extensions.tyre_compliance.camber_stiffness
-              if bicycle.extensions.tyre_compliance is not None else DEFAULT_CAMBER_STIFFNESS)
-    return bicycle.with_extensions(tyre_compliance=TyreCompliance(
-        cornering_stiffness=float(values[0]), camber_stiffness=camber, relaxation_length=float(values[1])))
-
-
 def _parameter(key: str) -> Callable[[Bicycle, Sequence[float]], Bicycle]:
     def apply(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
         return bicycle.with_parameters(**{key: float(values[0])})
@@ -263,39 +180,6 @@ def parameter_cause(bicycle: Bicycle, key: str, share: float) -> Cause:
     lower = value / 3.0 if key in POSITIVE_PARAMETERS and value >= 0 else value - span
     return Cause(f"parameter:{key}", (key,), (PARAMETER_UNITS.get(key, ""),), (value,), ((lower, value + span),),
                  _parameter(key), prior=share, null=(value,))
-
-
-def candidate_causes(bicycle: Bicycle, include_parameters: bool = True) -> list[Cause]:
-    """Return the candidate causes for a bicycle, with starting values and bounds.
-
-    Controller causes only for a bicycle with a controller; ``parameter:<key>`` causes unless
-    ``include_parameters`` is False.
-    """
-    causes = [
-        Cause("steer_damping", ("steer_damping",), ("N m s/rad",), (0.0,), ((0.0, 20.0),), _steer_damping,
-              null=(0.0,)),
-        Cause("steer_inertia", ("steer_inertia",), ("kg m^2",), (0.0,), ((0.0, 2.0),), _steer_inertia, null=(0.0,)),
-        Cause("reflected_steer_inertia", ("reflected_steer_inertia",), ("kg m^2",), (0.0,), ((0.0, 2.0),),
-              _reflected_steer_inertia, null=(0.0,)),
-        Cause("speed_scale", ("speed_scale",), ("",), (1.0,), ((0.5, 2.0),), _speed_scale, null=(1.0,)),
-        *payload_causes(bicycle, "payload"),
-        *payload_causes(bicycle, "front_payload"),
-        Cause("tyre_compliance", ("cornering_stiffness", "relaxation_length"), ("1/rad", "m"), (12.0, 0.15),
-              ((1.0, 500.0), (0.005, 1.0)), _tyre),
-        *controller_causes(bicycle),
-    ]
-    if include_parameters:
-        keys = [key for key in BLAMEABLE_PARAMETERS if key in bicycle.parameters]
-        causes += [parameter_cause(bicycle, key, 1.0 / len(keys)) for key in keys]
-    return causes
-
-
-def cause_by_name(bicycle: Bicycle, name: str) -> Cause:
-    """Return the candidate cause called ``name`` (including ``parameter:<key>``)."""
-    for cause in candidate_causes(bicycle):
-        if cause.name == name:
-            return cause
-    raise KeyError(name)
 
 
 def with_cause(bicycle: Bicycle, cause: Cause, values: Sequence[float]) -> Bicycle:

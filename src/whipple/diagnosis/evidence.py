@@ -17,22 +17,24 @@ them apart. Causes are compared by an approximate log Bayes factor against the b
     evidence = (chi2_base - chi2_cause) / 2 - (k / 2) ln(n) + ln(prior)
 
 with n the eigenvalue and mode-shape residuals (also where the samples are compared:
-:attr:`~whipple.diagnosis.fitting.Whitening.charged`), k fitted values (``OCCAM = "laplace"``: the
+:attr:`~whipple.diagnosis.fitting.Whitening.charged`), k fitted values (``DiagnosisOptions(occam="laplace")``: the
 Laplace approximation instead, :func:`occam_factor`, an experiment), and each kind of residual
 (eigenvalue, shape; or the samples) divided by its own s^2 >= 1, the reduced chi-square of the
 best model on that kind (window uncertainties that are too small inflate every chi-square
 alike). ``none`` has evidence 0. The verdict:
 ``none`` when no cause reaches ``named_threshold``; ``ambiguous`` when the runner-up is within
-``margin`` of the best, when a runner-up within ``CLOSE_EVIDENCE`` predicts the observations
-within ``SEPARATION`` of the best (:func:`separation`), or when even the best model leaves the
-typical window far off (:func:`typical_dispersion` above ``HIGH_DISPERSION``); otherwise
+``margin`` of the best, when a runner-up within ``close_evidence`` predicts the observations
+within ``separation`` of the best (:func:`separation`), or when even the best model leaves the
+typical window far off (:func:`typical_dispersion` above ``high_dispersion``); otherwise
 ``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
 (:mod:`whipple.diagnosis.families`; which pairs: :mod:`whipple.diagnosis.pair_search`) and
 kept only when they beat every single cause by ``margin``; a leading pair is reported, never
 named outright, and a pair of two other causes ahead of the best single cause by less than
 ``margin`` makes its verdict ambiguous. Model terms (entries added to the linear equations,
 :mod:`whipple.diagnosis.model_terms`) compete like causes but are never paired; a leading term
-is never named either: it says what form the error has when no physical cause has it.
+is never named either: it says what form the error has when no physical cause has it. The
+thresholds are the options' (:class:`~whipple.diagnosis.options.VerdictRules`,
+:class:`~whipple.diagnosis.options.PairRules`), each documented there with its reason.
 """
 
 from __future__ import annotations
@@ -49,61 +51,16 @@ from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, robust_chi2, window_whitening
-from whipple.diagnosis.model_terms import candidates_with_terms, is_term, term_words
+from whipple.diagnosis.model_terms import is_term, term_words
 from whipple.diagnosis.observations import Observation
+from whipple.diagnosis.options import DiagnosisOptions, VerdictRules
 from whipple.diagnosis.pair_search import leading_pairs, screened_pairs
 from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
 from whipple.measurement.experiment import MIN_WINDOWS
+from whipple.measurement.measure import Progress
 from whipple.model.parameters import Bicycle
-
-NAMED_THRESHOLD = 3.0  # evidence (log Bayes factor) a cause needs over the base model: ~20:1
-MARGIN = 2.0  # evidence by which the best must beat the runner-up: ~7:1
-#: A runner-up within this much evidence whose predictions are within SEPARATION of the best's
-#: makes the verdict ambiguous (a prior or a fitted value more is then all that ranks them).
-CLOSE_EVIDENCE = 5.0
-#: Half the summed squared whitened difference of two fits' predictions below which the data
-#: could not single out one of them even if it were true (odds below e^2, about 7:1).
-SEPARATION = 2.0
-#: Median dispersion (see typical_dispersion) of the best single cause above which pairs are
-#: tried; a pair is kept only when it beats every single cause by the margin.
-COMBINE_DISPERSION = 2.0
-#: Median dispersion of the leading model (eigenvalues or mode shapes, see typical_dispersion)
-#: above which the verdict is never a confident name: the typical window is more than 2.2
-#: standard deviations off, and the leading cause is the least bad guess. In simulated trials
-#: with realistic noise the true cause left up to about 3 (fitting-function bias); the bundled
-#: treadmill data leave 13.7.
-HIGH_DISPERSION = 5.0
-#: A leading single cause (its best-supported form) with at least this many fitted values has
-#: the freedom to stand in for two effects together (a payload's mass, fore-aft and vertical
-#: position): pairs are then tried even when it fits. In 150 hidden-effect trials with two
-#: effects, such a payload was the wrong confident name in 20 of 21 wrong verdicts; with pairs
-#: tried, 10 wrong verdicts remained, fewer once the pair screens scored pairs as the evidence
-#: does and pairs leading by less than the margin became rivals (docs/diagnosis.md).
-FLEXIBLE_VALUES = 3
-#: Evidence for values that differ between the low and the high speeds (see
-#: :func:`speed_dependence`) above which a leading cause is not named: its form does not follow
-#: how the error changes with speed. The same odds as ``MARGIN`` (~7:1).
-SPEED_DEPENDENCE = MARGIN
-#: Evidence (compared directly, and times the dispersion) by which a cause may trail the best
-#: and still be refitted through its own model's fitting bias; further behind, its direct fit
-#: is evaluated with the base model's. Twice the most either moved a cause against the leader
-#: among the candidates of 40 runs with a rack load (45), and the bias was most of a
-#: diagnosis' time (docs/diagnosis.md).
-BIAS_SCREEN = 100.0
-#: Evidence (fitted to the eigenvalues, and times their dispersion) by which a cause may trail
-#: the best and still be refitted to the windows' samples (``comparison="samples"``); further
-#: behind, it is evaluated on the samples at its values fitted to the eigenvalues.
-SAMPLES_SCREEN = 50.0
-#: How the evidence charges a cause's fitted values: ``"bic"``, ln(n)/2 each (n residuals), or
-#: ``"laplace"``, the share of the cause's bounds its fit leaves open (:func:`occam_factor`). The
-#: second, tried over the 2,000 hidden-effect trials, named a wrong parameter right far more
-#: often (73% -> 94%) but a basket load less often (74% -> 72%, 5 wrong names against 1; with
-#: two effects hidden together, 12 wrong names of 150 against 10): it trades causes with one
-#: value against loads with three, by bounds that are physical limits rather than priors
-#: (docs/diagnosis.md, "The Occam factor"). A knob for experiments.
-OCCAM = "bic"
 
 
 @dataclass(frozen=True)
@@ -133,13 +90,13 @@ class Diagnosis:
         The pairs of causes fitted jointly (only when no single cause explained the data).
     single_scales : tuple of float
         Typical-window dispersions (:func:`typical_dispersion`) of the best single cause, before
-        any combination: pairs are tried above ``COMBINE_DISPERSION``.
+        any combination: pairs are tried above the options' ``pairs.dispersion``.
     typical_scales : tuple of float
-        Typical-window dispersions of the leading cause: above ``HIGH_DISPERSION`` the verdict
+        Typical-window dispersions of the leading cause: above ``verdict.high_dispersion`` the verdict
         is not a confident name.
     speed_dependence : SpeedDependence or None
         The leading cause fitted to the low and the high speeds apart (:func:`speed_dependence`),
-        where its name was otherwise confident; above ``SPEED_DEPENDENCE`` it is not named.
+        where its name was otherwise confident; above ``verdict.speed_dependence`` it is not named.
     comparison : str
         How each model was compared with the windows (:data:`~whipple.diagnosis.fitting.COMPARISONS`):
         with their samples, through the fitting function, or with their eigenvalues directly
@@ -190,43 +147,48 @@ def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[flo
 
 
 def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
-                          causes: Sequence[Cause] | None = None,
-                          named_threshold: float = NAMED_THRESHOLD, margin: float = MARGIN,
+                          causes: Sequence[Cause] | None = None, options: DiagnosisOptions | None = None, *,
                           estimate_spread: bool = True, quick: bool = False,
-                          comparison: str = "samples") -> Diagnosis:
+                          progress: Progress | None = None) -> Diagnosis:
     """Fit every cause to the observations and decide which, if any, explains them.
 
-    When the best single cause leaves a dispersion above ``COMBINE_DISPERSION``, or (not
-    ``quick``) has at least ``FLEXIBLE_VALUES`` fitted values and the evidence for a name, pairs
+    ``causes`` (default: the options' candidates, :meth:`~whipple.diagnosis.options.DiagnosisOptions.candidates`);
+    ``options`` (default :class:`~whipple.diagnosis.options.DiagnosisOptions`) hold the comparison,
+    the verdict's and the pairs' rules and the evidence's charges; ``progress`` is called as
+    ``progress("candidates", done, total)`` while the causes are fitted.
+    When the best single cause leaves a dispersion above ``pairs.dispersion``, or (not
+    ``quick``) has at least ``pairs.flexible_values`` fitted values and the evidence for a name, pairs
     of the leading causes are fitted jointly as well (:func:`whipple.diagnosis.families.combined_cause`).
     ``estimate_spread``: also compute the jackknife spread of the leading cause's values
     (skipped by the held-out gain, which uses only the values). ``quick``: start each fit from
     the cause's no-effect values and a step of 5% of its bounds away (each pair once, from its
     members' values; a refinement from the form it refines, as always), and rescale the
     residuals by the dispersions instead of refitting (several times faster; used by the
-    held-out gain's folds). ``comparison`` (:data:`~whipple.diagnosis.fitting.COMPARISONS`):
+    held-out gain's folds). The options' ``comparison``:
     ``"samples"`` (the default) compares each model with the windows' samples
     (:mod:`whipple.diagnosis.samples`): every cause is fitted to the eigenvalues first, then
-    refitted to the samples from there, those more than ``SAMPLES_SCREEN`` behind the best only
+    refitted to the samples from there, those more than ``samples_screen`` behind the best only
     evaluated on them at their eigenvalue fit; ``"fitting-function"`` compares each window's
     eigenvalue through the fitting function (:mod:`whipple.diagnosis.fit_bias`): every fit is
     refitted once with the bias of the fitting function on its own model's response, computed
-    at its first fitted values (the base model's bias for a cause more than ``BIAS_SCREEN``
+    at its first fitted values (the base model's bias for a cause more than ``bias_screen``
     behind the best at those values); ``"eigenvalues"`` compares each window's eigenvalue with
     the model's own. Windows without samples (read from a list of eigenvalues) are compared
     directly whatever ``comparison`` says.
     """
+    options = options or DiagnosisOptions()
+    rules, comparison = options.verdict, options.comparison
     observations = tuple(observations)
     if len(observations) < MIN_WINDOWS:
         raise InputError(f"need at least {MIN_WINDOWS} windows with fitted eigenvalues, got {len(observations)}")
-    causes = candidates_with_terms(bicycle) if causes is None else list(causes)
+    causes = options.candidates(bicycle) if causes is None else list(causes)
     whitening = window_whitening(observations, bicycle)
     counts, n = whitening.counts, whitening.charged
     base, fits = fit_all(bicycle, causes, observations, whitening,
                          [quick_starts(cause) if cause.refines is None else None for cause in causes]
-                         if quick else None)
+                         if quick else None, progress=progress)
     biases: list[NDArray[np.complex128]] | None = None
-    direct = [fit.evidence for fit in _scored(causes, base, fits, n)]
+    direct = [fit.evidence for fit in _scored(causes, base, fits, n, options=options)]
     # In units of the data's dispersion: where no model explains the windows, every difference
     # of chi-square is that many times larger.
     dispersion = max(_dispersions([base, *fits], counts))
@@ -238,37 +200,40 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
     if samples is not None:
         whitening = replace(whitening, samples=samples)
         counts = whitening.counts
-        near = [evidence >= max(direct) - SAMPLES_SCREEN * dispersion for evidence in direct]
+        near = [evidence >= max(direct) - options.samples_screen * dispersion for evidence in direct]
         # The held-out gain's quick folds refit from the eigenvalues' values only, without the grid.
         base, fits = refit_to_samples(bicycle, causes, fits, observations, whitening, near, search=not quick)
     elif comparison == "fitting-function" and any(o.signals is not None for o in observations):
-        near = [evidence >= max(direct) - BIAS_SCREEN * dispersion for evidence in direct]
-        base_bias = fitting_bias(bicycle, observations)
+        near = [evidence >= max(direct) - options.bias_screen * dispersion for evidence in direct]
+        base_bias = fitting_bias(bicycle, observations, start=options.fixed_point_start)
         biased_base, biased_fits, own = refit_through_bias(bicycle, causes, fits, observations, whitening,
-                                                           base_bias, near)
+                                                           base_bias, near, start=options.fixed_point_start)
         if any(np.any(b != 0) for b in [base_bias, *own]):
             base, fits, biases = biased_base, biased_fits, [base_bias, *own]
         # else no window's samples known (observations from a table): the direct fits stand
     scales = _dispersions([base, *fits], counts)
     single_scales = typical_dispersion(fits, whitening)
     pairs: list[Cause] = []
-    leader = max(_scored(causes, base, fits, n, whitening.samples), key=lambda fit: fit.evidence, default=None)
+    leader = max(_scored(causes, base, fits, n, whitening.samples, options), key=lambda fit: fit.evidence,
+                 default=None)
     # The quick fits of the held-out gain's folds choose a cause to predict with, where a
     # verdict's confidence is not at stake: there the pairs would only add time.
-    flexible = (not quick and leader is not None and leader.evidence >= named_threshold
-                and len(leader.parameters) >= FLEXIBLE_VALUES)
-    if max(single_scales) > COMBINE_DISPERSION or flexible:
+    flexible = (not quick and leader is not None and leader.evidence >= rules.named_threshold
+                and len(leader.parameters) >= options.pairs.flexible_values)
+    if max(single_scales) > options.pairs.dispersion or flexible:
         # No single cause explains the data, or the best could stand in for two: try the
         # leading few in pairs, each pair started from its members' fitted values. Model terms
         # are never paired, nor refinements (a rigid load: see families.cause_pairs).
         pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name) and cause.refines is None]
         members, member_fits = [causes[k] for k in pairable], [fits[k] for k in pairable]
-        started = leading_pairs(members, _scored(members, base, member_fits, n, whitening.samples))
+        started = leading_pairs(members, _scored(members, base, member_fits, n, whitening.samples, options),
+                                options.pairs.leading)
         eigen_whitening, eigen_base, eigen_fits = eigen
         screen_scales = _dispersions([eigen_base, *eigen_fits], eigen_whitening.counts)
         started += screened_pairs(bicycle, members, [eigen_fits[k] for k in pairable], observations,
                                   eigen_whitening, {pair.name for pair, _ in started},
-                                  (eigen_whitening.counts[0], screen_scales))
+                                  (eigen_whitening.counts[0], screen_scales),
+                                  (options.pairs.screened, options.pairs.screened_away))
         pairs = [pair for pair, _ in started]
         pair_fits = [fit_cause(bicycle, pair, observations, eigen_whitening,
                                [start] if quick else [start, list(pair.start)])
@@ -281,7 +246,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
             # Every pair through its own bias: a pair's joint fit may move far between the direct
             # and the biased comparison, and the pairs are few.
             _, pair_fits, pair_biases = refit_through_bias(bicycle, pairs, pair_fits, observations, whitening,
-                                                           biases[0], [True] * len(pairs))
+                                                           biases[0], [True] * len(pairs),
+                                                           start=options.fixed_point_start)
             biases += pair_biases
         causes, fits = causes + pairs, fits + pair_fits
         scales = _dispersions([base, *fits], counts)
@@ -300,8 +266,8 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         single = len(causes) - len(pairs)
         again = [[fit.values] if n_cause >= single else None for n_cause, fit in enumerate(fits)]
         base, fits = fit_all(bicycle, causes, observations, whitening, again, biases)
-    scored, rival_pairs = _clearly_better_pairs(_merge_forms(_scored(causes, base, fits, n, whitening.samples)),
-                                                margin)
+    scored, rival_pairs = _clearly_better_pairs(
+        _merge_forms(_scored(causes, base, fits, n, whitening.samples, options)), rules.margin)
     chosen = None
     compared: Sequence[Observation] = observations
     if scored:
@@ -319,17 +285,16 @@ def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
         scored[0] = replace(fit, std=tuple(float(s) for s in spread))
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], whitening)
-    verdict, name, rivals, reasons = _verdict(scored, typical, named_threshold, margin, rival_pairs,
-                                              whitening.samples is not None)
+    verdict, name, rivals, reasons = _verdict(scored, typical, rules, rival_pairs, whitening.samples is not None)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
         dependence = speed_dependence(bicycle, chosen, compared, best.values, scales, whitening.comparison)
-        if dependence is not None and dependence.evidence > SPEED_DEPENDENCE:
+        if dependence is not None and dependence.evidence > rules.speed_dependence:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
                      observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index),
                      chosen=chosen if verdict != "none" else None, rivals=rivals,
-                     family=describe_family([name, *rivals]) if verdict == "ambiguous" else "",
+                     family=describe_family([name, *rivals], options.causes) if verdict == "ambiguous" else "",
                      reasons=reasons, combinations=tuple(pair.name for pair in pairs),
                      single_scales=single_scales, typical_scales=typical, speed_dependence=dependence,
                      comparison="fitting-function" if biases is not None else whitening.comparison)
@@ -401,14 +366,14 @@ def separation(first: CauseFit, second: CauseFit) -> float:
 
     Half the sum of squared whitened differences (each kind of residual at its dispersion):
     the log-likelihood ratio by which the observations would favour the one if the other were
-    true. Below ``SEPARATION`` no data of this kind and amount could single out one of them.
+    true. Below the verdict rules' ``separation`` no data of this kind and amount could single out one of them.
     """
     if first.residuals.shape != second.residuals.shape:
         return float("inf")
     return float(0.5 * np.sum((first.residuals - second.residuals) ** 2))
 
 
-def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_threshold: float, margin: float,
+def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], rules: VerdictRules,
              rival_pairs: Sequence[CauseFit] = (), samples: bool = False
              ) -> tuple[str, str, tuple[str, ...], tuple[str, ...]]:
     """Return the verdict, the leading cause, the causes it cannot be told from, and why.
@@ -417,16 +382,17 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     causes leads the best by less than ``margin`` (``rival_pairs``, from
     :func:`_clearly_better_pairs`: two effects together would explain the observations as
     well); when one within
-    ``CLOSE_EVIDENCE`` predicts the observations within ``SEPARATION`` of the best (the data
+    ``close_evidence`` predicts the observations within ``separation`` of the best (the data
     could not tell them apart whichever were true: a different prior or one more fitted value
     is then all that ranks them); when the best is a pair of causes (no single candidate
     explained the data, and one effect outside the candidates fits two causes' freedom as
     well as two effects do: in the hidden-effect trials most named pairs stood in for one);
     when the best is a model term (the error's form, no physical cause);
     when the best fits only at the edge of its physical range (:func:`~whipple.diagnosis.fitting.pinned_values`);
-    or when even the best model leaves a dispersion above ``HIGH_DISPERSION`` (no candidate
+    or when even the best model leaves a dispersion above ``high_dispersion`` (no candidate
     explains the data: its name would be a guess).
     """
+    named_threshold, margin = rules.named_threshold, rules.margin
     if not scored or scored[0].evidence < named_threshold:
         return "none", "none", (), ()
     best = scored[0]
@@ -440,11 +406,11 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
                        f"less than {margin:g}: two effects acting together would explain the observations as well")
     # A pair holding the best cause predicting alike says its second cause is not needed.
     alike = [fit for fit in scored[1:] if fit.cause not in close
-             and fit.evidence > best.evidence - CLOSE_EVIDENCE and best.cause not in components(fit.cause)
-             and separation(best, fit) < SEPARATION]
+             and fit.evidence > best.evidence - rules.close_evidence and best.cause not in components(fit.cause)
+             and separation(best, fit) < rules.separation]
     if alike:
         reasons.append(f"{', '.join(fit.cause for fit in alike)} predict(s) the observations within the noise of "
-                       f"{best.cause} ({_windows_to_tell(best, alike)})")
+                       f"{best.cause} ({_windows_to_tell(best, alike, rules.separation)})")
     if is_term(best.cause):
         value = f"{best.values[0]:+.3g} {best.units[0]}" if best.values else ""
         reasons.append(f"the error has the form of {term_words(best.cause)} {value}, which none of the physical "
@@ -456,10 +422,10 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
         at = ", ".join(f"{name} at its bound {bound:.4g}" for name, bound in best.pinned)
         reasons.append(f"{best.cause} fits best only at the edge of its physical range ({at}): the data ask for "
                        "more than it can be, so the truth may be another cause or none of the candidates")
-    if max(scales) > HIGH_DISPERSION and samples:
+    if max(scales) > rules.high_dispersion and samples:
         reasons.append(f"even the best model leaves the typical window's samples {np.sqrt(scales[0]):.1f} times their "
                        f"noise off (median dispersion {scales[0]:.1f}): no candidate explains the data")
-    elif max(scales) > HIGH_DISPERSION:
+    elif max(scales) > rules.high_dispersion:
         reasons.append(f"even the best model leaves the typical window {np.sqrt(scales[0]):.1f} (eigenvalue) and "
                        f"{np.sqrt(scales[1]):.1f} (mode shape) times its stated uncertainty off (median dispersion "
                        f"{scales[0]:.1f} and {scales[1]:.1f}): no candidate explains the data")
@@ -468,14 +434,14 @@ def _verdict(scored: Sequence[CauseFit], scales: tuple[float, float], named_thre
     return "named", best.cause, (), ()
 
 
-def _windows_to_tell(best: CauseFit, rivals: Sequence[CauseFit]) -> str:
+def _windows_to_tell(best: CauseFit, rivals: Sequence[CauseFit], needed: float) -> str:
     """Say how many times as many windows would separate the closest rival from the best.
 
     Separate: predictions apart by more than the noise. The separation grows in proportion to the
-    number of windows at the same speeds and noise; it must reach ``SEPARATION``. Identical
+    number of windows at the same speeds and noise; it must reach ``needed``. Identical
     predictions (a special case of the best) no number of windows separates.
     """
-    factor = SEPARATION / max(min(separation(best, fit) for fit in rivals), 1e-12)
+    factor = needed / max(min(separation(best, fit) for fit in rivals), 1e-12)
     if factor > 1e6:
         return "no number of windows of this kind separates their predictions"
     return (f"about {np.ceil(factor):.0f} times as many windows at these speeds would separate their "
@@ -483,22 +449,26 @@ def _windows_to_tell(best: CauseFit, rivals: Sequence[CauseFit]) -> str:
 
 
 def _scored(causes: Sequence[Cause], base: CauseFit, fits: Sequence[CauseFit], n: int,
-            samples: SampleComparison | None = None) -> list[CauseFit]:
+            samples: SampleComparison | None = None, options: DiagnosisOptions | None = None) -> list[CauseFit]:
     """Each fit with its evidence against the base model (see the module docstring).
 
     ``samples``: the fits were compared with the windows' samples, and a model with more states
     than the base model is charged for its extra modal amplitudes
-    (:meth:`~whipple.diagnosis.samples.SampleComparison.amplitude_charge`).
+    (:meth:`~whipple.diagnosis.samples.SampleComparison.amplitude_charge`); ``options``: the
+    evidence's charges (``occam``, ``amplitude_charge``).
     """
-    def charge(fit: CauseFit) -> float:
-        return 0.0 if samples is None else samples.amplitude_charge(fit.states - base.states)
+    options = options or DiagnosisOptions()
 
-    return [replace(fit, evidence=float((base.chi2 - fit.chi2) / 2.0 + occam_factor(cause, fit, n)
+    def charge(fit: CauseFit) -> float:
+        return 0.0 if samples is None else samples.amplitude_charge(fit.states - base.states,
+                                                                    options.amplitude_charge)
+
+    return [replace(fit, evidence=float((base.chi2 - fit.chi2) / 2.0 + occam_factor(cause, fit, n, options.occam)
                                         + np.log(cause.prior) - charge(fit)))
             for cause, fit in zip(causes, fits, strict=True)]
 
 
-def occam_factor(cause: Cause, fit: CauseFit, n: int) -> float:
+def occam_factor(cause: Cause, fit: CauseFit, n: int, occam: str = "bic") -> float:
     """Log of the share of a cause's prior range that its fit leaves open (below 0; 0 with no values).
 
     The Laplace approximation of the Bayes factor, with a uniform prior over the cause's bounds:
@@ -508,12 +478,12 @@ def occam_factor(cause: Cause, fit: CauseFit, n: int) -> float:
     within its physical range. Where the data barely inform a direction (a fit at a bound: a
     tyre relaxation length at its shortest) the likelihood is far from Gaussian and the
     approximation fails (it would charge nothing); each direction is therefore charged at least
-    ln(n) / 2, the BIC's charge (n residuals). With ``OCCAM = "bic"`` (the default), that charge
+    ln(n) / 2, the BIC's charge (n residuals). With ``occam="bic"`` (the default), that charge
     alone: -k ln(n) / 2.
     """
     k = len(fit.parameters)
     floor = -0.5 * np.log(max(n, 1))
-    if OCCAM == "bic":
+    if occam == "bic":
         return k * floor
     jacobian = np.asarray(fit.jacobian, dtype=float)
     if jacobian.ndim != 2 or jacobian.shape[1] != k or not np.all(np.isfinite(jacobian)):

@@ -4,9 +4,8 @@ A family groups candidate causes that act on the bicycle through the same physic
 (the front assembly's inertia about the steer axis, the rear frame's mass distribution, ...).
 Weave eigenvalues and mode shapes often cannot tell the members of a family apart; when the
 diagnosis cannot, it names the family in physical words rather than one member
-(:func:`describe_family`). The table lists causes by name, including some a given bicycle or
-branch may not offer (controller causes exist only for bicycles with a controller); names not
-in the table fall back to a generic description.
+(:func:`describe_family`). Each cause declares its families (:mod:`whipple.diagnosis.registry`);
+the table of families and their members is built from those declarations.
 
 A combination is two causes fitted jointly (:func:`combined_cause`): the diagnosis tries the
 few leading pairs when no single cause explains the data within its uncertainty.
@@ -19,6 +18,7 @@ from dataclasses import dataclass
 
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.model_terms import is_term, term_words
+from whipple.diagnosis.registry import FAMILIES, CauseDeclaration, Family, declarations
 from whipple.model.parameters import Bicycle
 
 #: Separator of the two causes in a combination's name, e.g. ``"steer_damping + speed_scale"``.
@@ -26,50 +26,44 @@ COMBINATION = " + "
 
 
 @dataclass(frozen=True)
-class Family:
-    """Causes acting through one physical quantity.
+class FamilyMembers:
+    """A family with the causes declared in it.
 
     Attributes
     ----------
-    key : str
-        Short identifier, e.g. ``"steer_axis_inertia"``.
-    words : str
-        The quantity in physical words, e.g. "extra inertia of the front assembly about the
-        steer axis".
+    family : Family
+        Its key and words.
     members : tuple of str
         Cause names (``parameter:<key>`` for a wrong benchmark parameter).
     """
 
-    key: str
-    words: str
+    family: Family
     members: tuple[str, ...]
 
+    @property
+    def key(self) -> str:
+        """The family's short identifier."""
+        return self.family.key
 
-#: The families, most specific first: a cause may belong to several (a front-frame inertia
-#: parameter changes both the steer-axis inertia and the front assembly's mass distribution);
-#: :func:`common_family` takes the first family holding all the causes it is given.
-FAMILIES: tuple[Family, ...] = (
-    Family("steer_axis_inertia", "extra inertia of the front assembly about the steer axis",
-           ("steer_inertia", "reflected_steer_inertia", "parameter:IHzz", "parameter:IHxx", "parameter:IHxz",
-            "parameter:IFxx")),
-    Family("steer_torque_dynamics", "a steer torque that resists or lags the steer motion (steer damping, "
-           "actuator or controller dynamics)",
-           ("steer_damping", "controller_lag", "controller_delay", "controller_gain")),
-    Family("controller", "the steer controller's strength or timing",
-           ("controller_gain", "controller_delay", "controller_lag")),
-    Family("front_mass", "the front assembly's mass distribution (a load on the front frame)",
-           ("front_payload", "parameter:mH", "parameter:xH", "parameter:zH", "parameter:IHxx", "parameter:IHzz",
-            "parameter:IHxz", "parameter:mF", "parameter:IFxx", "steer_inertia")),
-    Family("rear_mass", "the rear frame's mass distribution (a load on the rear frame)",
-           ("payload", "parameter:mB", "parameter:xB", "parameter:zB", "parameter:IBxx", "parameter:IBzz",
-            "parameter:IBxz", "parameter:mR", "parameter:IRxx")),
-    Family("wheel_spin", "the wheels' spin angular momentum (gyroscopic coupling)",
-           ("parameter:IFyy", "parameter:IRyy", "parameter:rF", "parameter:rR")),
-    Family("geometry", "the steering geometry (wheelbase, trail, head angle)",
-           ("parameter:w", "parameter:c", "parameter:lam", "parameter:xH", "parameter:zH")),
-    Family("speed", "the speed measurement", ("speed_scale",)),
-    Family("tyre", "the tyre-road contact (lateral tyre compliance)", ("tyre_compliance",)),
-)
+    @property
+    def words(self) -> str:
+        """The family's physical quantity in words."""
+        return self.family.words
+
+
+def family_table(extra: Sequence[CauseDeclaration] = ()) -> tuple[FamilyMembers, ...]:
+    """Return every family with its members, most specific first.
+
+    The package's families (:data:`~whipple.diagnosis.registry.FAMILIES`) in their order, then
+    families that ``extra`` declarations bring, in their order; members in declaration order.
+    """
+    every = declarations(extra)
+    order = list(FAMILIES)
+    for declaration in every:
+        order += [family for family in declaration.family_objects if family.key not in {f.key for f in order}]
+    return tuple(FamilyMembers(family, tuple(d.name for d in every
+                                             if family.key in {f.key for f in d.family_objects}))
+                 for family in order)
 
 
 def components(name: str) -> tuple[str, ...]:
@@ -77,15 +71,15 @@ def components(name: str) -> tuple[str, ...]:
     return tuple(name.split(COMBINATION))
 
 
-def families_of(name: str) -> tuple[Family, ...]:
-    """Return the families a single cause belongs to (empty for one not in the table)."""
-    return tuple(family for family in FAMILIES if name in family.members)
+def families_of(name: str, extra: Sequence[CauseDeclaration] = ()) -> tuple[FamilyMembers, ...]:
+    """Return the families a single cause belongs to, most specific first (empty for an undeclared name)."""
+    return tuple(family for family in family_table(extra) if name in family.members)
 
 
-def common_family(names: Sequence[str]) -> Family | None:
+def common_family(names: Sequence[str], extra: Sequence[CauseDeclaration] = ()) -> FamilyMembers | None:
     """Return the first family holding every single cause of every name, or None."""
     singles = {single for name in names for single in components(name)}
-    for family in FAMILIES:
+    for family in family_table(extra):
         if singles <= set(family.members):
             return family
     return None
@@ -96,30 +90,30 @@ def _listing(names: Sequence[str]) -> str:
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " or " + names[-1]
 
 
-def describe_family(names: Sequence[str]) -> str:
+def describe_family(names: Sequence[str], extra: Sequence[CauseDeclaration] = ()) -> str:
     """Say in physical words what causes the data cannot tell apart have in common.
 
     For example "extra inertia of the front assembly about the steer axis: steer_inertia or
     parameter:IHzz"; "causes that predict the observations alike: A or B" when they share no
-    family of the table.
+    family.
     """
     if not names:
         return ""
-    family = common_family(names)
+    family = common_family(names, extra)
     if family is not None:
         words = family.words
     elif len(set(names)) == 1:
-        words = describe_cause(names[0])
+        words = describe_cause(names[0], extra)
     else:
         words = "causes that predict the observations alike"
     return f"{words}: {_listing(names)}"
 
 
-def describe_cause(name: str) -> str:
+def describe_cause(name: str, extra: Sequence[CauseDeclaration] = ()) -> str:
     """Say in physical words what a cause (or each cause of a combination) changes."""
     parts = []
     for single in components(name):
-        found = families_of(single)
+        found = families_of(single, extra)
         parts.append(found[0].words if found else term_words(single) if is_term(single) else single)
     return " together with ".join(parts)
 

@@ -29,22 +29,19 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.observations import MODE_SHAPE_STATES, SHAPE_MATCH, Observation, WindowSignals
+from whipple.diagnosis.observations import Observation, WindowSignals
 from whipple.measurement.refit import refit_weaves
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import Bicycle
+from whipple.stability.nearest_modes import MODE_SHAPE_STATES, SHAPE_MATCH
 
 #: Steps of the fixed point that finds a window's own weave eigenvalue (each a refit; the
 #: bias changes by a small fraction of itself per step).
 FIXED_POINT_STEPS = 3
-#: An experiment, not the default ("measured"): the fixed point starts from the model's weave
-#: ("model") instead of the window's measured eigenvalue (docs/diagnosis.md, "What the fixed
-#: point misses").
-FIXED_POINT_START = "measured"
 
 
 def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation],
-                 amplitudes: str = "own") -> NDArray[np.complex128]:
+                 amplitudes: str = "own", start: str = "measured") -> NDArray[np.complex128]:
     """Return, per observation, the fitting function's bias [1/s] on the bicycle model's own response.
 
     Zero where a window's samples are unknown (:attr:`Observation.signals` is None), where a
@@ -58,7 +55,12 @@ def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation],
     model's weave. The latter is exact where the model is the truth, but lets the other modes
     absorb any other model's error; benchmarks use it on the true model of a simulated trial
     to see how much of the bias the fixed point misses (``benchmarks/bench_fit_bias.py``).
+    ``start``: where the fixed point starts, the window's measured eigenvalue (``"measured"``,
+    the default) or the model's weave (``"model"``, an experiment: docs/diagnosis.md, "What the
+    fixed point misses").
     """
+    if start not in ("measured", "model"):
+        raise ValueError(f"start must be 'measured' or 'model', got {start!r}")
     if amplitudes not in ("own", "model"):
         raise ValueError(f"amplitudes must be 'own' or 'model', got {amplitudes!r}")
     bias = np.zeros(len(observations), dtype=complex)
@@ -75,7 +77,7 @@ def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation],
     for window in windows:
         groups.setdefault((len(window.signals.names), window.pair.size), []).append(window)
     for members in groups.values():
-        for window, found in zip(members, _Stack(members).bias(at_own=amplitudes == "own"), strict=True):
+        for window, found in zip(members, _Stack(members).bias(at_own=amplitudes == "own", start=start), strict=True):
             if np.isfinite(found) and abs(found) <= SHAPE_MATCH * abs(window.weave):
                 bias[window.index] = found
     return bias
@@ -211,7 +213,7 @@ class _Stack:
                                 [window.signals.weights for window in windows])[0]
         return np.where(finite, refitted, np.nan)
 
-    def bias(self, at_own: bool = True) -> NDArray[np.complex128]:
+    def bias(self, at_own: bool = True, start: str = "measured") -> NDArray[np.complex128]:
         """Return each window's fitting bias [1/s]: NaN where a response or refit failed.
 
         ``at_own``: modal amplitudes fitted with the window's own weave (else the model's).
@@ -222,7 +224,7 @@ class _Stack:
         weaves = np.array([window.weave for window in self.windows])
         # The window's own weave: the eigenvalue whose response (with the other modes as the
         # window holds them) the fitted function reports as the measured one.
-        own = measured[members] if FIXED_POINT_START == "measured" else weaves[members]
+        own = measured[members] if start == "measured" else weaves[members]
         for _ in range(FIXED_POINT_STEPS if at_own else 0):
             if members.size == 0:
                 break

@@ -16,12 +16,13 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from whipple.diagnosis.causes import Cause
-from whipple.diagnosis.observations import Observation, compared_shapes, mode_targets, nearest_modes_of_models
+from whipple.diagnosis.observations import Observation, compared_shapes, mode_targets
 from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import Bicycle
+from whipple.stability.nearest_modes import nearest_modes_of_models
 
 #: Whitened residuals beyond about this many standard deviations count less than quadratically
 #: (soft L1 loss): a few windows at very unstable speeds are fitted far worse than their stated

@@ -14,23 +14,29 @@ model helps most, hiding the speeds where it does not help at all.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.causes import Cause, candidate_causes, with_cause
+from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.consistency import refits_without, without
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, general_forms
 from whipple.diagnosis.fitting import fit_cause, pinned_values
 from whipple.diagnosis.model_terms import is_term
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
+from whipple.diagnosis.options import DiagnosisOptions
+from whipple.diagnosis.registry import candidate_causes
 from whipple.distributed import map_ordered
 from whipple.errors import AnalysisError
+from whipple.measurement.measure import Progress
 from whipple.measurement.weavefit import response_with_eigenvalue
 from whipple.model.parameters import Bicycle
+
+Result = TypeVar("Result")
 
 #: A held-out speed where the extended model cuts the RMS eigenvalue error by less than this
 #: fraction is reported as one where the extended model does not help.
@@ -116,19 +122,18 @@ def _rms(values: NDArray[np.float64]) -> float:
 
 
 def _fold_model(bicycle: Bicycle, training: Sequence[Observation], causes: Sequence[Cause] | None,
-                fixed: Cause | None, choose: str = "evidence", comparison: str = "samples"
+                fixed: Cause | None, choose: str = "evidence", options: DiagnosisOptions | None = None
                 ) -> tuple[Bicycle, str, str, tuple[float, ...]]:
     """Return the model extended on the training windows alone: bicycle, cause, verdict, values.
 
-    ``comparison``: how the diagnosis that chooses by evidence compares models with the windows.
+    ``options``: the diagnosis' options, with which a fold chooses by evidence.
     """
     if fixed is not None:
         fit = fit_cause(bicycle, fixed, training)
         return with_cause(bicycle, fixed, fit.values), fixed.name, "refitted", fit.values
     if choose == "prediction":
         return _predictive_choice(bicycle, training, causes)
-    diagnosis = diagnose_observations(bicycle, training, causes, estimate_spread=False, quick=True,
-                                      comparison=comparison)
+    diagnosis = diagnose_observations(bicycle, training, causes, options, estimate_spread=False, quick=True)
     if diagnosis.chosen is None or diagnosis.best is None:
         return bicycle, "none", diagnosis.verdict, ()
     return (with_cause(bicycle, diagnosis.chosen, diagnosis.best.values), diagnosis.cause, diagnosis.verdict,
@@ -167,8 +172,8 @@ def _predictive_choice(bicycle: Bicycle, training: Sequence[Observation], causes
     return with_cause(bicycle, cause, values), cause.name, "chosen by prediction", values
 
 
-def _fold_task(task: tuple[Bicycle, Sequence[Observation], Sequence[Cause] | None, Cause | None, str, str]
-               ) -> tuple[Bicycle, str, str, tuple[float, ...]]:
+def _fold_task(task: tuple[Bicycle, Sequence[Observation], Sequence[Cause] | None, Cause | None, str,
+                           DiagnosisOptions | None]) -> tuple[Bicycle, str, str, tuple[float, ...]]:
     """One fold as a task of :func:`whipple.distributed.map_ordered`."""
     return _fold_model(*task)
 
@@ -187,7 +192,8 @@ def _speed_folds(observations: Sequence[Observation]) -> list[list[int]]:
 def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause] | None = None,
                   series: Sequence[tuple[NDArray[np.float64], NDArray[np.float64], str]] | None = None,
                   fixed: Cause | None = None, *, choose: str = "evidence", scheduler: str | None = None,
-                  workers: int | None = None, comparison: str = "samples") -> Gain:
+                  workers: int | None = None, options: DiagnosisOptions | None = None,
+                  progress: Progress | None = None) -> Gain:
     """Leave each speed group out: choose and fit the cause on the others, predict it.
 
     Parameters
@@ -213,10 +219,11 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
         Run the folds (each a whole diagnosis) on a Dask cluster: an existing one at
         ``scheduler``, or a local one of ``workers`` processes, see
         :func:`whipple.distributed.map_ordered`. The results are those of the serial run.
-    comparison : str
-        Choosing by evidence, how models are compared with the windows (as
-        :func:`~whipple.diagnosis.evidence.diagnose_observations` takes it; the default, with
-        their samples).
+    options : DiagnosisOptions, optional
+        Choosing by evidence, the diagnosis' options (as
+        :func:`~whipple.diagnosis.evidence.diagnose_observations` takes them).
+    progress : callable, optional
+        Called as ``progress("folds", done, total)`` as each fold is done.
 
     With a single speed group, falls back to leave-one-window-out.
     """
@@ -224,10 +231,20 @@ def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes:
         raise ValueError(f"choose must be 'evidence' or 'prediction', got {choose!r}")
     observations = tuple(observations)
     groups = _speed_folds(observations)
-    tasks = ((bicycle, without(observations, group), causes, fixed, choose, comparison) for group in groups)
+    tasks = ((bicycle, without(observations, group), causes, fixed, choose, options) for group in groups)
     with map_ordered(_fold_task, tasks, scheduler=scheduler, workers=workers) as folds:
-        models = list(folds)
+        models = _collected(folds, len(groups), progress)
     return _scored(bicycle, observations, groups, models, series, reselected=fixed is None)
+
+
+def _collected(results: Iterable[Result], total: int, progress: Progress | None) -> list[Result]:
+    """Return the results in order, reporting each as done."""
+    collected = []
+    for result in results:
+        collected.append(result)
+        if progress is not None:
+            progress("folds", len(collected), total)
+    return collected
 
 
 @dataclass(frozen=True)
@@ -259,7 +276,8 @@ def _folds_at_bound(cause: Cause, gain: Gain) -> int:
 
 
 def cause_gains(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause], *,
-                scheduler: str | None = None, workers: int | None = None) -> tuple[CauseGain, ...]:
+                scheduler: str | None = None, workers: int | None = None,
+                progress: Progress | None = None) -> tuple[CauseGain, ...]:
     """Each candidate's held-out gain, no choice made: refitted on every fold's other speeds.
 
     What each cause (or pair, see :func:`whipple.diagnosis.families.cause_pairs`) would gain on
@@ -270,10 +288,10 @@ def cause_gains(bicycle: Bicycle, observations: Sequence[Observation], causes: S
     """
     observations = tuple(observations)
     groups = _speed_folds(observations)
-    tasks = ((bicycle, without(observations, group), None, cause, "evidence", "eigenvalues")
+    tasks = ((bicycle, without(observations, group), None, cause, "evidence", None)
              for cause in causes for group in groups)
     with map_ordered(_fold_task, tasks, scheduler=scheduler, workers=workers) as folds:
-        models = list(folds)
+        models = _collected(folds, len(causes) * len(groups), progress)
     step = len(groups)
     results = []
     for k, cause in enumerate(causes):

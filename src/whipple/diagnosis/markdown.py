@@ -9,13 +9,8 @@ from __future__ import annotations
 from whipple.diagnosis.amplitude import amplitude_markdown
 from whipple.diagnosis.evidence import Diagnosis
 from whipple.diagnosis.gain import Gain
-from whipple.diagnosis.report import (
-    DiagnosisReport,
-    cause_gain_sentences,
-    evidence_definition,
-    gain_sentences,
-    report_json,
-)
+from whipple.diagnosis.gain_text import cause_gain_sentences, gain_sentences
+from whipple.diagnosis.report import DiagnosisReport, evidence_definition, report_json
 from whipple.stability.critical import CriticalSpeeds
 
 
@@ -86,7 +81,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     lines += [f"- Caveat: {note}." for note in data["caveats"]]
     lines += ["", "| cause | evidence |", "|---|---|"]
     lines += [f"| {cause} | {evidence:.1f} |" for cause, evidence in diagnosis.ranking()[:12]]
-    lines += ["", f"Evidence: {evidence_definition(diagnosis.comparison)}. Dispersion (reduced chi2 of the best "
+    definition = evidence_definition(diagnosis.comparison, report.options)
+    lines += ["", f"Evidence: {definition}. Dispersion (reduced chi2 of the best "
               f"model): {_dispersions(diagnosis, False)}. {_COMPARISON[diagnosis.comparison]}", "",
               f"![ranking]({figures['ranking']})", "",
               "## 3. The extended model", ""]

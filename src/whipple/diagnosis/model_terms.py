@@ -11,7 +11,8 @@ leading term therefore turns a confident wrong name into the statement "the erro
 of a steer spring, which no candidate cause has" (verdict ``ambiguous``,
 :mod:`whipple.diagnosis.evidence`).
 
-Left out: ``D_steer_steer``, which is the candidate ``steer_damping`` itself, and the mass
+Left out: the terms a declared cause is exactly (``D_steer_steer`` is the candidate
+``steer_damping``; :attr:`whipple.diagnosis.registry.CauseDeclaration.terms`), and the mass
 matrix, whose changes are bodies (the payload and inertia causes).
 """
 
@@ -21,15 +22,14 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from whipple.diagnosis.causes import Cause, candidate_causes
+from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.registry import CauseDeclaration, add_terms, candidate_causes, claimed_terms
 from whipple.model.assembly import model_matrices
-from whipple.model.linear_terms import COORDINATES, TERM_MATRICES, TERM_NAMES, TERM_UNITS, LinearTerms, term_parts
+from whipple.model.linear_terms import COORDINATES, TERM_MATRICES, TERM_NAMES, TERM_UNITS, term_parts
 from whipple.model.parameters import Bicycle
 
 #: Prefix of a term's cause name, e.g. ``term:K0_steer_steer``.
 PREFIX = "term:"
-#: Terms a physical candidate already is.
-PHYSICAL_TERMS = {"D_steer_steer": "steer_damping"}
 #: Speed [m/s] at which a term's bounds are compared with the bicycle's own stiffness and damping.
 REFERENCE_SPEED = 5.0
 #: What each kind of term would be, in physical words (diagonal, then coupling terms).
@@ -60,8 +60,10 @@ def term_words(name: str) -> str:
     return f"{words}, {matrix}[{row}, {column}]"
 
 
-def term_causes(bicycle: Bicycle) -> list[Cause]:
-    """Return one cause per model term, sharing one unit of prior weight.
+def term_causes(bicycle: Bicycle, extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
+    """Return one cause per model term no declared cause is, sharing one unit of prior weight.
+
+    ``extra``: declarations besides the package's (their terms are left out too).
 
     Bounds: +/- the bicycle's own scale of that entry at ``REFERENCE_SPEED`` V (for
     stiffness S = |diag(K0 + V^2 K2)|, the geometric mean of its row's and column's entries;
@@ -72,7 +74,8 @@ def term_causes(bicycle: Bicycle) -> list[Cause]:
     speed = REFERENCE_SPEED
     stiffness = np.abs(np.diagonal(matrices.K0 + speed**2 * matrices.K2))
     damping = 2.0 * np.sqrt(stiffness * np.abs(np.diagonal(matrices.M)))
-    names = [name for name in TERM_NAMES if name not in PHYSICAL_TERMS]
+    claimed = claimed_terms(extra)
+    names = [name for name in TERM_NAMES if name not in claimed]
     causes = []
     for name in names:
         matrix, row, column = term_parts(name)
@@ -84,16 +87,15 @@ def term_causes(bicycle: Bicycle) -> list[Cause]:
     return causes
 
 
-def candidates_with_terms(bicycle: Bicycle, include_parameters: bool = True) -> list[Cause]:
-    """Return the bicycle's candidate causes (:func:`~whipple.diagnosis.causes.candidate_causes`) and the terms."""
-    return [*candidate_causes(bicycle, include_parameters), *term_causes(bicycle)]
+def candidates_with_terms(bicycle: Bicycle, include_parameters: bool = True, *, rigid_loads: bool = True,
+                          extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
+    """Return the bicycle's candidate causes (:func:`~whipple.diagnosis.registry.candidate_causes`) and the terms."""
+    return [*candidate_causes(bicycle, include_parameters, rigid_loads=rigid_loads, extra=extra),
+            *term_causes(bicycle, extra)]
 
 
 def _adder(name: str) -> Callable[[Bicycle, Sequence[float]], Bicycle]:
     def apply(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
-        terms = bicycle.extensions.linear_terms or LinearTerms()
-        total = terms.as_dict()
-        total[name] = total.get(name, 0.0) + float(values[0])
-        return bicycle.with_extensions(linear_terms=LinearTerms.from_mapping(total))
+        return add_terms(bicycle, **{name: float(values[0])})
 
     return apply

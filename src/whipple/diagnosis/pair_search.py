@@ -21,19 +21,13 @@ from whipple.diagnosis.fitting import CauseFit, Whitening, model_residuals
 from whipple.diagnosis.observations import Observation
 from whipple.model.parameters import Bicycle
 
-#: How many leading single causes are tried in pairs (3 pairs).
-PAIR_CANDIDATES = 3
-#: How many more pairs, the best by a screen of all pairs linearised at the base model, are tried.
-PAIR_SCREENED = 3
-#: How many more again, the best by a screen linearised away from the base model (at each
-#: cause's fitted values or an active point: a payload's position does nothing at zero mass).
-PAIR_SCREENED_AWAY = 3
 #: Fraction of a cause's bounds from its no-effect values to the screen's active point.
 SCREEN_ACTIVE = 0.1
 
 
-def leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[tuple[Cause, list[float]]]:
-    """Pairs of the ``PAIR_CANDIDATES`` leading causes (each in its best-supported form).
+def leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit], count: int = 3
+                  ) -> list[tuple[Cause, list[float]]]:
+    """Pairs of the ``count`` leading causes, each in its best-supported form (``PairRules.leading``).
 
     Each with its starting values: its members' fitted values.
     """
@@ -43,18 +37,18 @@ def leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit]) -> list[t
         if causes[i].name not in {causes[j].name for j in leading} and scored[i].evidence > 0.0:
             leading.append(i)
     return [(combined_cause(causes[i], causes[j]), [*scored[i].values, *scored[j].values])
-            for i, j in itertools.combinations(leading[:PAIR_CANDIDATES], 2)]
+            for i, j in itertools.combinations(leading[:count], 2)]
 
 
 def screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
                    observations: Sequence[Observation], whitening: Whitening,
-                   tried: set[str], dispersions: tuple[int, tuple[float, float]]
-                   ) -> list[tuple[Cause, list[float]]]:
+                   tried: set[str], dispersions: tuple[int, tuple[float, float]],
+                   counts: tuple[int, int] = (3, 3)) -> list[tuple[Cause, list[float]]]:
     """Return the pairs, not in ``tried``, that the evidence would favour, linearised.
 
-    ``PAIR_SCREENED`` pairs linearised at the base model: both members at their no-effect
+    ``counts[0]`` pairs linearised at the base model: both members at their no-effect
     values, scored by the least-squares step of both from the base model's residuals. Then
-    ``PAIR_SCREENED_AWAY`` more, linearised away from it: each member at one of three points,
+    ``counts[1]`` more, linearised away from it: each member at one of three points,
     its no-effect values, its values fitted alone or an active point (``SCREEN_ACTIVE`` of its
     bounds away from the no-effect values), not both at the no-effect values; the effects are
     taken to add up (a pair's residuals are those of its members at their points, less the base
@@ -106,7 +100,7 @@ def screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[Cau
         away.append(min(linearised[1:], key=lambda entry: entry[0]))
     chosen: list[tuple[Cause, list[float]]] = []
     tried_members = {frozenset(components(name)) for name in tried}
-    for ranked, count in ((at_base, PAIR_SCREENED), (away, PAIR_SCREENED_AWAY)):
+    for ranked, count in zip((at_base, away), counts, strict=True):
         added = 0
         for _, pair, start in sorted(ranked, key=lambda entry: entry[0]):
             members = frozenset(components(pair.name))

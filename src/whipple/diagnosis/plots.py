@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from whipple.diagnosis.observations import nearest_modes
 from whipple.diagnosis.report import DiagnosisReport
 from whipple.measurement.weavefit import response_with_eigenvalue
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import Bicycle
 from whipple.stability.eigen import weave_eigenvalue
+from whipple.stability.nearest_modes import nearest_modes
 
 
 def _weave_curve(bicycle: Bicycle, speeds: np.ndarray) -> np.ndarray:

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -16,20 +16,11 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, with_cause
-from whipple.diagnosis.evidence import (
-    CLOSE_EVIDENCE,
-    FLEXIBLE_VALUES,
-    HIGH_DISPERSION,
-    MARGIN,
-    NAMED_THRESHOLD,
-    SEPARATION,
-    Diagnosis,
-    diagnose_observations,
-)
+from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE, CauseFit, fit_cause
-from whipple.diagnosis.gain import HELPS, CauseGain, Gain, cause_gains, held_out_candidates, held_out_gain
+from whipple.diagnosis.gain import CauseGain, Gain, cause_gains, held_out_candidates, held_out_gain
+from whipple.diagnosis.gain_text import cause_gains_json, gain_json
 from whipple.diagnosis.identifiability import OpenValues, open_values
-from whipple.diagnosis.model_terms import candidates_with_terms
 from whipple.diagnosis.observations import (
     Observation,
     Prediction,
@@ -37,12 +28,16 @@ from whipple.diagnosis.observations import (
     observation,
     speed_groups,
 )
+from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.samples import BIN_DURATION
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
+from whipple.measurement.measure import MeasuredRuns, Progress
+from whipple.measurement.steer_sign import is_flipped, phase_offset
 from whipple.model.assembly import extended_matrices, linear_model
 from whipple.model.parameters import Bicycle
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
+from whipple.stability.nearest_modes import near_oscillation
 
 #: What chi2 sums, per comparison (:data:`~whipple.diagnosis.fitting.COMPARISONS`).
 _CHI2_OF = {
@@ -61,23 +56,20 @@ _CHI2_OF["fitting-function"] = _CHI2_OF["eigenvalues"].replace(
     "the weave eigenvalue", "the weave eigenvalue less the model's fitting-function bias", 1)
 
 
-def evidence_definition(comparison: str) -> str:
-    """Return the evidence's definition, in words, for a comparison (:data:`~whipple.diagnosis.fitting.COMPARISONS`)."""
-    return (_EVIDENCE_START + _CHI2_OF[comparison] + _EVIDENCE_END)
-
-
-_EVIDENCE_START = (
-    "approximate natural-log Bayes factor of the cause against the base model: "
-    "(chi2_base - chi2_cause) / 2 - (k/2) ln(n) + ln(prior), with chi2 a soft-L1 sum (scale "
-    f"{ROBUST_SCALE}) of squared whitened residuals of ")
-_EVIDENCE_END = (
-    ", k fitted values, "
-    "prior 1 per named cause (shared by its forms) and "
-    f"1/(number of parameters) per parameter:<key>, the product of both for a pair of causes; 'named' needs "
-    f"evidence >= {NAMED_THRESHOLD}, a lead of {MARGIN} over the runner-up, predictions separated by at least "
-    f"{SEPARATION} (half the summed squared whitened difference) from every cause within {CLOSE_EVIDENCE} of it, "
-    f"a median dispersion of the typical window of at most {HIGH_DISPERSION}, and a single cause (a leading "
-    "pair of causes is reported, never named); otherwise 'ambiguous'")
+def evidence_definition(comparison: str, options: DiagnosisOptions | None = None) -> str:
+    """Return the evidence's definition, in words, for a comparison and the options' verdict rules."""
+    rules = (options or DiagnosisOptions()).verdict
+    start = ("approximate natural-log Bayes factor of the cause against the base model: "
+             "(chi2_base - chi2_cause) / 2 - (k/2) ln(n) + ln(prior), with chi2 a soft-L1 sum (scale "
+             f"{ROBUST_SCALE}) of squared whitened residuals of ")
+    end = (", k fitted values, prior 1 per named cause (shared by its forms) and 1/(number of parameters) per "
+           f"parameter:<key>, the product of both for a pair of causes; 'named' needs evidence >= "
+           f"{rules.named_threshold:g}, a lead of {rules.margin:g} over the runner-up, predictions separated by at "
+           f"least {rules.separation:g} (half the summed squared whitened difference) from every cause within "
+           f"{rules.close_evidence:g} of it, a median dispersion of the typical window of at most "
+           f"{rules.high_dispersion:g}, and a single cause (a leading pair of causes is reported, never named); "
+           "otherwise 'ambiguous'")
+    return start + _CHI2_OF[comparison] + end
 
 
 @dataclass(frozen=True)
@@ -146,6 +138,11 @@ class DiagnosisReport:
         The leading cause's values that the data leave open, and how well the rest is
         determined (:func:`whipple.diagnosis.identifiability.open_values`); None when every
         value is determined or no cause leads.
+    options : DiagnosisOptions
+        The options the diagnosis ran with.
+    measured : MeasuredRuns or None
+        The runs' windows as measured (:func:`whipple.measurement.measure.measure_runs`), where
+        the diagnosis measured them; None when it was given windows measured elsewhere.
     """
 
     bicycle: Bicycle
@@ -169,46 +166,80 @@ class DiagnosisReport:
     prediction_gain: Gain | None = None
     prediction_fit: CauseFit | None = None
     open_values: OpenValues | None = None
+    options: DiagnosisOptions = field(default_factory=DiagnosisOptions)
+    measured: MeasuredRuns | None = None
 
     @property
     def observations(self) -> tuple[Observation, ...]:
         """The observations (one per usable window)."""
         return self.diagnosis.observations
 
+    def to_dict(self) -> dict[str, Any]:
+        """Return the report as JSON-ready data: the shared spec's fields (diagnosis-report.md) and more.
+
+        Returns
+        -------
+        dict
+            What ``whipple diagnose --json`` writes: verdict, cause, estimate, ranking, gain,
+            windows, the options the diagnosis ran with, and more (:func:`report_json`).
+        """
+        return report_json(self)
+
 
 def describe_residuals(observations: Sequence[Observation], predicted: np.ndarray) -> tuple[str, ...]:
-    """Sentences on how measured weave eigenvalues differ from a model's, over speed."""
+    """Sentences on how measured weave eigenvalues differ from a model's, over speed.
+
+    A window is compared with the model's mode nearest it only where that mode is an oscillation
+    near the measured eigenvalue (:func:`~whipple.stability.nearest_modes.near_oscillation`); a
+    speed with no such window is said to have no model mode near the measured weave, rather than
+    compared with a real (capsize or castering) root.
+    """
     lines = []
-    frequency_errors, damping_errors, damping_noise = [], [], []
+    frequency_errors, damping_errors, damping_noise, unmatched = [], [], [], []
     for group in speed_groups(observations):
-        measured = np.array([observations[i].eigenvalue for i in group])
-        model = predicted[group]
-        std = np.array([np.sqrt(np.diag(observations[i].covariance)) for i in group])
-        # Where the model has no oscillation near the measured one, the frequency is compared
-        # with the eigenvalue's magnitude instead.
-        relative = (measured.imag - model.imag) / np.maximum(np.abs(model.imag), np.abs(model))
+        speed = float(np.mean([observations[i].speed for i in group]))
+        measured_all = np.array([observations[i].eigenvalue for i in group])
+        near = near_oscillation(predicted[group], measured_all)
+        if not near.any():
+            unmatched.append(speed)
+            lines.append(f"at {speed:.2f} m/s ({len(group)} windows): no oscillating model mode near the measured "
+                         f"weave (median {np.median(measured_all.real):+.2f}{np.median(measured_all.imag):+.2f}i 1/s)")
+            continue
+        kept = [i for i, ok in zip(group, near, strict=True) if ok]
+        measured, model = measured_all[near], predicted[kept]
+        std = np.array([np.sqrt(np.diag(observations[i].covariance)) for i in kept])
+        relative = (measured.imag - model.imag) / model.imag
         damping = measured.real - model.real
         # Standard error of the group mean from the scatter (at least the stated uncertainty).
-        se_d = max(np.std(damping, ddof=1) / np.sqrt(len(group)) if len(group) > 1 else 0.0,
-                   float(np.sqrt(np.mean(std[:, 0] ** 2) / len(group))))
-        speeds = [observations[i].speed for i in group]
+        se_d = max(np.std(damping, ddof=1) / np.sqrt(len(kept)) if len(kept) > 1 else 0.0,
+                   float(np.sqrt(np.mean(std[:, 0] ** 2) / len(kept))))
         frequency_errors.append(float(np.mean(relative)))
         damping_errors.append(float(np.mean(damping)))
         damping_noise.append(se_d)
-        lines.append(f"at {np.mean(speeds):.2f} m/s ({len(group)} windows): frequency "
+        away = f"; {len(group) - len(kept)} with no oscillating model mode near" if len(kept) < len(group) else ""
+        lines.append(f"at {speed:.2f} m/s ({len(group)} windows{away}): frequency "
                      f"{100 * np.mean(relative):+.0f}%, real part {np.mean(damping):+.2f} +/- {se_d:.2f} 1/s "
                      "(measured minus model)")
-    f = np.array(frequency_errors)
     summary = []
-    if np.all(np.abs(f) < 0.03):
+    f = np.array(frequency_errors)
+    if not f.size:
+        summary.append("no oscillating model mode near the measured weave at any speed")
+    elif np.all(np.abs(f) < 0.03):
         summary.append("frequency within 3% of the model at all speeds")
     elif np.all(f < 0) or np.all(f > 0):
         side = "low" if f[0] < 0 else "high"
         summary.append(f"frequency {100 * np.min(np.abs(f)):.0f}-{100 * np.max(np.abs(f)):.0f}% {side} at all speeds")
     else:
         summary.append(f"frequency off by {100 * np.min(f):+.0f}% to {100 * np.max(f):+.0f}% depending on speed")
+    if unmatched and f.size:
+        summary[-1] = summary[-1].replace("at all speeds", "at the other speeds").replace(
+            "depending on speed", "depending on speed elsewhere")
+        summary.append("no oscillating model mode near the measured weave at "
+                       + ", ".join(f"{speed:.2f}" for speed in unmatched) + " m/s")
     d, noise = np.array(damping_errors), np.array(damping_noise)
-    if np.all(np.abs(d) <= 2 * noise):
+    if not d.size:
+        pass
+    elif np.all(np.abs(d) <= 2 * noise):
         summary.append("damping within noise")
     else:
         more = d < -2 * noise
@@ -253,28 +284,44 @@ def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | 
             "relative to model)")
 
 
-def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseline: str = "auto",
-             include_parameters: bool = True, speed_range: tuple[float, float] = (0.0, 10.0),
-             amplitude: bool = True, scheduler: str | None = None, workers: int | None = None,
-             gain_by_cause: str | None = None, comparison: str = "samples") -> DiagnosisReport:
+def assemble(bicycle: Bicycle, measurements: MeasuredRuns | Sequence[WindowMeasurement],
+             options: DiagnosisOptions | None = None, *, scheduler: str | None = None, workers: int | None = None,
+             progress: Progress | None = None) -> DiagnosisReport:
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain.
 
-    With ``amplitude``, also compare the nonlinear model's weave at each window's measured
-    amplitude with the linear one (:func:`whipple.diagnosis.amplitude.check_amplitudes`).
-    ``scheduler`` or ``workers``: run the held-out gain's folds on a Dask cluster
-    (:func:`whipple.diagnosis.gain.held_out_gain`); the results are the serial ones.
-    ``gain_by_cause``: "singles" also gives every candidate's held-out gain without a choice
-    (each refitted on every fold), "pairs" also every pair of physical causes (those that are
-    not ``parameter:<key>``), see :func:`held_out_candidates`, and the held-out gain of choosing among
-    them by prediction (a nested leave-one-speed-out: many times the cost of the table).
-    ``comparison``: how the diagnosis, and the held-out gain's choice by evidence, compare models
-    with the windows (:data:`~whipple.diagnosis.fitting.COMPARISONS`; by default with their samples).
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The base model.
+    measurements : MeasuredRuns or sequence of WindowMeasurement
+        The windows (:func:`whipple.measurement.measure.measure_runs`); the usable ones are the
+        observations.
+    options : DiagnosisOptions, optional
+        The diagnosis' choices (default :class:`~whipple.diagnosis.options.DiagnosisOptions`):
+        the comparison, candidates and verdict rules; whether to measure the held-out gain
+        (``held_out_gain``; ``gain_by_cause`` also every candidate's, and the gain of choosing
+        among them by prediction, a nested leave-one-speed-out: many times the cost) and to
+        compare the nonlinear model's weave at each window's amplitude (``amplitude_check``).
+    scheduler, workers : optional
+        Run the held-out gain's folds on a Dask cluster
+        (:func:`whipple.diagnosis.gain.held_out_gain`); the results are the serial ones.
+    progress : callable, optional
+        Called as ``progress(stage, done, total)`` for the candidates fitted and the folds.
+
+    Returns
+    -------
+    DiagnosisReport
+        Every figure of the report, each computed once.
     """
-    used = tuple(m for m in measurements if m.usable)
+    options = options or DiagnosisOptions()
+    measured_runs = measurements if isinstance(measurements, MeasuredRuns) else None
+    windows: tuple[WindowMeasurement, ...] = (measured_runs.windows if measured_runs is not None
+                                              else tuple(measurements))  # type: ignore[arg-type]
+    used = tuple(m for m in windows if m.usable)
     if len(used) < MIN_WINDOWS:
-        reasons = Counter(m.skipped.split(" (")[0] for m in measurements if m.skipped)
+        reasons = Counter(m.skipped.split(" (")[0] for m in windows if m.skipped)
         why = f" (most often skipped: {reasons.most_common(1)[0][0]})" if reasons else ""
-        files = sorted({str(m.run.source) for m in measurements})
+        files = sorted({str(m.run.source) for m in windows})
         where = (f" in {', '.join(files[:3])}{' ...' if len(files) > 3 else ''}" if files else "")
         raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue{where}; need at "
                          f"least {MIN_WINDOWS}{why}")
@@ -289,17 +336,19 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
         observations = [replace(o, shape=None, shape_covariance=None,
                                 signals=None if o.signals is None else o.signals.reference_only())
                         for o in measured]
-    causes = candidates_with_terms(bicycle, include_parameters)
-    diagnosis = diagnose_observations(bicycle, observations, causes, comparison=comparison)
+    causes = options.candidates(bicycle)
+    diagnosis = diagnose_observations(bicycle, observations, causes, options, progress=progress)
     chosen = diagnosis.chosen
     extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle
     gain, note = None, ""
     # The measured window behind each observation, for the held-out time-domain error.
     series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
-    if chosen is not None:
+    if not options.held_out_gain:
+        note = "not measured (held_out_gain off)"
+    elif chosen is not None:
         try:
             gain = held_out_gain(bicycle, observations, causes, series, scheduler=scheduler, workers=workers,
-                                 comparison=comparison)
+                                 options=options, progress=progress)
         except AnalysisError as error:
             note = str(error)
     else:
@@ -311,27 +360,30 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
         summary += (shape_summary,)
     every_cause: tuple[CauseGain, ...] = ()
     prediction_gain, prediction_fit = None, None
-    if gain_by_cause is not None:
-        candidates = held_out_candidates(causes, gain_by_cause == "pairs")
+    if options.gain_by_cause is not None:
+        candidates = held_out_candidates(causes, options.gain_by_cause == "pairs")
         try:
             every_cause = tuple(sorted(cause_gains(bicycle, observations, candidates, scheduler=scheduler,
-                                                   workers=workers),
+                                                   workers=workers, progress=progress),
                                        key=lambda g: (g.gain.extended_rms, len(g.parameters))))
             prediction_gain = held_out_gain(bicycle, observations, candidates, series, choose="prediction",
-                                            scheduler=scheduler, workers=workers)
+                                            scheduler=scheduler, workers=workers, progress=progress)
         except AnalysisError as error:
             every_cause, prediction_gain = (), None
             note = f"{note + '; ' if note else ''}every candidate's held-out gain: {error}"
         if every_cause and every_cause[0].gain.cut > 0.0:
             best = next(c for c in candidates if c.name == every_cause[0].cause)
             prediction_fit = fit_cause(bicycle, best, observations)
+    low, high = options.speed_range
     return DiagnosisReport(
-        bicycle, tuple(measurements), used, diagnosis, extended, chosen, gain, note,
-        critical_speeds(linear_model(bicycle), *speed_range), critical_speeds(linear_model(extended), *speed_range),
-        base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes)), baseline,
-        check_amplitudes(bicycle, used, base_prediction.eigenvalues) if amplitude else None, every_cause,
-        prediction_gain, prediction_fit,
-        open_values(chosen, diagnosis.best) if chosen is not None and diagnosis.best is not None else None)
+        bicycle, tuple(windows), used, diagnosis, extended, chosen, gain, note,
+        critical_speeds(linear_model(bicycle), low, high), critical_speeds(linear_model(extended), low, high),
+        base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes, options)),
+        options.measurement.baseline,
+        check_amplitudes(bicycle, used, base_prediction.eigenvalues) if options.amplitude_check else None,
+        every_cause, prediction_gain, prediction_fit,
+        open_values(chosen, diagnosis.best) if chosen is not None and diagnosis.best is not None else None,
+        options, measured_runs)
 
 
 #: Reduced chi-square of the best model above which the report warns that no candidate
@@ -339,41 +391,17 @@ def assemble(bicycle: Bicycle, measurements: Sequence[WindowMeasurement], baseli
 DISPERSION_WARNING = 2.0
 
 
-#: Median phase difference between measured and model mode shapes beyond which the report
-#: suspects a steer signal of the opposite sign [deg].
-FLIPPED_PHASE = 120.0
-
-
-def phase_offset(shapes: ShapeComparison) -> float:
-    """Return the median phase of the measured over the model's mode shapes [deg] (0 without shapes)."""
-    ratios = shapes.ratios
-    return float(np.degrees(np.angle(np.median(ratios.real) + 1j * np.median(ratios.imag)))) if ratios.size else 0.0
-
-
 def shapes_flipped(shapes: ShapeComparison) -> bool:
-    """Whether the measured mode shapes are more than :data:`FLIPPED_PHASE` out of phase with the model's."""
-    return abs(phase_offset(shapes)) > FLIPPED_PHASE
+    """Return whether the measured mode shapes are out of phase with the model's (``steer_sign.is_flipped``)."""
+    return is_flipped(shapes.ratios)
 
 
-def steer_sign_flipped(bicycle: Bicycle, measurements: Sequence[WindowMeasurement]) -> bool:
-    """Whether the usable windows' mode shapes are out of phase with the model's (see :data:`FLIPPED_PHASE`).
-
-    A steer signal of the opposite sign to the convention of Meijaard et al. (2007) shows so.
-    Fitted jointly with the roll rate, such a steer angle also misleads the fitting bias (the
-    model's response is matched to the measured signals), so the CLI's default fits the roll
-    rate alone then.
-    """
-    measured = [observation(m) for m in measurements if m.usable]
-    if not measured:
-        return False
-    return shapes_flipped(compare_shapes(measured, Prediction.of(bicycle, measured), bicycle))
-
-
-def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
+def caveats(diagnosis: Diagnosis, shapes: ShapeComparison, options: DiagnosisOptions | None = None) -> list[str]:
     """Say what the verdict does not say: residual misfit, close alternatives, a suspect steer sign."""
+    options = options or DiagnosisOptions()
     notes = []
     if shapes_flipped(shapes):
-        notes.append(f"the measured {shapes.signals[0]} is {abs(phase_offset(shapes)):.0f} degrees out of phase "
+        notes.append(f"the measured {shapes.signals[0]} is {abs(phase_offset(shapes.ratios)):.0f} degrees out of phase "
                      "with the model's mode shape: its sign is probably opposite to the convention of Meijaard et "
                      "al. (2007) (check the layout's scale factor); the mode shapes are left out of the evidence")
     if diagnosis.scale > DISPERSION_WARNING:
@@ -388,11 +416,11 @@ def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
                      "correspondingly less in the evidence")
     if diagnosis.best is not None:
         close = [f"{fit.cause} ({fit.evidence:.1f})" for fit in diagnosis.fits[1:]
-                 if fit.evidence > diagnosis.best.evidence - CLOSE_EVIDENCE]
+                 if fit.evidence > diagnosis.best.evidence - options.verdict.close_evidence]
         if close:
             notes.append(f"close alternatives to {diagnosis.best.cause} ({diagnosis.best.evidence:.1f}): "
                          + ", ".join(close))
-        if diagnosis.verdict == "named" and len(diagnosis.best.values) >= FLEXIBLE_VALUES:
+        if diagnosis.verdict == "named" and len(diagnosis.best.values) >= options.pairs.flexible_values:
             # The criterion of the pairs tried for such a cause; measured in the hidden-effect
             # trials with two effects together (docs/diagnosis.md).
             notes.append(f"{diagnosis.best.cause} ({len(diagnosis.best.values)} fitted values, e.g. a payload's mass "
@@ -404,76 +432,6 @@ def caveats(diagnosis: Diagnosis, shapes: ShapeComparison) -> list[str]:
 
 def _pair(value: complex) -> list[float]:
     return [float(value.real), float(value.imag)]
-
-
-def gain_json(gain: Gain) -> dict[str, Any]:
-    """Return the held-out gain as JSON: overall and per held-out speed."""
-    return {
-        "metric": "median " + gain.metric, "base": gain.base, "extended": gain.extended,
-        "rms": {"metric": "rms " + gain.metric, "base": gain.base_rms, "extended": gain.extended_rms,
-                "cut": gain.cut},
-        "held_out": gain.held_out, "folds": gain.folds, "cause_chosen_per_fold": gain.reselected,
-        "per_speed": [{"speed": s.speed, "windows": s.windows, "cause": s.cause, "verdict": s.verdict,
-                       "values": list(s.values), "base_rms": s.base_rms, "extended_rms": s.extended_rms,
-                       "base_median": s.base_median, "extended_median": s.extended_median, "rms_cut": s.cut,
-                       "helps": s.helps} for s in gain.speeds],
-        "not_helped": [s.speed for s in gain.not_helped()],
-        "time_domain": {"metric": "median over held-out windows of rms roll-rate residual / window rms",
-                        "base": gain.time_base, "extended": gain.time_extended}}
-
-
-def cause_gains_json(gains: Sequence[CauseGain]) -> list[dict[str, Any]]:
-    """Return every candidate's held-out gain as JSON, best first."""
-    return [{"cause": g.cause, "parameters": list(g.parameters), "units": list(g.units),
-             "rms": {"base": g.gain.base_rms, "extended": g.gain.extended_rms, "cut": g.gain.cut},
-             "median": {"base": g.gain.base, "extended": g.gain.extended}, "folds_at_bound": g.at_bound,
-             "per_speed": [{"speed": s.speed, "values": list(s.values), "extended_rms": s.extended_rms,
-                            "rms_cut": s.cut} for s in g.gain.speeds]} for g in gains]
-
-
-def cause_gain_sentences(gains: Sequence[CauseGain], chosen: Gain | None, predicted: Gain | None = None,
-                         fit: CauseFit | None = None) -> list[str]:
-    """Say what the best candidates gain on held-out speeds, against the choices made per fold."""
-    if not gains:
-        return []
-    best = gains[0]
-    bound = f"; values at a bound in {best.at_bound} of {best.gain.folds} folds" if best.at_bound else ""
-    lines = [f"the best of {len(gains)} candidate models, each refitted on every fold without a choice, is "
-             f"{best.cause}: RMS {best.gain.base_rms:.2f} -> {best.gain.extended_rms:.2f} 1/s "
-             f"({100 * best.gain.cut:+.0f}% cut; per speed " + ", ".join(
-                 f"{100 * s.cut:+.0f}%" for s in best.gain.speeds) + f"){bound}"]
-    if chosen is not None:
-        lines.append(f"the diagnosis' own choice, made again on each fold: RMS cut {100 * chosen.cut:+.0f}%; "
-                     "picking the best candidate by these figures has seen every speed, so its cut is an upper "
-                     "bound, not a held-out gain")
-    if predicted is not None:
-        lines.append(f"chosen by prediction instead (each fold picks the candidate whose refits best predict its own "
-                     f"training speeds left out in turn, a choice that never sees the held-out speed), RMS "
-                     f"{predicted.base_rms:.2f} -> {predicted.extended_rms:.2f} 1/s ({100 * predicted.cut:+.0f}% cut; "
-                     "per speed " + ", ".join(f"{s.speed:.2f} m/s {s.cause} {100 * s.cut:+.0f}%"
-                                             for s in predicted.speeds) + ")")
-    if fit is not None:
-        lines.append(f"fitted to all speeds, {fit.cause} takes " + ", ".join(
-            f"{name} = {value:.4g}{' ' + unit if unit else ''}"
-            for name, value, unit in zip(fit.parameters, fit.values, fit.units, strict=True)))
-    return lines
-
-
-def gain_sentences(gain: Gain) -> list[str]:
-    """Say per held-out speed whether the extended model helps, and overall, in plain words."""
-    lines = [f"overall on {gain.folds} held-out speeds: RMS {gain.base_rms:.2f} -> {gain.extended_rms:.2f} 1/s "
-             f"({100 * gain.cut:+.0f}% cut), median {gain.base:.2f} -> {gain.extended:.2f} 1/s"]
-    worse = [s for s in gain.speeds if s.cut < 0]
-    flat = [s for s in gain.not_helped() if s.cut >= 0]
-    if worse:
-        lines.append("the extended model is worse than the base model at " + ", ".join(
-            f"{s.speed:.2f} m/s (RMS {s.base_rms:.2f} -> {s.extended_rms:.2f} 1/s)" for s in worse))
-    if flat:
-        lines.append(f"it does not help (RMS cut below {100 * HELPS:.0f}%) at " + ", ".join(
-            f"{s.speed:.2f} m/s ({100 * s.cut:.0f}%)" for s in flat))
-    if not worse and not flat:
-        lines.append(f"it cuts the RMS error by at least {100 * HELPS:.0f}% at every held-out speed")
-    return lines
 
 
 def report_json(report: DiagnosisReport) -> dict[str, Any]:
@@ -528,7 +486,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "skipped_windows": skipped,
         "summary": list(report.residual_summary),
         "caveats": list(report.caveats),
-        "evidence_definition": evidence_definition(diagnosis.comparison),
+        "evidence_definition": evidence_definition(diagnosis.comparison, report.options),
         "dispersion": diagnosis.scale,
         "dispersion_mode_shape": diagnosis.shape_scale,
         "median_dispersion": list(diagnosis.typical_scales),
@@ -539,6 +497,11 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "extended_model": report.extended_critical.to_dict(),
         "fit_baseline": report.baseline,
         "comparison": diagnosis.comparison,
+        "options": report.options.to_dict(),
+        "measurement": None if report.measured is None else {
+            "signals": list(report.measured.signals), "steer_sign": report.measured.steer_sign,
+            "method": report.measured.options.method, "windows": len(report.measurements),
+            "short_windows_used": report.measured.short},
     }
     if report.amplitude is not None:
         result["nonlinear_amplitude"] = report.amplitude.to_dict()

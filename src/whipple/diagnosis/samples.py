@@ -30,11 +30,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.observations import MODE_SHAPE_STATES, Observation, WindowSignals, noise_free
+from whipple.diagnosis.observations import Observation, WindowSignals, noise_free
 from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
+from whipple.stability.nearest_modes import MODE_SHAPE_STATES
 
 #: Eigenvalues whose imaginary part is below this fraction of their magnitude are real modes.
 REAL_MODE = 1e-9
@@ -50,10 +51,6 @@ BIN_DURATION = 0.04
 #: noise from the second differences, so this leaves them at their noise; a window holding part
 #: of a push or a catch is left 2-30 times its noise off and counts 1 to 200 times less.
 FIT_RESIDUAL_SHARE = 0.5
-#: How an extra state's modal amplitudes are charged (:meth:`SampleComparison.amplitude_charge`):
-#: ``"bic"``, ln(n)/2 per window; ``"noise"`` (an experiment), 1/2 per window, what fitting one
-#: more amplitude to noise gains on average.
-AMPLITUDE_CHARGE = "bic"
 
 
 def signal_noise(signals: WindowSignals) -> NDArray[np.float64]:
@@ -93,7 +90,7 @@ class SampleComparison:
         Each signal's noise averaged per bin (its unit; :func:`second_difference_noise` of the
         samples over the square root of the bin's size).
     states : tuple of int
-        The model state of each signal (:data:`~whipple.diagnosis.observations.MODE_SHAPE_STATES`).
+        The model state of each signal (:data:`~whipple.stability.nearest_modes.MODE_SHAPE_STATES`).
     names : tuple of str
         The signals' names.
     bins, steps : ndarray, shape (W,)
@@ -247,16 +244,17 @@ class SampleComparison:
         curves = (self.targets - residual) * self.noise[:, :, None]
         return [curve[:, :size] for curve, size in zip(curves, self.mask.sum(axis=1), strict=True)]
 
-    def amplitude_charge(self, extra_states: int) -> float:
+    def amplitude_charge(self, extra_states: int, how: str = "bic") -> float:
         """Return the evidence's charge for ``extra_states`` more modal amplitudes in every window.
 
         A model with more states (tyres, a controller's actuator) has that many more amplitudes
         fitted to each window's samples: free values that fit some of the noise (its fast modes
         the first samples of every window) whatever the model's values. Each is charged as a
-        fitted value is, ln(n)/2 with n the window's residuals (BIC); negative ``extra_states``
-        (a model with fewer states than the base) is credited alike.
+        fitted value is, ln(n)/2 with n the window's residuals (``how="bic"``), or 1/2 each
+        (``how="noise"``: what one amplitude fitted to pure noise gains on average); negative
+        ``extra_states`` (a model with fewer states than the base) is credited alike.
         """
-        if AMPLITUDE_CHARGE == "noise":
+        if how == "noise":
             return float(extra_states * 0.5 * self.mask.shape[0])
         residuals = self.mask.sum(axis=1) * len(self.states)
         return float(extra_states * 0.5 * np.sum(np.log(np.maximum(residuals, 1))))

@@ -32,6 +32,11 @@ MIN_CYCLES = 0.75
 #: this while the oscillation stays above the noise (:attr:`WeaveFit.cycles_above_noise`): past
 #: that a strongly damped window holds mostly noise, which stretches it and biases its frequency.
 MIN_CYCLES_ABOVE_NOISE = 0.75
+#: Fits of a window whose end holds a catch (:attr:`FitOptions.catch_passes`): the first locates
+#: the catch roughly (the fit across it bends towards the hand), the second, judged over the
+#: whole window, places it where the free fit's curve and the samples part, the third confirms
+#: that nothing more stands out.
+CATCH_PASSES = 3
 #: With baseline "auto", windows of at least this many weave cycles get a quadratic baseline
 #: (enough data to separate the slow capsize mode from the weave); shorter ones the constant.
 AUTO_QUADRATIC_CYCLES = 2.0
@@ -72,6 +77,9 @@ class FitOptions:
         A fit holding fewer weave periods than this while its decaying envelope stays above the
         residual's RMS (:attr:`~whipple.measurement.weavefit.WeaveFit.cycles_above_noise`) is not
         used as an observation; 0 turns the check off (as the seed paper, which has none).
+    catch_passes : int
+        Fits of a window whose end may hold a hand's catch (default :data:`CATCH_PASSES`; 0: the
+        window is fitted as found, never cut).
     """
 
     signals: tuple[str, ...] = ("roll_rate",)
@@ -80,6 +88,7 @@ class FitOptions:
     shape_signal: str | None = "steer_angle"
     settle: float = 0.0
     min_cycles_above_noise: float = MIN_CYCLES_ABOVE_NOISE
+    catch_passes: int = CATCH_PASSES
 
     def __post_init__(self) -> None:
         if self.baseline != "auto" and self.baseline not in BASELINES:
@@ -91,6 +100,8 @@ class FitOptions:
         if not 0.0 <= self.min_cycles_above_noise <= 100.0:  # also rejects NaN
             raise InputError("the least number of weave cycles above the noise must be between 0 and 100, "
                              f"got {self.min_cycles_above_noise}")
+        if not 0 <= self.catch_passes <= 10:
+            raise InputError(f"the number of catch passes must be between 0 and 10, got {self.catch_passes}")
 
 
 @dataclass(frozen=True)
@@ -377,13 +388,6 @@ def _fit(run: Run, window: Window, options: FitOptions) -> WeaveFit:
     return fit
 
 
-#: Fits of a window whose end holds a catch: the first locates the catch roughly (the fit
-#: across it bends towards the hand), the second, judged over the whole window, places it
-#: where the free fit's curve and the samples part, the third confirms that nothing more
-#: stands out.
-CATCH_PASSES = 3
-
-
 def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,
                   options: FitOptions) -> tuple[Window, WeaveFit]:
     """Return the window and its fit, both cut before a catch at the window's end, if any.
@@ -395,7 +399,7 @@ def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,
     time, measured = fit.time, fit.measured
     first = fitted.start_index if fitted.start_index >= 0 else int(np.searchsorted(run.time, fitted.start))
     kept = time.size
-    for _ in range(CATCH_PASSES):
+    for _ in range(options.catch_passes):
         onset = catch_onset(time, measured - fit.curve(time))
         if onset is None or onset == kept:
             break

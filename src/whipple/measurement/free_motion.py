@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
-from whipple.measurement.experiment import WindowMeasurement, with_short_windows
+from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.noise import second_difference_noise
 from whipple.measurement.weavefit import WeaveFit
 
@@ -110,17 +110,6 @@ def outlying(misfits: Sequence[float] | NDArray[np.float64]) -> NDArray[np.bool_
     centre = float(np.median(logs[finite]))
     spread = 1.4826 * float(np.median(np.abs(logs[finite] - centre)))
     return np.asarray(finite & (logs - centre > max(np.log(OUTLIER_RATIO), OUTLIER_SPREAD * spread)), dtype=bool)
-
-
-def diagnosis_windows(measurements: Sequence[WindowMeasurement], keep_outliers: bool = False
-                      ) -> list[WindowMeasurement]:
-    """Return the measurements as ``whipple diagnose`` uses them, in the same order.
-
-    The windows that are no one free motion set aside (:func:`set_aside_outlying`; kept with
-    ``keep_outliers``), then shorter windows used where too few remain
-    (:func:`~whipple.measurement.experiment.with_short_windows`).
-    """
-    return with_short_windows(measurements if keep_outliers else set_aside_outlying(measurements))
 
 
 def set_aside_outlying(measurements: Sequence[WindowMeasurement]) -> list[WindowMeasurement]:

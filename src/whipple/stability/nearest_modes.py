@@ -1,0 +1,176 @@
+"""The model's mode nearest a measured eigenvalue, and its mode shape.
+
+A measured oscillation is one of the model's modes; matching the mode nearest the measured
+eigenvalue (rather than a label such as "weave") keeps a comparison meaningful for models with
+extra modes (tyres, a controller's actuator) and below the speed where the weave forms. Used by
+the measurement (the steer signal's sign, the model column of ``whipple fit``) and the diagnosis.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from whipple.model.assembly import linear_model, second_order_matrices
+from whipple.model.parameters import Bicycle
+from whipple.stability.quartic import second_order_eigenvalues, second_order_eigenvectors
+
+#: Model states a mode shape can relate: the first four states of every model.
+MODE_SHAPE_STATES = {"roll_angle": 0, "steer_angle": 1, "roll_rate": 2, "steer_rate": 3}
+
+
+#: A window's mode shape is compared only where the base model has an oscillatory mode within
+#: this fraction of the measured eigenvalue's magnitude: a "weave" fitted to a catch or to
+#: noise (strongly damped, far from every model mode) has no mode shape to speak of, and the
+#: shape of whichever real mode lies nearest would make it a huge outlier.
+SHAPE_MATCH = 0.3
+
+
+def near_oscillation(predicted: ArrayLike, measured: ArrayLike) -> NDArray[np.bool_]:
+    """Return where a model's mode is an oscillation near the measured eigenvalue.
+
+    Parameters
+    ----------
+    predicted : array_like of complex
+        The model's eigenvalue nearest each measured one [1/s] (:func:`nearest_modes`).
+    measured : array_like of complex
+        The measured eigenvalues [1/s], same shape.
+
+    Returns
+    -------
+    ndarray of bool
+        True where the model's mode oscillates (positive imaginary part) and lies within
+        :data:`SHAPE_MATCH` of the measured eigenvalue's magnitude: only there do the mode's
+        frequency and shape describe the measured oscillation.
+    """
+    predicted, measured = np.asarray(predicted, dtype=complex), np.asarray(measured, dtype=complex)
+    return (predicted.imag > 0) & (np.abs(measured - predicted) < SHAPE_MATCH * np.abs(measured))
+
+
+def nearest_oscillations(bicycle: Bicycle, speeds: ArrayLike, targets: ArrayLike
+                          ) -> tuple[NDArray[np.complex128], NDArray[np.bool_]]:
+    """Return the model's oscillating mode nearest each measured eigenvalue, and whether it is near.
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The model (its controller, extensions and ``speed_scale`` included).
+    speeds : array_like
+        Measured speeds [m/s], shape (N,).
+    targets : array_like of complex
+        Measured eigenvalues [1/s], shape (N,).
+
+    Returns
+    -------
+    eigenvalues : ndarray of complex, shape (N,)
+        At each speed, the model eigenvalue with a positive imaginary part nearest the target
+        [1/s]; NaN where the model has no oscillating mode at that speed.
+    near : ndarray of bool, shape (N,)
+        Whether it lies near the target (:func:`near_oscillation`): only there does the
+        comparison describe the measured oscillation.
+    """
+    speeds = np.asarray(speeds, dtype=float)
+    targets = np.asarray(targets, dtype=complex)
+    with np.errstate(all="ignore"):
+        values = np.linalg.eigvals(linear_model(bicycle).state_matrix(bicycle.model_speed(speeds)))
+    # Real modes (an imaginary part below 1e-9 of the magnitude) are not oscillations.
+    oscillating = values.imag > 1e-9 * np.abs(values)
+    distance = np.where(oscillating, np.abs(values - targets[:, None]), np.inf)
+    nearest = np.argmin(distance, axis=1)
+    chosen = values[np.arange(len(nearest)), nearest]
+    chosen = np.where(np.isfinite(distance[np.arange(len(nearest)), nearest]), chosen, np.nan + 0j)
+    return chosen.astype(np.complex128), near_oscillation(chosen, targets)
+
+
+def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
+                  signals: Sequence[tuple[str, str] | None]
+                  ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Return the model's eigenvalue nearest each target, and its eigenvector's ratio of two signals.
+
+    At each measured speed [m/s] (speed_scale applied), the model eigenvalue (upper half plane)
+    nearest ``targets`` [1/s], and its eigenvector's ratio of two signals (MODE_SHAPE_STATES;
+    NaN where ``signals`` is None).
+    """
+    chosen, shapes = nearest_modes_of_models([bicycle], speeds, targets, signals)
+    return chosen[0], shapes[0]
+
+
+def nearest_modes_of_models(bicycles: Sequence[Bicycle], speeds: NDArray[np.float64],
+                            targets: NDArray[np.complex128], signals: Sequence[tuple[str, str] | None]
+                            ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """:func:`nearest_modes` of several bicycles at the same windows; each result (bicycles, windows).
+
+    Models with the states ``[q, q']`` only are solved together: one closed-form solve of all
+    their quartics costs little more than one model's, whose many small array operations are
+    what an evaluation costs (a fit's finite-difference Jacobian evaluates several models at
+    once). Other models are solved one by one.
+    """
+    rows = np.array([n for n, pair in enumerate(signals) if pair is not None], dtype=int)
+    true_speeds = [bicycle.model_speed(speeds) for bicycle in bicycles]
+    matrices = [second_order_matrices(bicycle, v) for bicycle, v in zip(bicycles, true_speeds, strict=True)]
+    if all(m is not None for m in matrices):
+        M, C, K = (np.stack([m[k] for m in matrices if m is not None]) for k in range(3))
+        chosen, vectors = _nearest_second_order(M[:, None], C, K, targets, rows)
+    else:
+        # Each model once, those with the states [q, q'] from the matrices already built.
+        solved = [_nearest_second_order(*m, targets, rows) if m is not None
+                  else _nearest_by_eig(bicycle, v, targets, rows)
+                  for bicycle, v, m in zip(bicycles, true_speeds, matrices, strict=True)]
+        chosen = np.stack([values for values, _ in solved])
+        vectors = np.stack([vector[:, :4] for _, vector in solved])
+    shapes = np.full(chosen.shape, np.nan, dtype=complex)
+    if len(rows):
+        numerator = [MODE_SHAPE_STATES[signals[n][0]] for n in rows]  # type: ignore[index]
+        denominator = [MODE_SHAPE_STATES[signals[n][1]] for n in rows]  # type: ignore[index]
+        along = np.arange(len(rows))
+        shapes[:, rows] = vectors[:, along, numerator] / vectors[:, along, denominator]
+    return chosen, shapes
+
+
+def nearest_eigen(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: ArrayLike,
+                  rows: NDArray[np.intp]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Return the model's eigenvalue nearest each target and, for `rows`, its eigenvector.
+
+    At each true speed [m/s], of the bicycle's linear model (controller and extensions
+    included) the eigenvalue in the upper half plane nearest the target [1/s], and for the
+    speeds listed in `rows` its eigenvector over the model's states (``[q, q']`` first),
+    shape (len(rows), states).
+    """
+    matrices = second_order_matrices(bicycle, true_speeds)
+    if matrices is not None:
+        # The closed form of the 4-state models: a fraction of eig's cost at this size.
+        return _nearest_second_order(*matrices, np.asarray(targets), rows)
+    return _nearest_by_eig(bicycle, true_speeds, targets, rows)
+
+
+def _nearest_by_eig(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: ArrayLike,
+                    rows: NDArray[np.intp]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """:func:`nearest_eigen` by ``numpy.linalg.eig`` of the state matrices (a model with more states)."""
+    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(true_speeds))
+    lower = values.imag < 0
+    values = np.where(lower, np.conj(values), values)
+    nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
+    chosen = np.asarray(values[np.arange(len(nearest)), nearest], dtype=complex)
+    if not len(rows):
+        return chosen, np.zeros((0, vectors.shape[-1]), dtype=complex)
+    vector = vectors[rows, :, nearest[rows]]
+    # The eigenvector of the upper-half-plane eigenvalue: conjugated where eig gave the lower.
+    return chosen, np.where(lower[rows, nearest[rows]][:, None], np.conj(vector), vector)
+
+
+def _nearest_second_order(M: NDArray[np.float64], C: NDArray[np.float64], K: NDArray[np.float64],
+                          targets: NDArray[np.complex128], rows: NDArray[np.intp]
+                          ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """:func:`nearest_eigen` of ``M q'' + C q' + K q = 0``, C and K (..., windows, 2, 2).
+
+    Returns the eigenvalues (..., windows) and the eigenvectors of `rows` (..., len(rows), 4).
+    """
+    values = second_order_eigenvalues(M, C, K)
+    values = np.where(values.imag < 0, np.conj(values), values)
+    nearest = np.argmin(np.abs(values - targets[:, None]), axis=-1)
+    chosen = np.take_along_axis(values, nearest[..., None], axis=-1)[..., 0]
+    if not len(rows):
+        return chosen, np.zeros(chosen.shape[:-1] + (0, 4), dtype=complex)
+    return chosen, second_order_eigenvectors(M, C[..., rows, :, :], K[..., rows, :, :], chosen[..., rows])

@@ -39,6 +39,16 @@ from whipple.simulation.scenario import (
 )
 from whipple.simulation.simulator import simulate_run, write_run_csv
 
+#: Fault options of either sign: flag, metavar, help, largest magnitude and its unit.
+_SIGNED_FAULTS = (
+    ("--misalignment", "DEG", "IMU pitched nose up by DEG degrees: the roll gyro mixes in the yaw rate",
+     math.degrees(MAX_MISALIGNMENT), "degrees"),
+    ("--gyro-scale", "PERCENT", "scale error of both gyro axes, percent (3: they read 3%% high)",
+     100 * MAX_GYRO_SCALE_ERROR, "percent"),
+    ("--bias-drift", "RATE", "roll-rate bias growing linearly, rad/s per s", MAX_BIAS_DRIFT, "rad/s per s"),
+    ("--steer-offset", "DEG", "constant steer angle error, degrees", math.degrees(MAX_STEER_OFFSET), "degrees"),
+)
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
@@ -72,20 +82,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     faults = parser.add_argument_group("sensor faults (default: none)")
     faults.add_argument("--no-steer-angle", action="store_true",
                         help="write no steer angle column (a roll-rate gyro without a steer sensor)")
-    faults.add_argument("--misalignment", type=number, default=0.0, metavar="DEG",
-                        help="IMU pitched nose up by DEG degrees: the roll gyro mixes in the yaw rate "
-                             f"(|DEG| <= {math.degrees(MAX_MISALIGNMENT):g})")
-    faults.add_argument("--gyro-scale", type=number, default=0.0, metavar="PERCENT",
-                        help="scale error of both gyro axes, percent (3: they read 3%% high; "
-                             f"|PERCENT| <= {100 * MAX_GYRO_SCALE_ERROR:g})")
-    faults.add_argument("--bias-drift", type=number, default=0.0, metavar="RATE",
-                        help=f"roll-rate bias growing linearly, rad/s per s (|RATE| <= {MAX_BIAS_DRIFT:g})")
+    for flag, metavar, text, limit, _ in _SIGNED_FAULTS:
+        faults.add_argument(flag, type=number, default=0.0, metavar=metavar, help=f"{text} (|{metavar}| <= {limit:g})")
     faults.add_argument("--bias-walk", type=number, default=0.0, metavar="DENSITY",
                         help="roll-rate bias as a random walk, rad/s per sqrt(s) "
                              f"(0 <= DENSITY <= {MAX_BIAS_WALK:g})")
-    faults.add_argument("--steer-offset", type=number, default=0.0, metavar="DEG",
-                        help="constant steer angle error, degrees "
-                             f"(|DEG| <= {math.degrees(MAX_STEER_OFFSET):g})")
     parser.add_argument("--seed", type=integer, default=0, metavar="N",
                         help="random seed of the first run; the k-th speed uses N + k "
                              "(default 0)")
@@ -168,11 +169,8 @@ def _ground_options(args: argparse.Namespace) -> dict[str, Any]:
 
 def _sensor_faults(args: argparse.Namespace) -> SensorFaults:
     """Return the fault options as SensorFaults, checked in the units the user gave them."""
-    limits = (("--misalignment", args.misalignment, math.degrees(MAX_MISALIGNMENT), "degrees"),
-              ("--gyro-scale", args.gyro_scale, 100 * MAX_GYRO_SCALE_ERROR, "percent"),
-              ("--bias-drift", args.bias_drift, MAX_BIAS_DRIFT, "rad/s per s"),
-              ("--steer-offset", args.steer_offset, math.degrees(MAX_STEER_OFFSET), "degrees"))
-    for flag, value, limit, unit in limits:
+    for flag, _, _, limit, unit in _SIGNED_FAULTS:
+        value = getattr(args, flag[2:].replace("-", "_"))
         if not (math.isfinite(value) and abs(value) <= limit):
             raise InputError(f"{flag} must be within +/-{limit:g} {unit}, got {value:g}")
     if not (math.isfinite(args.bias_walk) and 0 <= args.bias_walk <= MAX_BIAS_WALK):

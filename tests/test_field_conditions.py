@@ -174,6 +174,13 @@ def test_acceleration_stiffness_roll_row_is_c1_roll_steer(name):
         assert stiffness[1, 1] > 0
 
 
+def test_acceleration_stiffness_of_point_wheels(bike):
+    for changes in ({"rR": 0.0, "IRyy": 0.0}, {"rR": 0.0, "rF": 0.0, "IRyy": 0.0, "IFyy": 0.0}):
+        skate = bike.with_parameters(**changes)
+        C1 = model_matrices(skate.parameters, skate.extensions).C1
+        assert acceleration_stiffness(skate)[0, 1] == pytest.approx(C1[0, 1], rel=1e-9)
+
+
 def test_acceleration_terms_make_the_linear_ground_run_the_nonlinear_one(bike):
     """At small amplitude on the ground, the nonlinear run (speed prescribed by a hub torque) and the
     linear one with the acceleration terms agree as closely as on a treadmill; without them they

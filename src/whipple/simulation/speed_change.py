@@ -13,7 +13,7 @@ weave eigenvalue at 5 m/s from -0.775+4.465i to -0.750+4.457i 1/s.
 with the rear wheel's acceleration prescribed, ``mass[:2, :2] a + mass[:2, 2] a_rear = force + tau``,
 and at the upright ``mass[:2, 2]`` vanishes; its derivative with respect to roll and steer
 times ``a_rear = -v' / rR`` is the term, ``Ka = -d(mass[:2, 2])/dq / rR`` (independent of the
-speed). Payloads (point masses) are folded into their frames first; other extensions (steer
+speed). Payloads (point masses) and point wheels are folded into their frames first; other extensions (steer
 inertias, tyre compliance, linear terms) and the controller add no term of their own here:
 their part is left out (the extended models do not describe a changing speed).
 """
@@ -27,7 +27,8 @@ import casadi
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.model.bodies import Body, combine, frame_body
+from whipple.errors import InputError
+from whipple.model.bodies import Body, combine, fold_point_wheels, frame_body
 from whipple.model.nonlinear import PARAMETERS, STATES, casadi_reduced_equations, parameter_vector, upright_state
 from whipple.model.parameters import Bicycle, Controller, Extensions
 from whipple.simulation.nonlinear_bicycle import nonlinear_parameters
@@ -38,17 +39,28 @@ def acceleration_stiffness(bicycle: Bicycle) -> NDArray[np.float64]:
 
     ``M q'' + v C1 q' + (g K0 + v^2 K2) q + v' Ka q = f`` with ``q = (roll, steer)`` and ``v'``
     the forward acceleration [m/s^2] (negative while slowing down).
+
+    Raises
+    ------
+    InputError
+        If the nonlinear equations cannot be evaluated upright for the bicycle.
     """
     parameters = _folded_parameters(bicycle)
     state = upright_state(parameters, 1.0)
     derivative = np.asarray(_coupling_jacobian()(parameter_vector(parameters), state), dtype=float)
-    return -derivative / float(parameters["rR"])
+    stiffness = -derivative / float(parameters["rR"])
+    if not np.all(np.isfinite(stiffness)):
+        raise InputError("the nonlinear equations give no acceleration terms for this bicycle (no upright "
+                         "contact configuration): simulate it with acceleration_terms=False",
+                         bicycle.source or bicycle.name or None)
+    return stiffness
 
 
 def _folded_parameters(bicycle: Bicycle) -> dict[str, float]:
     """Return the bicycle's parameters for the nonlinear model, its payloads folded into their frames."""
     plain = dataclasses.replace(bicycle, extensions=Extensions(), controller=Controller())
     parameters, _ = nonlinear_parameters(plain)
+    parameters = fold_point_wheels(parameters)  # a point wheel: massless, of unit radius, as in the linear model
     for frame, payload in (("B", bicycle.extensions.payload), ("H", bicycle.extensions.front_payload)):
         if payload is None:
             continue

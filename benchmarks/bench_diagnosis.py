@@ -64,6 +64,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from hidden_effects import (  # noqa: E402
     BICYCLES,
+    CONDITIONS,
     CONTROLLED_BICYCLES,
     EXPECTED,
     TWO,
@@ -87,13 +88,13 @@ from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-Arguments = tuple[str, str, int, float, bool, DiagnosisOptions]
+Arguments = tuple[str, str, int, float, bool, DiagnosisOptions, str]
 
 
 def _trial(arguments: Arguments) -> tuple:
-    bicycle, family, seed, scale, twin, options = arguments
+    bicycle, family, seed, scale, twin, options, conditions = arguments
     try:
-        trial = run_trial(family, seed, bicycle, scale=scale, twin=twin, options=options)
+        trial = run_trial(family, seed, bicycle, scale=scale, twin=twin, options=options, conditions=conditions)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
@@ -223,6 +224,9 @@ def main() -> None:
     parser.add_argument("--signals", type=signal_names, default=None,
                         help="signals fitted jointly in every window (whipple diagnose --signals; default: as whipple "
                              "diagnose chooses, roll_rate,steer_angle for the trials' runs)")
+    parser.add_argument("--conditions", choices=CONDITIONS, default="treadmill",
+                        help="where the trials' runs are made and the sensors' faults (hidden_effects.CONDITIONS; "
+                             "default treadmill, the rates of record)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
@@ -265,7 +269,7 @@ def main() -> None:
             comparison=args.compare, rigid_loads=args.rigid_loads, occam=args.occam,
             amplitude_charge=args.amplitude_charge, fixed_point_start=args.fixed_point_start,
             pairs=PairRules(dispersion=args.combine_dispersion))
-        tasks = [(*job, args.size_scale, args.twin, options) for job in jobs]
+        tasks = [(*job, args.size_scale, args.twin, options, args.conditions) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

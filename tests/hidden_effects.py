@@ -46,7 +46,7 @@ from whipple.model.assembly import linear_model
 from whipple.model.bodies import Body, combine, frame_body
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle, Controller, Extensions, Payload, TyreCompliance, load_bicycle
-from whipple.simulation.scenario import RunScenario
+from whipple.simulation.scenario import RunScenario, SensorFaults
 from whipple.simulation.simulator import simulate_run
 
 #: The candidate causes' own families, and "none" (no effect).
@@ -428,20 +428,102 @@ def trial_rng(cause: str, seed: int) -> np.random.Generator:
     return np.random.default_rng([seed, families.index(cause) if cause in families else 99])
 
 
-def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None, scale: float = 1.0):
+@dataclass(frozen=True)
+class FieldConditions:
+    """Where a trial's runs are made and what their sensors get wrong, drawn per trial.
+
+    ``treadmill``: the constant belt speed of today's trials (nothing drawn). ``ground``: every
+    run coasts on the ground, its deceleration at its start drawn in ``deceleration`` [m/s^2]
+    (a share drawn in ``drag_share`` of it from air drag, growing with v^2, the rest rolling
+    resistance). With ``faults``, the trial's instrument is also drawn: an IMU misalignment up to
+    ``misalignment`` [rad] either way, a gyro scale error of ``gyro_scale`` (relative, either
+    sign), a steer offset up to ``steer_offset`` [rad] either way and, with probability
+    ``no_steer``, no steer angle at all (the same for every run of the trial); and per run a
+    roll-rate bias drift up to ``bias_drift`` [rad/s^2] either way and a random walk of density
+    up to ``bias_walk`` [rad/s/sqrt(s)].
+    """
+
+    setting: str = "treadmill"
+    deceleration: tuple[float, float] = (0.02, 0.08)
+    drag_share: tuple[float, float] = (0.0, 0.5)
+    faults: bool = False
+    misalignment: float = float(np.radians(3.0))
+    gyro_scale: tuple[float, float] = (0.01, 0.05)
+    steer_offset: float = float(np.radians(1.0))
+    no_steer: float = 0.25
+    bias_drift: float = 2e-4
+    bias_walk: float = 1e-3
+
+    def __post_init__(self) -> None:
+        if self.setting not in ("treadmill", "ground"):
+            raise ValueError(f"setting must be treadmill or ground, not {self.setting!r}")
+        if self.faults and self.setting != "ground":
+            raise ValueError("sensor faults are drawn for ground runs only (use setting='ground')")
+
+
+#: The named field conditions :func:`trial_runs` takes.
+CONDITIONS = {"treadmill": FieldConditions(), "ground": FieldConditions("ground"),
+              "ground+faults": FieldConditions("ground", faults=True)}
+
+
+def field_conditions(conditions: str | FieldConditions) -> FieldConditions:
+    """A :class:`FieldConditions`, or one of :data:`CONDITIONS` by name."""
+    if isinstance(conditions, FieldConditions):
+        return conditions
+    if conditions not in CONDITIONS:
+        raise ValueError(f"conditions must be one of {', '.join(CONDITIONS)} or FieldConditions, not {conditions!r}")
+    return CONDITIONS[conditions]
+
+
+def draw_field(conditions: FieldConditions, rng: np.random.Generator, speeds) -> list[dict]:
+    """The RunScenario fields of each run (one per speed [m/s]) under ground ``conditions``, drawn from ``rng``.
+
+    The trial's instrument is drawn first, then each run's deceleration, drag and bias drift, in the
+    order of the speeds.
+    """
+    if conditions.setting != "ground":
+        raise ValueError("only ground conditions are drawn (a treadmill run changes nothing)")
+    instrument: dict = {}
+    if conditions.faults:
+        low, high = conditions.gyro_scale
+        instrument = {"misalignment": rng.uniform(-1.0, 1.0) * conditions.misalignment,
+                      "gyro_scale": 1.0 + rng.choice([-1.0, 1.0]) * rng.uniform(low, high),
+                      "steer_offset": rng.uniform(-1.0, 1.0) * conditions.steer_offset}
+        without_steer = bool(rng.uniform() < conditions.no_steer)
+    changes = []
+    for speed in speeds:
+        slowing, share = rng.uniform(*conditions.deceleration), rng.uniform(*conditions.drag_share)
+        run = {"setting": "ground", "deceleration": slowing * (1.0 - share), "drag": slowing * share / speed**2}
+        if conditions.faults:
+            faults = SensorFaults(**instrument, bias_drift=rng.uniform(-1.0, 1.0) * conditions.bias_drift,
+                                  bias_walk=rng.uniform(0.0, conditions.bias_walk))
+            run["faults"] = faults
+            if without_steer:
+                run["columns"] = tuple(c for c in RunScenario().columns if c != "steer_angle")
+        changes.append(run)
+    return changes
+
+
+def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None, scale: float = 1.0,
+               conditions: str | FieldConditions = "treadmill"):
     """Return ``(base, truth, runs)``: the base bicycle, the hidden effect's true values, and
     the simulated runs (one per speed) of a trial.
 
-    ``base_name``: as :func:`trial_bicycle` takes it; ``scale`` multiplies the effect's size (:func:`hidden_bicycle`).
+    ``base_name``: as :func:`trial_bicycle` takes it; ``scale`` multiplies the effect's size (:func:`hidden_bicycle`);
+    ``conditions``: where the runs are made and the sensors' faults (:class:`FieldConditions`, or a name of
+    :data:`CONDITIONS`), drawn from a child of the trial's generator after the hidden effect, so that the effect,
+    its true values and the runs' seeds stay those of the treadmill trial (the default, today's runs exactly).
     """
+    field = field_conditions(conditions)
     rng = trial_rng(cause, seed)
     base = trial_bicycle(base_name)
     if speeds is None:
         speeds = trial_speeds(base)
     truth_bicycle, truth, model = hidden_bicycle(base, cause, rng, scale)
+    changes = [{} for _ in speeds] if field.setting == "treadmill" else draw_field(field, rng.spawn(1)[0], speeds)
     runs = []
     for k, speed in enumerate(speeds):
-        scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES)
+        scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES, **changes[k])
         runs.append(run_from_simulation(simulate_run(truth_bicycle, scenario, model=model, name=f"run{k}")))
     return base, truth, runs
 
@@ -481,15 +563,17 @@ def noise_free_twin(trial: Trial, scale: float = 1.0) -> Diagnosis | None:
 
 
 def run_trial(cause: str, seed: int, base_name: str = "benchmark", speeds=None, scale: float = 1.0,
-              twin: bool = False, options: DiagnosisOptions | None = None) -> Trial:
+              twin: bool = False, options: DiagnosisOptions | None = None,
+              conditions: str | FieldConditions = "treadmill") -> Trial:
     """Simulate runs of a hidden effect and diagnose them against the base bicycle, as ``whipple diagnose`` would.
 
     ``options``: the diagnosis' options (default: ``whipple diagnose``'s), with the trial's
-    settle time and without the held-out gain (:func:`trial_options`); ``scale`` multiplies the
-    effect's size (:func:`hidden_bicycle`); ``twin`` also diagnoses the windows without noise
-    (:func:`noise_free_twin`).
+    settle time and without the held-out gain (:func:`trial_diagnosis_options`); ``scale``
+    multiplies the effect's size (:func:`hidden_bicycle`); ``twin`` also diagnoses the windows
+    without noise (:func:`noise_free_twin`); ``conditions``: where the runs are made and the
+    sensors' faults (:func:`trial_runs`).
     """
-    base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale)
+    base, truth, runs = trial_runs(cause, seed, base_name, speeds, scale, conditions)
     options = trial_diagnosis_options(base, options)
     report = diagnose(runs, base, options)
     trial = Trial(cause, seed, truth, report.diagnosis, base_name, options=options)
@@ -525,9 +609,9 @@ def _supports(names: tuple[str, ...]) -> bool:
     return all(any(f.name == fields[name][1] for f in dataclass_fields(fields[name][0])) for name in names)
 
 
-__all__ = ["BICYCLES", "CAUSES", "CONTROLLED", "CONTROLLED_BICYCLES", "CONTROLLED_VARIANTS", "CONTROLLER", "EXPECTED",
-           "PHYSICAL", "TWO", "Trial", "box",
-           "cause_by_name", "cause_of_truth", "families", "given_data", "hidden_bicycle", "hidden_causes",
-           "measurement_options", "noise_free_twin", "run_trial", "trial_bicycle", "trial_diagnosis_options",
-           "trial_options", "trial_runs",
-           "trial_settle", "trial_speeds", "two_effects", "with_body"]
+__all__ = ["BICYCLES", "CAUSES", "CONDITIONS", "CONTROLLED", "CONTROLLED_BICYCLES", "CONTROLLED_VARIANTS", "CONTROLLER",
+           "EXPECTED", "PHYSICAL", "TWO", "FieldConditions", "Trial", "box",
+           "cause_by_name", "cause_of_truth", "draw_field", "families", "field_conditions", "given_data",
+           "hidden_bicycle", "hidden_causes", "measurement_options", "noise_free_twin", "run_trial", "trial_bicycle",
+           "trial_diagnosis_options", "trial_options", "trial_runs", "trial_settle", "trial_speeds", "two_effects",
+           "with_body"]

@@ -4,8 +4,10 @@ Each run follows the seed paper's procedure: the bicycle is held upright, releas
 sideways, coasts freely, is caught and held, and is pushed again. The true motion is the
 bicycle's linear model (with its extensions and controller), or with --nonlinear the nonlinear
 Whipple model (with its controller and steer damping; the rear wheel driven along the speed
-profile); the signals carry sensor noise and bias. Each file lists its true free-coasting
-windows in the ``# true_windows:`` line. One file is written per speed: into DIR as
+profile); the signals carry sensor noise and bias, and on request sensor faults (an IMU
+misalignment, a gyro scale error, a drifting roll-rate bias, a steer offset, no steer angle).
+On the ground the bicycle coasts and its speed falls by rolling resistance and air drag. Each
+file lists its true free-coasting windows in the ``# true_windows:`` line. One file is written per speed: into DIR as
 ``<bicycle>_<setting>_<speed>ms.csv``, or to FILE (ending in .csv) for a single speed.
 """
 
@@ -15,6 +17,7 @@ import argparse
 import math
 import re
 from pathlib import Path
+from typing import Any
 
 from whipple.atomic import check_writable, refuse_input_overwrite
 from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, number, speed_list
@@ -22,8 +25,29 @@ from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
 from whipple.simulation.nonlinear_run import simulate_nonlinear_run
-from whipple.simulation.scenario import MAX_SAMPLES, MAX_SAMPLES_MEMORY, RunScenario, Sensors
+from whipple.simulation.scenario import (
+    MAX_BIAS_DRIFT,
+    MAX_BIAS_WALK,
+    MAX_GYRO_SCALE_ERROR,
+    MAX_MISALIGNMENT,
+    MAX_SAMPLES,
+    MAX_SAMPLES_MEMORY,
+    MAX_STEER_OFFSET,
+    RunScenario,
+    SensorFaults,
+    Sensors,
+)
 from whipple.simulation.simulator import simulate_run, write_run_csv
+
+#: Fault options of either sign: flag, metavar, help, largest magnitude and its unit.
+_SIGNED_FAULTS = (
+    ("--misalignment", "DEG", "IMU pitched nose up by DEG degrees: the roll gyro mixes in the yaw rate",
+     math.degrees(MAX_MISALIGNMENT), "degrees"),
+    ("--gyro-scale", "PERCENT", "scale error of both gyro axes, percent (3: they read 3%% high)",
+     100 * MAX_GYRO_SCALE_ERROR, "percent"),
+    ("--bias-drift", "RATE", "roll-rate bias growing linearly, rad/s per s", MAX_BIAS_DRIFT, "rad/s per s"),
+    ("--steer-offset", "DEG", "constant steer angle error, degrees", math.degrees(MAX_STEER_OFFSET), "degrees"),
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -40,8 +64,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--setting", choices=("treadmill", "ground"), default="treadmill",
                         help="constant belt speed, or a speed decaying while coasting "
                              "(default treadmill)")
-    parser.add_argument("--deceleration", type=number, default=0.05, metavar="A",
-                        help="speed decay on the ground, m/s^2 (default 0.05)")
+    parser.add_argument("--deceleration", type=number, default=None, metavar="A",
+                        help="rolling resistance on the ground, m/s^2 (default 0.05)")
+    parser.add_argument("--drag", type=number, default=None, metavar="K",
+                        help="air drag on the ground: the speed falls by (A + K v^2) m/s^2, K in 1/m "
+                             "(default 0)")
     parser.add_argument("--pushes", type=integer, default=None, metavar="N",
                         help="number of pushes (default 3, or as many as fit in --duration)")
     parser.add_argument("--duration", type=number, default=None, metavar="S",
@@ -52,6 +79,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="multiply every sensor's noise by SCALE (0: noise-free; default 1)")
     parser.add_argument("--bias", type=number, default=1.0, metavar="SCALE",
                         help="multiply every sensor's bias by SCALE (default 1)")
+    faults = parser.add_argument_group("sensor faults (default: none)")
+    faults.add_argument("--no-steer-angle", action="store_true",
+                        help="write no steer angle column (a roll-rate gyro without a steer sensor)")
+    for flag, metavar, text, limit, _ in _SIGNED_FAULTS:
+        faults.add_argument(flag, type=number, default=0.0, metavar=metavar, help=f"{text} (|{metavar}| <= {limit:g})")
+    faults.add_argument("--bias-walk", type=number, default=0.0, metavar="DENSITY",
+                        help="roll-rate bias as a random walk, rad/s per sqrt(s) "
+                             f"(0 <= DENSITY <= {MAX_BIAS_WALK:g})")
     parser.add_argument("--seed", type=integer, default=0, metavar="N",
                         help="random seed of the first run; the k-th speed uses N + k "
                              "(default 0)")
@@ -82,17 +117,18 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("output exists and is not a folder", args.output)
     check_writable(output, is_folder=not single_file)
 
+    ground = _ground_options(args)
+    faults = _sensor_faults(args)
     bicycle = load_bicycle(args.bicycle, rider=args.rider)
     model = linear_model(bicycle)
-    columns = ["roll_rate", "yaw_rate", "steer_angle",
+    columns = ["roll_rate", "yaw_rate", *([] if args.no_steer_angle else ["steer_angle"]),
                "speedometer" if args.speedometer else "speed"]
     sensors = Sensors().scaled(noise=args.noise, bias=args.bias)
     name = bicycle.name or Path(args.bicycle).stem
     scenarios = [
         RunScenario(speed=speed, sample_rate=args.sample_rate, duration=args.duration,
-                    setting=args.setting, deceleration=args.deceleration,
-                    n_pushes=args.pushes, sensors=sensors, columns=tuple(columns),
-                    seed=args.seed + k)
+                    setting=args.setting, **ground, n_pushes=args.pushes, sensors=sensors,
+                    faults=faults, columns=tuple(columns), seed=args.seed + k)
         for k, speed in enumerate(speeds)
     ]  # all validated before anything is written
     total = sum(s.end_time() * s.sample_rate for s in scenarios)
@@ -120,3 +156,26 @@ def run(args: argparse.Namespace) -> int:
             print(f"  nonlinear: constraint drift {c.holonomic_drift:.2g} m, {c.velocity_drift:.2g} m/s; energy "
                   f"balance error {c.energy_error:.2g} J ({c.energy_error_relative:.2g} of the kinetic energy)")
     return 0
+
+
+def _ground_options(args: argparse.Namespace) -> dict[str, Any]:
+    """--deceleration and --drag as RunScenario fields; refused on a treadmill."""
+    given = {name: value for name, value in (("deceleration", args.deceleration), ("drag", args.drag))
+             if value is not None}
+    if given and args.setting != "ground":
+        raise InputError(f"--{next(iter(given))} applies to --setting ground only (a treadmill's speed is constant)")
+    return given
+
+
+def _sensor_faults(args: argparse.Namespace) -> SensorFaults:
+    """Return the fault options as SensorFaults, checked in the units the user gave them."""
+    for flag, _, _, limit, unit in _SIGNED_FAULTS:
+        value = getattr(args, flag[2:].replace("-", "_"))
+        if not (math.isfinite(value) and abs(value) <= limit):
+            raise InputError(f"{flag} must be within +/-{limit:g} {unit}, got {value:g}")
+    if not (math.isfinite(args.bias_walk) and 0 <= args.bias_walk <= MAX_BIAS_WALK):
+        raise InputError(f"--bias-walk must be between 0 and {MAX_BIAS_WALK:g} rad/s per sqrt(s), "
+                         f"got {args.bias_walk:g}")
+    return SensorFaults(misalignment=math.radians(args.misalignment), gyro_scale=1.0 + args.gyro_scale / 100,
+                        bias_drift=args.bias_drift, bias_walk=args.bias_walk,
+                        steer_offset=math.radians(args.steer_offset))

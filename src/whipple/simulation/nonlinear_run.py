@@ -36,6 +36,7 @@ from whipple.errors import AnalysisError
 from whipple.model.assembly import linear_model
 from whipple.model.nonlinear import STATES, energy
 from whipple.model.parameters import Bicycle
+from whipple.simulation.coasting import coasting_deceleration
 from whipple.simulation.nonlinear import with_diagnostics
 from whipple.simulation.nonlinear_bicycle import ForcedBicycle
 from whipple.simulation.procedure import (
@@ -92,8 +93,9 @@ def simulate_nonlinear_run(bicycle: Bicycle, scenario: RunScenario, name: str = 
         The integration fails (e.g. the bicycle falls over with the catch's limits raised).
     """
     forced = ForcedBicycle(bicycle, speed_control)
-    if speed_control == "free" and scenario.setting == "ground" and scenario.deceleration > 0:
-        raise ScenarioError("a free rear wheel cannot follow the ground's deceleration: set it to 0 or drive the wheel")
+    if speed_control == "free" and scenario.setting == "ground" and (scenario.deceleration > 0 or scenario.drag > 0):
+        raise ScenarioError("a free rear wheel cannot follow the ground's deceleration: set it and the drag to 0 "
+                            "or drive the wheel")
     time = sample_times(scenario)
     radius = float(forced.parameters["rR"])
     check_aliasing(scenario, bicycle, scenario.speed)
@@ -139,9 +141,9 @@ class _Integration:
         self.n = time.size
         self.tolerance = 1e-9 / scenario.sample_rate
         self.omega = hand_frequency(scenario)
-        driven_ground = forced.speed_control == "driven" and scenario.setting == "ground"
-        # Rear wheel rate -v(t)/rR with v' = -deceleration.
-        self.rear_acceleration = scenario.deceleration / float(forced.parameters["rR"]) if driven_ground else 0.0
+        self.driven_ground = forced.speed_control == "driven" and scenario.setting == "ground"
+        # Rear wheel rate -v(t)/rR with v' = -(deceleration + drag v^2).
+        self.rear_acceleration = scenario.deceleration / float(forced.parameters["rR"]) if self.driven_ground else 0.0
         self.breaks = np.array(sorted({t for p in pushes for t in (p.time, p.time + p.duration)}))
         self.states = np.full((self.n, len(STATES) + 1), np.nan)
         self.states[0] = np.append(forced.upright(scenario.speed), 0.0)
@@ -213,11 +215,20 @@ class _Integration:
 
         def derivative(t: float, y: NDArray[np.float64]) -> NDArray[np.float64]:
             torques = push_torque(pushes, t)
+            rear = self.rear_wheel_acceleration(t)
             if wobble is None:
-                return forced.free(y[:10], torques, self.rear_acceleration)
-            return forced.held(y[:10], torques, omega, wobble, self.rear_acceleration)
+                return forced.free(y[:10], torques, rear)
+            return forced.held(y[:10], torques, omega, wobble, rear)
 
         return derivative
+
+    def rear_wheel_acceleration(self, t: float) -> float:
+        """Angular acceleration [rad/s^2] of the driven rear wheel at time t [s] (0 when free)."""
+        scenario = self.scenario
+        if not self.driven_ground or scenario.drag == 0:
+            return self.rear_acceleration
+        slowing = coasting_deceleration(scenario.speed, scenario.deceleration, scenario.drag, t)
+        return float(slowing) / float(self.forced.parameters["rR"])
 
     def hold(self, k: int, stop: int) -> None:
         """Held by the hand from sample k to sample stop (its wobble constant per interval)."""

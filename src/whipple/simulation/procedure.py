@@ -21,6 +21,7 @@ from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.simulation.run_writer import format_true_windows
 from whipple.simulation.scenario import SIGNALS, Push, RunScenario, ScenarioError
+from whipple.simulation.sensor_faults import fault_metadata, faulty_signals
 from whipple.simulation.speedometer_signal import speedometer_signal
 
 #: Catch spring: (1 + w t) exp(-w t) = 0.5 % at w t = 7.5.
@@ -138,16 +139,13 @@ def sample_times(scenario: RunScenario) -> NDArray[np.float64]:
 
 
 def speed_profile(scenario: RunScenario, t: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Return the true forward speed [m/s] at times ``t`` [s]: constant, or decaying on the ground."""
-    if scenario.setting == "ground":
-        return scenario.speed - scenario.deceleration * t
-    return np.full(np.shape(t), float(scenario.speed))
+    """Return the true forward speed [m/s] at times ``t`` [s]: constant, or coasting on the ground."""
+    return scenario.true_speed(t)
 
 
 def distance_rolled(scenario: RunScenario, t: NDArray[np.float64]) -> NDArray[np.float64]:
     """Distance rolled since t = 0 [m] (exact integral of the speed profile)."""
-    decel = scenario.deceleration if scenario.setting == "ground" else 0.0
-    return scenario.speed * t - 0.5 * decel * t**2
+    return scenario.distance_rolled(t)
 
 
 def check_aliasing(scenario: RunScenario, bicycle: Bicycle, top_speed: float) -> None:
@@ -236,6 +234,9 @@ def sense(
 ) -> tuple[dict[str, NDArray[np.float64]], dict[str, NDArray[np.float64]]]:
     """Add the speedometer's signal to the truth, and measure every signal with its sensor.
 
+    The scenario's sensor faults act on the true signals before each sensor's noise and bias
+    (:func:`whipple.simulation.sensor_faults.faulty_signals`).
+
     Parameters
     ----------
     truth : dict
@@ -254,10 +255,11 @@ def sense(
                                               scenario.pulses_per_revolution,
                                               phase=float(rng.uniform(0, 2 * np.pi)))
     n = distance.size
+    seen = faulty_signals(truth, scenario.faults, scenario.sample_rate, scenario.seed)
     measured = {}
     for signal in SIGNALS:  # every signal draws its noise, so columns do not change others
         sensor = getattr(scenario.sensors, signal)
-        value = bicycle.measured_speed(truth[signal]) if signal == "speed" else truth[signal]
+        value = bicycle.measured_speed(seen[signal]) if signal == "speed" else seen[signal]
         measured[signal] = value + sensor.bias + sensor.noise * rng.standard_normal(n)
     return truth, {column: measured[column] for column in scenario.columns}
 
@@ -284,6 +286,8 @@ def run_metadata(
         "setting": scenario.setting,
         "true_speed": f"{scenario.speed:.9g}",
         "deceleration": f"{scenario.deceleration if scenario.setting == 'ground' else 0.0:g}",
+        **({"drag": f"{scenario.drag:g}"} if scenario.drag else {}),
+        **fault_metadata(scenario.faults),
         "true_windows": format_true_windows(segments),
         "seed": str(scenario.seed),
     })

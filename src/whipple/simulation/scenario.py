@@ -13,7 +13,11 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
 from whipple.errors import InputError
+from whipple.simulation.coasting import coasting_distance, coasting_speed, stopping_time
 
 #: Signals a simulated run can hold, in the order they are drawn and written.
 SIGNALS = ("roll_rate", "yaw_rate", "steer_angle", "steer_rate", "roll_angle", "speed",
@@ -27,6 +31,12 @@ MAX_SAMPLES_MEMORY = "1 GB of memory"
 
 class ScenarioError(InputError):
     """A run scenario with impossible values (negative speed, zero sample rate, ...)."""
+
+
+def _check(name: str, value: object, ok: Callable[[float], bool], requirement: str) -> None:
+    if (isinstance(value, bool) or not isinstance(value, int | float)
+            or not math.isfinite(value) or not ok(value)):
+        raise ScenarioError(f"{name} must be a finite number, {requirement}; got {value!r}")
 
 
 @dataclass(frozen=True)
@@ -97,6 +107,71 @@ class Sensors:
 #: Sensors without noise or bias.
 PERFECT_SENSORS = Sensors(**{name: Sensor() for name in SIGNALS})
 
+#: Largest faults a scenario takes: beyond them the sensor is not misaligned or off but
+#: mounted another way or broken (IMU tilt [rad], gyro scale error, steer offset [rad],
+#: roll-rate bias drift [rad/s^2] and random walk [rad/s/sqrt(s)]).
+MAX_MISALIGNMENT = math.radians(20.0)
+MAX_GYRO_SCALE_ERROR = 0.5
+MAX_STEER_OFFSET = math.radians(10.0)
+MAX_BIAS_DRIFT = 0.01
+MAX_BIAS_WALK = 0.1
+
+
+@dataclass(frozen=True)
+class SensorFaults:
+    """Errors of an instrumented bicycle's sensors beyond noise and a constant bias.
+
+    Applied to the true signals before the sensors' noise and bias
+    (:func:`whipple.simulation.sensor_faults.faulty_signals`); the defaults are no fault.
+
+    Attributes
+    ----------
+    misalignment : float
+        The IMU pitched about the lateral axis by this angle [rad], nose up when positive
+        (axes of Meijaard et al. 2007: x forward, z down): its roll gyro reads
+        ``cos(a) roll_rate - sin(a) yaw_rate`` and its yaw gyro
+        ``sin(a) roll_rate + cos(a) yaw_rate``. At most 20 degrees either way.
+    gyro_scale : float
+        Scale factor of both gyro axes (1.03: they read 3 % high); 0.5 to 1.5.
+    bias_drift : float
+        The roll-rate bias grows linearly by this much per second [rad/s^2] from t = 0;
+        at most 0.01 either way.
+    bias_walk : float
+        The roll-rate bias is also a random walk of this density [rad/s/sqrt(s)] (standard
+        deviation ``bias_walk sqrt(t)`` at time t), drawn from a random stream of its own so
+        that the run's other random numbers stay the same; 0 to 0.1.
+    steer_offset : float
+        Constant error of the steer angle [rad] (a potentiometer zeroed off centre), added to
+        the steer sensor's bias; at most 10 degrees either way.
+    """
+
+    misalignment: float = 0.0
+    gyro_scale: float = 1.0
+    bias_drift: float = 0.0
+    bias_walk: float = 0.0
+    steer_offset: float = 0.0
+
+    def __post_init__(self) -> None:
+        _check("misalignment", self.misalignment, lambda x: abs(x) <= MAX_MISALIGNMENT,
+               f"within +/-{MAX_MISALIGNMENT:.4g} rad (20 deg)")
+        _check("gyro_scale", self.gyro_scale, lambda x: abs(x - 1.0) <= MAX_GYRO_SCALE_ERROR,
+               f"within 1 +/- {MAX_GYRO_SCALE_ERROR:g}")
+        _check("bias_drift", self.bias_drift, lambda x: abs(x) <= MAX_BIAS_DRIFT,
+               f"within +/-{MAX_BIAS_DRIFT:g} rad/s^2")
+        _check("bias_walk", self.bias_walk, lambda x: 0 <= x <= MAX_BIAS_WALK,
+               f"between 0 and {MAX_BIAS_WALK:g} rad/s/sqrt(s)")
+        _check("steer_offset", self.steer_offset, lambda x: abs(x) <= MAX_STEER_OFFSET,
+               f"within +/-{MAX_STEER_OFFSET:.4g} rad (10 deg)")
+
+    @property
+    def is_none(self) -> bool:
+        """True when there is no fault at all."""
+        return self == SensorFaults()
+
+
+#: No sensor fault.
+NO_FAULTS = SensorFaults()
+
 
 @dataclass(frozen=True)
 class RunScenario:
@@ -111,11 +186,15 @@ class RunScenario:
     duration : float or None
         Length of the record [s]; None: just long enough for the pushes and their coasting.
     setting : {"treadmill", "ground"}
-        Treadmill: constant belt speed. Ground: the speed decays as
-        ``speed - deceleration * t`` (rolling resistance and drag).
+        Treadmill: constant belt speed. Ground: the bicycle coasts and its speed falls,
+        ``v' = -(deceleration + drag v^2)`` (:mod:`whipple.simulation.coasting`; without drag
+        ``speed - deceleration * t``), throughout the run.
     deceleration : float
-        [m/s^2], ground setting only (0.05: rolling resistance of ~0.004 plus the drag of a
-        riderless bicycle at ~5 m/s).
+        Rolling resistance [m/s^2], ground setting only (0.05: a rolling resistance
+        coefficient of ~0.004 plus the drag of a riderless bicycle at ~5 m/s).
+    drag : float
+        Air drag coefficient ``rho CdA / (2 m)`` [1/m], ground setting only (0 by default; a
+        riderless bicycle of 25 kg with CdA ~ 0.1 m^2: ~0.0024 1/m, 0.06 m/s^2 at 5 m/s).
     pushes : tuple of Push, or None
         Explicit pushes; None: ``n_pushes`` pushes of alternating direction, the first at
         ``release``, spaced by ``push_duration + max_coast + catch_duration + settle``.
@@ -143,6 +222,9 @@ class RunScenario:
         still).
     sensors : Sensors
         Noise and bias of each signal.
+    faults : SensorFaults
+        IMU misalignment, gyro scale error, roll-rate bias drift, steer offset (none by
+        default). A run without a steer angle leaves ``steer_angle`` out of ``columns``.
     columns : tuple of str
         Measured signals to output (``roll_rate`` is required; see ``SIGNALS``). A
         ``speedometer`` column is a raw magnet-ring signal instead of a speed.
@@ -157,6 +239,7 @@ class RunScenario:
     duration: float | None = None
     setting: str = "treadmill"
     deceleration: float = 0.05
+    drag: float = 0.0
     pushes: tuple[Push, ...] | None = None
     n_pushes: int | None = None
     push_roll_rate: float = 0.5
@@ -169,6 +252,7 @@ class RunScenario:
     roll_rate_limit: float = 1.5
     hold_std: float = 0.001
     sensors: Sensors = Sensors()
+    faults: SensorFaults = NO_FAULTS
     columns: tuple[str, ...] = ("roll_rate", "yaw_rate", "steer_angle", "speed")
     pulses_per_revolution: int = 20
     seed: int = 0
@@ -178,7 +262,7 @@ class RunScenario:
                     "roll_limit", "roll_rate_limit")
         for name in positive:
             _check(name, getattr(self, name), lambda x: x > 0, "positive")
-        for name in ("deceleration", "push_roll_rate", "release", "settle", "hold_std"):
+        for name in ("deceleration", "drag", "push_roll_rate", "release", "settle", "hold_std"):
             _check(name, getattr(self, name), lambda x: x >= 0, ">= 0")
         if self.duration is not None:
             _check("duration", self.duration, lambda x: x > 0, "positive")
@@ -202,6 +286,11 @@ class RunScenario:
             sensor = getattr(self.sensors, name)
             _check(f"{name} noise", sensor.noise, lambda x: x >= 0, ">= 0")
             _check(f"{name} bias", sensor.bias, lambda x: True, "finite")
+        if self.setting != "ground" and self.drag != 0:
+            raise ScenarioError(f"drag applies to the ground setting only, got {self.drag!r} 1/m on a "
+                                f"{self.setting}")
+        if not isinstance(self.faults, SensorFaults):
+            raise ScenarioError(f"faults must be SensorFaults, got {type(self.faults).__name__}")
         if self.setting == "ground" and not {"speed", "speedometer"} & set(self.columns):
             raise ScenarioError("a ground run needs a speed or speedometer column (its speed "
                                 "is not constant)")
@@ -212,9 +301,10 @@ class RunScenario:
             self._check_pushes(self.pushes)
         self._check_size()
         end = self.end_time()
-        if self.setting == "ground" and self.speed - self.deceleration * end <= 0:
+        if self.setting == "ground" and end >= stopping_time(self.speed, self.deceleration, self.drag):
+            drag = f" and a drag of {self.drag:g} 1/m" if self.drag else ""
             raise ScenarioError(f"the speed {self.speed:g} m/s decaying by "
-                                f"{self.deceleration:g} m/s^2 reaches 0 before the end "
+                                f"{self.deceleration:g} m/s^2{drag} reaches 0 before the end "
                                 f"of the run ({end:.3g} s)")
 
     def _check_pushes(self, pushes: tuple[Push, ...]) -> None:
@@ -279,12 +369,19 @@ class RunScenario:
                                 f"run ({self.duration:g} s)")
         return self.duration
 
+    def true_speed(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Return the true forward speed [m/s] at times ``t`` [s]: constant, or coasting on the ground."""
+        if self.setting == "ground":
+            return coasting_speed(self.speed, self.deceleration, self.drag, t)
+        return np.full(np.shape(t), float(self.speed))
+
+    def distance_rolled(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Return the distance rolled since t = 0 [m] at times ``t`` [s] (exact integral of the speed)."""
+        if self.setting == "ground":
+            return coasting_distance(self.speed, self.deceleration, self.drag, t)
+        return self.speed * np.asarray(t, dtype=float)
+
     def replace(self, **changes: object) -> RunScenario:
         """Return a copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)  # type: ignore[arg-type]
 
-
-def _check(name: str, value: object, ok: Callable[[float], bool], requirement: str) -> None:
-    if (isinstance(value, bool) or not isinstance(value, int | float)
-            or not math.isfinite(value) or not ok(value)):
-        raise ScenarioError(f"{name} must be a finite number, {requirement}; got {value!r}")

@@ -34,7 +34,8 @@ from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import MIN_CYCLES, MIN_WINDOWS, SHORT_WINDOW_CYCLES
-from whipple.model.parameters import load_bicycle, write_bicycle_toml
+from whipple.model.fleet import Model
+from whipple.model.parameters import Bicycle, load_bicycle, write_bicycle_toml
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -107,9 +108,17 @@ def run(args: argparse.Namespace) -> int:
         write_text_atomic(args.report / "report.md", report_markdown(report, figures, command))
         print(f"wrote {args.report / 'report.md'}")
     if args.save_model is not None:
-        write_bicycle_toml(report.extended, args.save_model)
-        print(f"wrote {args.save_model}")
+        for path, bicycle in saved_models(report.extended, args.save_model):
+            write_bicycle_toml(bicycle, path)
+            print(f"wrote {path}")
     return 0
+
+
+def saved_models(model: Model, target: Path) -> list[tuple[Path, Bicycle]]:
+    """Return where ``--save-model`` writes each bicycle: FILE for one bicycle, DIR/<group>.toml for an experiment's."""
+    if isinstance(model, Bicycle):
+        return [(target, model)]
+    return [(target / f"{name}.toml", bicycle) for name, bicycle in model.members]
 
 
 def _print_report(report: DiagnosisReport, data: dict) -> None:

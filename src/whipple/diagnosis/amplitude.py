@@ -42,6 +42,7 @@ from numpy.typing import NDArray
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.weavefit import fit_weave
+from whipple.model.fleet import Fleet, Model, members_of
 from whipple.model.parameters import Bicycle
 from whipple.simulation.nonlinear_bicycle import ForcedBicycle, coast
 from whipple.stability.nearest_modes import nearest_eigen
@@ -223,7 +224,7 @@ def _groups(checks: Sequence[AmplitudeCheck], gap: float = 0.3) -> list[list[int
     return groups
 
 
-def check_amplitudes(bicycle: Bicycle, used: Sequence[WindowMeasurement],
+def check_amplitudes(bicycle: Model, used: Sequence[WindowMeasurement],
                      linear: NDArray[np.complex128] | None = None) -> AmplitudeReport:
     """Compare the nonlinear model's weave at each window's amplitude with the linear one.
 
@@ -243,6 +244,8 @@ def check_amplitudes(bicycle: Bicycle, used: Sequence[WindowMeasurement],
         One check per window; none, with a note, when the nonlinear model cannot represent the
         bicycle (an extension it does not hold).
     """
+    if not isinstance(bicycle, Bicycle):
+        return _fleet_amplitudes(bicycle, used, linear)
     try:
         forced = ForcedBicycle(bicycle, "driven")
     except InputError as error:
@@ -332,3 +335,22 @@ def amplitude_markdown(report: AmplitudeReport) -> list[str]:
         lines += ["", f"Not in the bicycle file and estimated for the nonlinear model (perpendicular-axis theorem): "
                   f"{', '.join(report.estimated)}."]
     return lines
+
+
+def _fleet_amplitudes(fleet: Fleet, used: Sequence[WindowMeasurement],
+                      linear: NDArray[np.complex128] | None) -> AmplitudeReport:
+    """:func:`check_amplitudes` of an experiment's groups: each group's windows with its bicycle, in order."""
+    checks: list[AmplitudeCheck | None] = [None] * len(used)
+    estimated: tuple[str, ...] = ()
+    notes = []
+    for member, index in members_of(fleet, [m.group for m in used]):
+        chosen = list(range(len(used))) if index is None else [int(n) for n in index]
+        part = check_amplitudes(member, [used[n] for n in chosen], None if linear is None else linear[chosen])
+        estimated = estimated or part.estimated
+        if part.note:
+            notes.append(part.note)
+        for n, check in zip(chosen, part.checks, strict=False):
+            checks[n] = check
+    if any(check is None for check in checks):
+        return AmplitudeReport((), estimated, "; ".join(dict.fromkeys(notes)) or "not every group could be checked")
+    return AmplitudeReport(tuple(check for check in checks if check is not None), estimated)

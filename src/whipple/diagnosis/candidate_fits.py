@@ -26,10 +26,10 @@ from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_resi
 from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.starts import GRID_MAX_VALUES, refinement_starts
 from whipple.measurement.measure import Progress
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Model
 
 
-def fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Observation],
+def fit_all(bicycle: Model, causes: Sequence[Cause], observations: Sequence[Observation],
             whitening: Whitening, starts: Sequence[Sequence[Sequence[float]] | None] | None = None,
             biases: Sequence[NDArray[np.complex128]] | None = None,
             progress: Progress | None = None) -> tuple[CauseFit, list[CauseFit]]:
@@ -55,7 +55,7 @@ def fit_all(bicycle: Bicycle, causes: Sequence[Cause], observations: Sequence[Ob
     return base, fits
 
 
-def refit_to_samples(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
+def refit_to_samples(bicycle: Model, causes: Sequence[Cause], fits: Sequence[CauseFit],
                      observations: Sequence[Observation], whitening: Whitening, near: Sequence[bool],
                      search: bool = True) -> tuple[CauseFit, list[CauseFit]]:
     """Compare the base model and each fitted cause with the windows' samples (``whitening.samples``).
@@ -86,7 +86,7 @@ def refit_to_samples(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[C
     return base, compared
 
 
-def refit_through_bias(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
+def refit_through_bias(bicycle: Model, causes: Sequence[Cause], fits: Sequence[CauseFit],
                        observations: Sequence[Observation], whitening: Whitening,
                        base_bias: NDArray[np.complex128], near: Sequence[bool], start: str = "measured"
                        ) -> tuple[CauseFit, list[CauseFit], list[NDArray[np.complex128]]]:
@@ -119,7 +119,7 @@ def refit_through_bias(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence
     return base, compared, biases
 
 
-def _evaluated(model: Bicycle, fit: CauseFit, observations: Sequence[Observation], whitening: Whitening) -> CauseFit:
+def _evaluated(model: Model, fit: CauseFit, observations: Sequence[Observation], whitening: Whitening) -> CauseFit:
     """Return `fit` with its residuals and chi-square those of `model` under `whitening` (no refit)."""
     residual, predicted, block_chi2 = model_residuals(model, observations, whitening)
     return replace(fit, chi2=robust_chi2(residual), predicted=predicted, block_chi2=block_chi2, residuals=residual,

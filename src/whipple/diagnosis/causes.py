@@ -16,8 +16,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.model.fleet import Model
 from whipple.model.parameter_set import PARAMETER_UNITS
-from whipple.model.parameters import Bicycle, Payload
+from whipple.model.parameters import Payload
 
 # Reported bicycle tyre values (shared spec tyre-model.md): the camber stiffness is not fitted
 # (eigenvalues barely constrain it); cornering stiffness and relaxation length are.
@@ -59,7 +60,7 @@ class Cause:
     units: tuple[str, ...]
     start: tuple[float, ...]
     bounds: tuple[tuple[float, float], ...]
-    apply: Callable[[Bicycle, Sequence[float]], Bicycle]
+    apply: Callable[[Model, Sequence[float]], Model]
     prior: float = 1.0
     null: tuple[float, ...] | None = None
     refines: tuple[str, ...] | None = None
@@ -75,7 +76,7 @@ class Cause:
 PAYLOAD_FRAMES = {"payload": "B", "front_payload": "H"}
 
 
-def payload_bounds(bicycle: Bicycle, name: str) -> dict[str, tuple[float, float]]:
+def payload_bounds(bicycle: Model, name: str) -> dict[str, tuple[float, float]]:
     """Physical bounds of a payload's mass [kg], x [m] and z [m] on its frame.
 
     Rear frame: up to three times the frame's mass, from 0.5 m behind the rear contact (a
@@ -101,7 +102,7 @@ _PAYLOAD_VALUES = {"m": ("mass",), "x": ("x",), "z": ("z",), "k": ("roll_gyratio
 _PAYLOAD_UNITS = {"mass": "kg", "x": "m", "z": "m", "roll_gyration": "m", "yaw_gyration": "m"}
 
 
-def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> Cause:
+def payload_form(bicycle: Model, name: str, free: str, prior: float = 1.0) -> Cause:
     """Return one form of a payload cause, its fixed coordinates at the frame's mass centre.
 
     Parameters
@@ -129,7 +130,7 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> 
               "yaw_gyration": (0.0, MAX_GYRATION)}
     axes = tuple(axis for letter_ in free for axis in _PAYLOAD_VALUES[letter_])
 
-    def apply(changed: Bicycle, values: Sequence[float]) -> Bicycle:
+    def apply(changed: Model, values: Sequence[float]) -> Model:
         given = dict(zip(axes, (float(value) for value in values), strict=True))
         position = {axis: given.get(axis, float(changed.parameters[f"{axis}{letter}"])) for axis in "xz"}
         loaded = changed.with_extensions(**{name: Payload(mass=given["mass"], x=position["x"], z=position["z"])})
@@ -149,8 +150,8 @@ def payload_form(bicycle: Bicycle, name: str, free: str, prior: float = 1.0) -> 
                  refines=tuple(f"{name}_{axis}" for axis in ("mass", "x", "z")) if "k" in free else None)
 
 
-def _parameter(key: str) -> Callable[[Bicycle, Sequence[float]], Bicycle]:
-    def apply(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+def _parameter(key: str) -> Callable[[Model, Sequence[float]], Model]:
+    def apply(bicycle: Model, values: Sequence[float]) -> Model:
         return bicycle.with_parameters(**{key: float(values[0])})
 
     return apply
@@ -168,7 +169,7 @@ POSITIVE_PARAMETERS = frozenset(("w", "rR", "mR", "IRxx", "IRyy", "mB", "IBxx", 
                                  "mF", "IFxx", "IFyy"))
 
 
-def parameter_cause(bicycle: Bicycle, key: str, share: float) -> Cause:
+def parameter_cause(bicycle: Model, key: str, share: float) -> Cause:
     """``parameter:<key>``: the bicycle's value of key is wrong.
 
     Bounds: the value +/- its magnitude, except that a positive quantity stays above a third
@@ -182,7 +183,7 @@ def parameter_cause(bicycle: Bicycle, key: str, share: float) -> Cause:
                  _parameter(key), prior=share, null=(value,))
 
 
-def with_cause(bicycle: Bicycle, cause: Cause, values: Sequence[float]) -> Bicycle:
+def with_cause(bicycle: Model, cause: Cause, values: Sequence[float]) -> Model:
     """Return the bicycle modified by a cause, its description noting the change."""
     changed = cause.apply(bicycle, [float(value) for value in values])
     note = ", ".join(f"{name} = {value:.6g}" for name, value in zip(cause.parameters, values, strict=True))

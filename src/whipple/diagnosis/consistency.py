@@ -25,7 +25,7 @@ from whipple.diagnosis.fitting import (
 )
 from whipple.diagnosis.observations import Observation, speed_groups
 from whipple.errors import AnalysisError
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Model
 
 
 @dataclass(frozen=True)
@@ -53,7 +53,7 @@ class SpeedDependence:
     design_effect: float = 1.0
 
 
-def jackknife_std(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
+def jackknife_std(bicycle: Model, cause: Cause, observations: Sequence[Observation],
                   values: Sequence[float], scales: tuple[float, float] = (1.0, 1.0),
                   comparison: str = "eigenvalues") -> NDArray[np.float64]:
     """Leave-one-speed-group-out jackknife standard deviation of a cause's values.
@@ -88,7 +88,7 @@ def without(observations: Sequence[Observation], group: Sequence[int]) -> list[O
     return [o for i, o in enumerate(observations) if i not in left_out]
 
 
-def refits_without(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation], values: Sequence[float],
+def refits_without(bicycle: Model, cause: Cause, observations: Sequence[Observation], values: Sequence[float],
                    groups: Sequence[Sequence[int]], scales: tuple[float, float] = (1.0, 1.0),
                    comparison: str = "eigenvalues") -> list[tuple[float, ...]]:
     """Return the cause's values refitted with each group of windows (indices) left out in turn.
@@ -109,7 +109,7 @@ GAUSS_NEWTON_DIFFERENCE = 1e-4
 GAUSS_NEWTON_STEPS = 3
 
 
-def gauss_newton_refits(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation], values: Sequence[float],
+def gauss_newton_refits(bicycle: Model, cause: Cause, observations: Sequence[Observation], values: Sequence[float],
                         groups: Sequence[Sequence[int]], scales: tuple[float, float] = (1.0, 1.0)
                         ) -> list[tuple[float, ...]]:
     """Return the cause's values refitted to the samples with each group of windows left out.
@@ -162,7 +162,7 @@ def speed_group_sums(residuals: NDArray[np.float64], observations: Sequence[Obse
     return float(np.sum(sums**2)), float(len(residuals))
 
 
-def speed_dependence(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
+def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observation],
                      values: Sequence[float], scales: tuple[float, float],
                      comparison: str = "eigenvalues") -> SpeedDependence | None:
     """Fit a cause to the low and the high speeds apart, to see whether its values depend on speed.

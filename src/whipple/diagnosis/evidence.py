@@ -60,7 +60,7 @@ from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
 from whipple.measurement.experiment import MIN_WINDOWS
 from whipple.measurement.measure import Progress
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Model
 
 
 @dataclass(frozen=True)
@@ -146,7 +146,7 @@ def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[flo
     return scales[0], scales[1]
 
 
-def diagnose_observations(bicycle: Bicycle, observations: Sequence[Observation],
+def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
                           causes: Sequence[Cause] | None = None, options: DiagnosisOptions | None = None, *,
                           estimate_spread: bool = True, quick: bool = False,
                           progress: Progress | None = None) -> Diagnosis:

@@ -18,8 +18,8 @@ from dataclasses import dataclass
 
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.model_terms import is_term, term_words
-from whipple.diagnosis.registry import FAMILIES, CauseDeclaration, Family, declarations
-from whipple.model.parameters import Bicycle
+from whipple.diagnosis.registry import FAMILIES, CauseDeclaration, Family, declarations, ungrouped
+from whipple.model.fleet import Model
 
 #: Separator of the two causes in a combination's name, e.g. ``"steer_damping + speed_scale"``.
 COMBINATION = " + "
@@ -72,13 +72,16 @@ def components(name: str) -> tuple[str, ...]:
 
 
 def families_of(name: str, extra: Sequence[CauseDeclaration] = ()) -> tuple[FamilyMembers, ...]:
-    """Return the families a single cause belongs to, most specific first (empty for an undeclared name)."""
-    return tuple(family for family in family_table(extra) if name in family.members)
+    """Return the families a single cause belongs to, most specific first (empty for an undeclared name).
+
+    A cause of one group of an experiment (``controller_gain[mm_on]``) belongs to its cause's families.
+    """
+    return tuple(family for family in family_table(extra) if ungrouped(name) in family.members)
 
 
 def common_family(names: Sequence[str], extra: Sequence[CauseDeclaration] = ()) -> FamilyMembers | None:
     """Return the first family holding every single cause of every name, or None."""
-    singles = {single for name in names for single in components(name)}
+    singles = {ungrouped(single) for name in names for single in components(name)}
     for family in family_table(extra):
         if singles <= set(family.members):
             return family
@@ -126,7 +129,7 @@ def combined_cause(first: Cause, second: Cause) -> Cause:
     """
     split = len(first.parameters)
 
-    def apply(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+    def apply(bicycle: Model, values: Sequence[float]) -> Model:
         return second.apply(first.apply(bicycle, values[:split]), values[split:])
 
     null = None if first.null is None or second.null is None else first.null + second.null

@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.observations import Observation, WindowSignals
 from whipple.measurement.refit import refit_weaves
 from whipple.model.assembly import linear_model
+from whipple.model.fleet import Model, members_of
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, SHAPE_MATCH
 
@@ -40,7 +41,7 @@ from whipple.stability.nearest_modes import MODE_SHAPE_STATES, SHAPE_MATCH
 FIXED_POINT_STEPS = 3
 
 
-def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation],
+def fitting_bias(bicycle: Model, observations: Sequence[Observation],
                  amplitudes: str = "own", start: str = "measured") -> NDArray[np.complex128]:
     """Return, per observation, the fitting function's bias [1/s] on the bicycle model's own response.
 
@@ -61,6 +62,13 @@ def fitting_bias(bicycle: Bicycle, observations: Sequence[Observation],
     """
     if start not in ("measured", "model"):
         raise ValueError(f"start must be 'measured' or 'model', got {start!r}")
+    if not isinstance(bicycle, Bicycle):
+        # An experiment's groups: each group's windows with its own bicycle.
+        bias = np.zeros(len(observations), dtype=complex)
+        for member, index in members_of(bicycle, [o.group for o in observations]):
+            chosen = range(len(observations)) if index is None else index
+            bias[list(chosen)] = fitting_bias(member, [observations[int(n)] for n in chosen], amplitudes, start)
+        return bias
     if amplitudes not in ("own", "model"):
         raise ValueError(f"amplitudes must be 'own' or 'model', got {amplitudes!r}")
     bias = np.zeros(len(observations), dtype=complex)

@@ -21,6 +21,7 @@ from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
 from whipple.model.assembly import linear_model
+from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import nearest_modes_of_models
 
@@ -91,7 +92,8 @@ class Whitening:
     eigenvalue: NDArray[np.float64]
     shape_index: NDArray[np.int_]
     shape: NDArray[np.float64]
-    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None]] = field(repr=False)
+    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str]] = field(
+        repr=False)
     measured_shapes: NDArray[np.complex128] = field(repr=False)
     scales: tuple[float, float] = (1.0, 1.0)
     #: The fitting function's bias on the fitted model's own response, per window
@@ -188,7 +190,7 @@ def _with_floor(observation: Observation) -> NDArray[np.float64]:
     return covariance + np.eye(2) * (EIGENVALUE_FLOOR * abs(observation.eigenvalue)) ** 2
 
 
-def window_whitening(observations: Sequence[Observation], bicycle: Bicycle,
+def window_whitening(observations: Sequence[Observation], bicycle: Model,
                      scales: tuple[float, float] = (1.0, 1.0), comparison: str = "eigenvalues") -> Whitening:
     """Whitening of every window's eigenvalue, and of the shapes the base ``bicycle`` compares.
 
@@ -208,7 +210,7 @@ def window_whitening(observations: Sequence[Observation], bicycle: Bicycle,
     return Whitening(eigenvalue, index, shape, mode_targets(observations), measured_shapes, scales, samples=samples)
 
 
-def _residual_blocks(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening,
+def _residual_blocks(models: Sequence[Model], observations: Sequence[Observation], whitening: Whitening,
                      predict: bool = True) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.complex128]]:
     """Return each model's whitened residuals at unit dispersion and predicted eigenvalues (a row each).
 
@@ -232,7 +234,7 @@ def _residual_blocks(models: Sequence[Bicycle], observations: Sequence[Observati
     return eigenvalue, shape, predicted
 
 
-def model_residuals(bicycle: Bicycle, observations: Sequence[Observation], whitening: Whitening
+def model_residuals(bicycle: Model, observations: Sequence[Observation], whitening: Whitening
                     ) -> tuple[NDArray[np.float64], NDArray[np.complex128], tuple[float, float]]:
     """Return all residuals, the predicted eigenvalues and each kind's robust chi-square.
 
@@ -243,7 +245,7 @@ def model_residuals(bicycle: Bicycle, observations: Sequence[Observation], white
     return residuals[0], predicted[0], block_chi2[0]
 
 
-def models_residuals(models: Sequence[Bicycle], observations: Sequence[Observation], whitening: Whitening,
+def models_residuals(models: Sequence[Model], observations: Sequence[Observation], whitening: Whitening,
                      predict: bool = True
                      ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[float, float]]]:
     """:func:`model_residuals` of several models at once: residuals and predictions a row per model.
@@ -263,7 +265,7 @@ def models_residuals(models: Sequence[Bicycle], observations: Sequence[Observati
     return scaled, predicted, [(robust_chi2(e), robust_chi2(s)) for e, s in zip(eigenvalue, shape, strict=True)]
 
 
-def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
+def fit_cause(bicycle: Model, cause: Cause, observations: Sequence[Observation],
               whitening: Whitening | None = None,
               starts: Sequence[Sequence[float]] | None = None, grid: bool = True) -> CauseFit:
     """Fit one cause's values to all observations by robust weighted least squares.
@@ -337,9 +339,10 @@ def fit_cause(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation
                     states=model_states(model))
 
 
-def model_states(bicycle: Bicycle) -> int:
-    """Return the number of states of a bicycle's linear model."""
-    return int(linear_model(bicycle).A.shape[-1])
+def model_states(bicycle: Model) -> int:
+    """Return the number of states of a bicycle's linear model (of a fleet: the most of any group's)."""
+    members = [bicycle] if isinstance(bicycle, Bicycle) else [member for _, member in bicycle.members]
+    return max(int(linear_model(member).A.shape[-1]) for member in members)
 
 
 def _floats(values: NDArray[np.float64]) -> list[float]:

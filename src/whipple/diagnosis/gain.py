@@ -34,7 +34,7 @@ from whipple.distributed import map_ordered
 from whipple.errors import AnalysisError
 from whipple.measurement.measure import Progress
 from whipple.measurement.weavefit import response_with_eigenvalue
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Model
 
 Result = TypeVar("Result")
 
@@ -121,9 +121,9 @@ def _rms(values: NDArray[np.float64]) -> float:
     return float(np.sqrt(np.mean(np.square(values))))
 
 
-def _fold_model(bicycle: Bicycle, training: Sequence[Observation], causes: Sequence[Cause] | None,
+def _fold_model(bicycle: Model, training: Sequence[Observation], causes: Sequence[Cause] | None,
                 fixed: Cause | None, choose: str = "evidence", options: DiagnosisOptions | None = None
-                ) -> tuple[Bicycle, str, str, tuple[float, ...]]:
+                ) -> tuple[Model, str, str, tuple[float, ...]]:
     """Return the model extended on the training windows alone: bicycle, cause, verdict, values.
 
     ``options``: the diagnosis' options, with which a fold chooses by evidence.
@@ -140,8 +140,8 @@ def _fold_model(bicycle: Bicycle, training: Sequence[Observation], causes: Seque
             diagnosis.best.values)
 
 
-def _predictive_choice(bicycle: Bicycle, training: Sequence[Observation], causes: Sequence[Cause] | None
-                       ) -> tuple[Bicycle, str, str, tuple[float, ...]]:
+def _predictive_choice(bicycle: Model, training: Sequence[Observation], causes: Sequence[Cause] | None
+                       ) -> tuple[Model, str, str, tuple[float, ...]]:
     """Choose, among ``causes``, the one whose refits best predict training speeds left out in turn.
 
     The choice by prediction rather than by evidence: each candidate is fitted to all training
@@ -172,8 +172,8 @@ def _predictive_choice(bicycle: Bicycle, training: Sequence[Observation], causes
     return with_cause(bicycle, cause, values), cause.name, "chosen by prediction", values
 
 
-def _fold_task(task: tuple[Bicycle, Sequence[Observation], Sequence[Cause] | None, Cause | None, str,
-                           DiagnosisOptions | None]) -> tuple[Bicycle, str, str, tuple[float, ...]]:
+def _fold_task(task: tuple[Model, Sequence[Observation], Sequence[Cause] | None, Cause | None, str,
+                           DiagnosisOptions | None]) -> tuple[Model, str, str, tuple[float, ...]]:
     """One fold as a task of :func:`whipple.distributed.map_ordered`."""
     return _fold_model(*task)
 
@@ -189,7 +189,7 @@ def _speed_folds(observations: Sequence[Observation]) -> list[list[int]]:
     return groups
 
 
-def held_out_gain(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause] | None = None,
+def held_out_gain(bicycle: Model, observations: Sequence[Observation], causes: Sequence[Cause] | None = None,
                   series: Sequence[tuple[NDArray[np.float64], NDArray[np.float64], str]] | None = None,
                   fixed: Cause | None = None, *, choose: str = "evidence", scheduler: str | None = None,
                   workers: int | None = None, options: DiagnosisOptions | None = None,
@@ -275,7 +275,7 @@ def _folds_at_bound(cause: Cause, gain: Gain) -> int:
     return sum(bool(pinned_values(cause, speed.values)) for speed in gain.speeds)
 
 
-def cause_gains(bicycle: Bicycle, observations: Sequence[Observation], causes: Sequence[Cause], *,
+def cause_gains(bicycle: Model, observations: Sequence[Observation], causes: Sequence[Cause], *,
                 scheduler: str | None = None, workers: int | None = None,
                 progress: Progress | None = None) -> tuple[CauseGain, ...]:
     """Each candidate's held-out gain, no choice made: refitted on every fold's other speeds.
@@ -300,8 +300,8 @@ def cause_gains(bicycle: Bicycle, observations: Sequence[Observation], causes: S
     return tuple(results)
 
 
-def _scored(bicycle: Bicycle, observations: Sequence[Observation], groups: Sequence[Sequence[int]],
-            models: Sequence[tuple[Bicycle, str, str, tuple[float, ...]]],
+def _scored(bicycle: Model, observations: Sequence[Observation], groups: Sequence[Sequence[int]],
+            models: Sequence[tuple[Model, str, str, tuple[float, ...]]],
             series: Sequence[tuple[NDArray[np.float64], NDArray[np.float64], str]] | None,
             reselected: bool) -> Gain:
     """Compare each fold's extended model with the base model on the fold's left-out speed."""

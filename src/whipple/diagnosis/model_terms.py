@@ -25,8 +25,8 @@ import numpy as np
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.registry import CauseDeclaration, add_terms, candidate_causes, claimed_terms
 from whipple.model.assembly import model_matrices
+from whipple.model.fleet import Model
 from whipple.model.linear_terms import COORDINATES, TERM_MATRICES, TERM_NAMES, TERM_UNITS, term_parts
-from whipple.model.parameters import Bicycle
 
 #: Prefix of a term's cause name, e.g. ``term:K0_steer_steer``.
 PREFIX = "term:"
@@ -60,7 +60,7 @@ def term_words(name: str) -> str:
     return f"{words}, {matrix}[{row}, {column}]"
 
 
-def term_causes(bicycle: Bicycle, extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
+def term_causes(bicycle: Model, extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
     """Return one cause per model term no declared cause is, sharing one unit of prior weight.
 
     ``extra``: declarations besides the package's (their terms are left out too).
@@ -87,15 +87,15 @@ def term_causes(bicycle: Bicycle, extra: Sequence[CauseDeclaration] = ()) -> lis
     return causes
 
 
-def candidates_with_terms(bicycle: Bicycle, include_parameters: bool = True, *, rigid_loads: bool = True,
+def candidates_with_terms(bicycle: Model, include_parameters: bool = True, *, rigid_loads: bool = True,
                           extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
     """Return the bicycle's candidate causes (:func:`~whipple.diagnosis.registry.candidate_causes`) and the terms."""
     return [*candidate_causes(bicycle, include_parameters, rigid_loads=rigid_loads, extra=extra),
             *term_causes(bicycle, extra)]
 
 
-def _adder(name: str) -> Callable[[Bicycle, Sequence[float]], Bicycle]:
-    def apply(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+def _adder(name: str) -> Callable[[Model, Sequence[float]], Model]:
+    def apply(bicycle: Model, values: Sequence[float]) -> Model:
         return add_terms(bicycle, **{name: float(values[0])})
 
     return apply

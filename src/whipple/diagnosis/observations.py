@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.weavefit import WeaveFit
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Model
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, near_oscillation, nearest_modes
 
 
@@ -93,6 +93,9 @@ class Observation:
     signals : WindowSignals or None
         The samples the eigenvalue was fitted to, where known (windows fitted from runs; not
         windows read from a list of fitted eigenvalues).
+    group : str
+        The group of an experiment the window belongs to ("" outside experiments of several
+        groups): a :class:`~whipple.model.fleet.Fleet` is evaluated with that group's bicycle.
     """
 
     run: str
@@ -106,6 +109,7 @@ class Observation:
     shape_covariance: NDArray[np.float64] | None = None
     shape_signals: tuple[str, str] = ("steer_angle", "roll_rate")
     signals: WindowSignals | None = field(default=None, repr=False, compare=False)
+    group: str = ""
 
 
 
@@ -126,12 +130,12 @@ class Prediction:
     shapes: NDArray[np.complex128]
 
     @classmethod
-    def of(cls, bicycle: Bicycle, observations: Sequence[Observation]) -> Prediction:
+    def of(cls, bicycle: Model, observations: Sequence[Observation]) -> Prediction:
         """Return the prediction of a bicycle's model (see :func:`predicted_modes`)."""
         return cls(*predicted_modes(bicycle, observations))
 
 
-def predicted_weave(bicycle: Bicycle, observations: Sequence[Observation]) -> NDArray[np.complex128]:
+def predicted_weave(bicycle: Model, observations: Sequence[Observation]) -> NDArray[np.complex128]:
     """For each observation, the model eigenvalue (upper half plane) nearest the measured one.
 
     The measured oscillation is one of the model's modes; matching the nearest one (rather
@@ -141,7 +145,7 @@ def predicted_weave(bicycle: Bicycle, observations: Sequence[Observation]) -> ND
     return predicted_modes(bicycle, observations)[0]
 
 
-def predicted_modes(bicycle: Bicycle, observations: Sequence[Observation]
+def predicted_modes(bicycle: Model, observations: Sequence[Observation]
                     ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Return the model's eigenvalue nearest each measured one, and its mode shape.
 
@@ -152,15 +156,16 @@ def predicted_modes(bicycle: Bicycle, observations: Sequence[Observation]
 
 
 def mode_targets(observations: Sequence[Observation]
-                 ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None]]:
+                 ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str]]:
     """Return what :func:`nearest_modes` compares with, per window.
 
-    The measured speed [m/s], eigenvalue [1/s] and shape signals (None where the window has
-    no shape).
+    The measured speed [m/s], eigenvalue [1/s], shape signals (None where the window has no
+    shape) and group (for a model that is a :class:`~whipple.model.fleet.Fleet`).
     """
     speeds = np.array([o.speed for o in observations], dtype=float)
     targets = np.array([o.eigenvalue for o in observations], dtype=complex)
-    return speeds, targets, [o.shape_signals if _has_shape(o) else None for o in observations]
+    return (speeds, targets, [o.shape_signals if _has_shape(o) else None for o in observations],
+            [o.group for o in observations])
 
 
 def _has_shape(observation: Observation) -> bool:
@@ -169,7 +174,7 @@ def _has_shape(observation: Observation) -> bool:
 
 
 
-def compared_shapes(bicycle: Bicycle, observations: Sequence[Observation],
+def compared_shapes(bicycle: Model, observations: Sequence[Observation],
                     predicted: NDArray[np.complex128] | None = None) -> NDArray[np.bool_]:
     """Return which windows' mode shapes are compared with the model.
 
@@ -186,7 +191,7 @@ def compared_shapes(bicycle: Bicycle, observations: Sequence[Observation],
 
 
 
-def noise_free(bicycle: Bicycle, observations: Sequence[Observation]) -> list[Observation]:
+def noise_free(bicycle: Model, observations: Sequence[Observation]) -> list[Observation]:
     """Return the observations that ``bicycle``'s model would give at the same windows without noise.
 
     Each window keeps its speed, its uncertainties and whether it has a mode shape; its
@@ -226,7 +231,8 @@ def observation(measurement: WindowMeasurement) -> Observation:
                        ("steer_angle", "roll_rate") if shape is None else (shape.signal, shape.reference),
                        WindowSignals(measurement.fit.time, measurement.fit.measured, measurement.fit.signal_names,
                                      measurement.fit.baseline, _joint_weights(measurement.fit),
-                                     residual_rms=np.asarray(measurement.fit.rms_residual, dtype=float)))
+                                     residual_rms=np.asarray(measurement.fit.rms_residual, dtype=float)),
+                       measurement.group)
 
 
 def _joint_weights(fit: WeaveFit) -> NDArray[np.float64] | None:

@@ -19,7 +19,7 @@ from whipple.diagnosis.model_terms import term_causes
 from whipple.diagnosis.registry import CauseDeclaration, candidate_causes
 from whipple.errors import InputError
 from whipple.measurement.measure import MeasurementOptions
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Model
 
 #: How the evidence charges a cause's fitted values (:attr:`DiagnosisOptions.occam`).
 OCCAM_CHARGES = ("bic", "laplace")
@@ -216,7 +216,7 @@ class DiagnosisOptions:
             raise InputError("causes must be CauseDeclaration objects (whipple.diagnosis.registry)")
         object.__setattr__(self, "causes", tuple(self.causes))
 
-    def candidates(self, bicycle: Bicycle) -> list[Cause]:
+    def candidates(self, bicycle: Model) -> list[Cause]:
         """Return the candidate causes these options consider for a bicycle.
 
         Parameters

@@ -19,7 +19,7 @@ from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.families import combined_cause, components
 from whipple.diagnosis.fitting import CauseFit, Whitening, model_residuals
 from whipple.diagnosis.observations import Observation
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Model
 
 #: Fraction of a cause's bounds from its no-effect values to the screen's active point.
 SCREEN_ACTIVE = 0.1
@@ -40,7 +40,7 @@ def leading_pairs(causes: Sequence[Cause], scored: Sequence[CauseFit], count: in
             for i, j in itertools.combinations(leading[:count], 2)]
 
 
-def screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[CauseFit],
+def screened_pairs(bicycle: Model, causes: Sequence[Cause], fits: Sequence[CauseFit],
                    observations: Sequence[Observation], whitening: Whitening,
                    tried: set[str], dispersions: tuple[int, tuple[float, float]],
                    counts: tuple[int, int] = (3, 3)) -> list[tuple[Cause, list[float]]]:
@@ -113,7 +113,7 @@ def screened_pairs(bicycle: Bicycle, causes: Sequence[Cause], fits: Sequence[Cau
     return chosen
 
 
-def _residual_derivatives(bicycle: Bicycle, cause: Cause, observations: Sequence[Observation],
+def _residual_derivatives(bicycle: Model, cause: Cause, observations: Sequence[Observation],
                           whitening: Whitening, values: Sequence[float] | NDArray[np.float64],
                           residual: NDArray[np.float64],
                           fraction: float) -> NDArray[np.float64]:

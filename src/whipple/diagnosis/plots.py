@@ -8,6 +8,7 @@ from matplotlib.figure import Figure
 from whipple.diagnosis.report import DiagnosisReport
 from whipple.measurement.weavefit import response_with_eigenvalue
 from whipple.model.assembly import linear_model
+from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 from whipple.stability.eigen import weave_eigenvalue
 from whipple.stability.nearest_modes import nearest_modes
@@ -18,6 +19,15 @@ def _weave_curve(bicycle: Bicycle, speeds: np.ndarray) -> np.ndarray:
     return weave_eigenvalue(linear_model(bicycle), bicycle.model_speed(speeds))
 
 
+def _curves(name: str, model: Model, colour: str) -> list[tuple[str, Bicycle, str, str]]:
+    """Return the curves to draw of a model: label, bicycle, colour, line style (a line per group of a fleet)."""
+    if isinstance(model, Bicycle):
+        return [(name, model, colour, "-")]
+    styles = ("-", "--", ":", "-.")
+    return [(f"{name}, {group}", member, colour, styles[k % len(styles)])
+            for k, (group, member) in enumerate(model.members)]
+
+
 def plot_eigenvalues(report: DiagnosisReport) -> Figure:
     """Measured weave eigenvalues (bars over their speed range) against both models' weave."""
     observations = report.diagnosis.observations
@@ -25,12 +35,12 @@ def plot_eigenvalues(report: DiagnosisReport) -> Figure:
     grid = np.linspace(max(0.0, speeds.min() - 0.5), speeds.max() + 0.5, 300)
     figure = Figure(figsize=(7.5, 6.5))
     axes = figure.subplots(2, 1, sharex=True)
-    models = [("base model", report.bicycle, "C0")]
+    models = _curves("base model", report.bicycle, "C0")
     if report.diagnosis.best is not None:
-        models.append((f"extended ({report.diagnosis.cause})", report.extended, "C3"))
+        models += _curves(f"extended ({report.diagnosis.cause})", report.extended, "C3")
     for axis, part, label in ((axes[0], np.real, "real part d [1/s]"), (axes[1], np.imag, "imaginary part w [rad/s]")):
-        for name, bicycle, colour in models:
-            axis.plot(grid, part(_weave_curve(bicycle, grid)), color=colour, label=name)
+        for name, bicycle, colour, style in models:
+            axis.plot(grid, part(_weave_curve(bicycle, grid)), color=colour, ls=style, label=name)
         for o in observations:
             value = part(o.eigenvalue)
             std = np.sqrt(o.covariance[0, 0] if part is np.real else o.covariance[1, 1])
@@ -99,13 +109,13 @@ def plot_mode_shapes(report: DiagnosisReport) -> Figure:
     signals = compared[0].shape_signals
     speeds = np.array([o.speed for o in compared])
     grid = np.linspace(max(0.0, speeds.min() - 0.5), speeds.max() + 0.5, 300)
-    models = [("base model", report.bicycle, "C0")]
+    models = _curves("base model", report.bicycle, "C0")
     if report.diagnosis.best is not None:
-        models.append((f"extended ({report.diagnosis.cause})", report.extended, "C3"))
-    for name, bicycle, colour in models:
+        models += _curves(f"extended ({report.diagnosis.cause})", report.extended, "C3")
+    for name, bicycle, colour, style in models:
         curve = _shape_curve(bicycle, grid, signals)
-        axes[0].plot(grid, np.abs(curve), color=colour, label=name)
-        axes[1].plot(grid, _phase(curve), color=colour, label=name)
+        axes[0].plot(grid, np.abs(curve), color=colour, ls=style, label=name)
+        axes[1].plot(grid, _phase(curve), color=colour, ls=style, label=name)
     for o in compared:
         ratio = complex(o.shape or 0.0)
         covariance = np.asarray(o.shape_covariance)

@@ -35,6 +35,7 @@ from whipple.diagnosis.causes import (
     parameter_cause,
     payload_form,
 )
+from whipple.model.fleet import Fleet, Model
 from whipple.model.linear_terms import TERM_NAMES, LinearTerms
 from whipple.model.parameters import Bicycle, TyreCompliance
 
@@ -96,7 +97,7 @@ class CauseDeclaration:
     """
 
     name: str
-    forms: Callable[[Bicycle, FormChoices], Sequence[Cause]]
+    forms: Callable[[Model, FormChoices], Sequence[Cause]]
     families: tuple[Family | str, ...]
     kind: str = "physical"
     terms: tuple[str, ...] = ()
@@ -148,9 +149,9 @@ class Value:
     null: float = 0.0
 
 
-def declare(name: str, value: Value, apply: Callable[[Bicycle, Sequence[float]], Bicycle], *,
+def declare(name: str, value: Value, apply: Callable[[Model, Sequence[float]], Model], *,
             families: tuple[Family | str, ...], kind: str = "physical", terms: tuple[str, ...] = (),
-            applies: Callable[[Bicycle], bool] | None = None) -> CauseDeclaration:
+            applies: Callable[[Model], bool] | None = None) -> CauseDeclaration:
     """Return the declaration of a cause with one value and one form, the commonest kind.
 
     Parameters
@@ -170,7 +171,7 @@ def declare(name: str, value: Value, apply: Callable[[Bicycle, Sequence[float]],
     -------
     CauseDeclaration
     """
-    def forms(bicycle: Bicycle, choices: FormChoices) -> list[Cause]:
+    def forms(bicycle: Model, choices: FormChoices) -> list[Cause]:
         if applies is not None and not applies(bicycle):
             return []
         return [Cause(name, (value.name,), (value.unit,), (value.null,), (value.bounds,), apply, null=(value.null,))]
@@ -178,7 +179,7 @@ def declare(name: str, value: Value, apply: Callable[[Bicycle, Sequence[float]],
     return CauseDeclaration(name, forms, families, kind, terms)
 
 
-def add_terms(bicycle: Bicycle, **terms: float) -> Bicycle:
+def add_terms(bicycle: Model, **terms: float) -> Model:
     """Return the bicycle with values added to its model terms (``D_roll_roll=0.8``, units of each term)."""
     total = (bicycle.extensions.linear_terms or LinearTerms()).as_dict()
     for name, value in terms.items():
@@ -203,20 +204,20 @@ FAMILIES: tuple[Family, ...] = (
 )
 
 
-def _steer_damping(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+def _steer_damping(bicycle: Model, values: Sequence[float]) -> Model:
     return bicycle.with_extensions(steer_damping=bicycle.extensions.steer_damping + float(values[0]))
 
 
-def _steer_inertia(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+def _steer_inertia(bicycle: Model, values: Sequence[float]) -> Model:
     return bicycle.with_extensions(steer_inertia=bicycle.extensions.steer_inertia + float(values[0]))
 
 
-def _reflected_steer_inertia(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+def _reflected_steer_inertia(bicycle: Model, values: Sequence[float]) -> Model:
     return bicycle.with_extensions(
         reflected_steer_inertia=bicycle.extensions.reflected_steer_inertia + float(values[0]))
 
 
-def _speed_scale(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+def _speed_scale(bicycle: Model, values: Sequence[float]) -> Model:
     return bicycle.with_extensions(speed_scale=bicycle.extensions.speed_scale * float(values[0]))
 
 
@@ -235,25 +236,70 @@ def _controller_lag(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
     return bicycle.with_controller(replace(controller, lag=controller.lag + float(values[0])))
 
 
-def _has_controller(bicycle: Bicycle) -> bool:
-    return not bicycle.controller.is_empty()
+#: How a group-scoped cause's name holds its group: ``controller_gain[mm_on]``.
+GROUP_SUFFIX = "[{group}]"
 
 
-def _tyre(bicycle: Bicycle, values: Sequence[float]) -> Bicycle:
+def _controller_forms(name: str, value: Value, apply: Callable[[Bicycle, Sequence[float]], Bicycle]
+                      ) -> Callable[[Model, FormChoices], list[Cause]]:
+    """Return the forms builder of a controller cause: one for a controlled bicycle, one per controlled group.
+
+    The groups of an experiment share every physical property but each has its own controller,
+    so that a controller's error is a cause of one group (``controller_gain[mm_on]``), never of
+    the others.
+    """
+    def forms(model: Model, choices: FormChoices) -> list[Cause]:
+        if isinstance(model, Bicycle):
+            if model.controller.is_empty():
+                return []
+            return [Cause(name, (value.name,), (value.unit,), (value.null,), (value.bounds,), _alone(apply),
+                          null=(value.null,))]
+        return [Cause(name + GROUP_SUFFIX.format(group=group), (value.name + GROUP_SUFFIX.format(group=group),),
+                      (value.unit,), (value.null,), (value.bounds,), _in_group(group, apply), null=(value.null,))
+                for group, member in model.members if not member.controller.is_empty()]
+
+    return forms
+
+
+def _alone(apply: Callable[[Bicycle, Sequence[float]], Bicycle]) -> Callable[[Model, Sequence[float]], Model]:
+    def applied(model: Model, values: Sequence[float]) -> Model:
+        if not isinstance(model, Bicycle):
+            raise TypeError("a controller cause of a bicycle applies to that bicycle, not to an experiment's groups")
+        return apply(model, values)
+
+    return applied
+
+
+def _in_group(group: str, apply: Callable[[Bicycle, Sequence[float]], Bicycle]
+              ) -> Callable[[Model, Sequence[float]], Model]:
+    def applied(model: Model, values: Sequence[float]) -> Model:
+        if not isinstance(model, Fleet):
+            raise TypeError(f"a cause of group {group!r} applies to the experiment's fleet of bicycles")
+        return model.with_member(group, apply(model.member(group), values))
+
+    return applied
+
+
+def ungrouped(name: str) -> str:
+    """Return a cause's name without its group (``controller_gain[mm_on]``: ``controller_gain``)."""
+    return name.split("[", 1)[0] if name.endswith("]") else name
+
+
+def _tyre(bicycle: Model, values: Sequence[float]) -> Model:
     camber = (bicycle.extensions.tyre_compliance.camber_stiffness
               if bicycle.extensions.tyre_compliance is not None else DEFAULT_CAMBER_STIFFNESS)
     return bicycle.with_extensions(tyre_compliance=TyreCompliance(
         cornering_stiffness=float(values[0]), camber_stiffness=camber, relaxation_length=float(values[1])))
 
 
-def _tyre_forms(bicycle: Bicycle, choices: FormChoices) -> list[Cause]:
+def _tyre_forms(bicycle: Model, choices: FormChoices) -> list[Cause]:
     # Cornering stiffness [1/rad] from very soft to nearly rigid, relaxation length [m] from a
     # few millimetres to a metre; the fit starts at a typical bicycle tyre's (12 /rad, 0.15 m).
     return [Cause("tyre_compliance", ("cornering_stiffness", "relaxation_length"), ("1/rad", "m"), (12.0, 0.15),
                   ((1.0, 500.0), (0.005, 1.0)), _tyre)]
 
 
-def _payload_forms(name: str) -> Callable[[Bicycle, FormChoices], list[Cause]]:
+def _payload_forms(name: str) -> Callable[[Model, FormChoices], list[Cause]]:
     """Return the forms builder of a load on the rear (``payload``) or front frame (``front_payload``).
 
     The mass alone at the frame's mass centre; mass and height (height changes the roll inertia,
@@ -264,20 +310,20 @@ def _payload_forms(name: str) -> Callable[[Bicycle, FormChoices], list[Cause]]:
     its own radii of gyration (:func:`~whipple.diagnosis.causes.payload_form`). The forms share the
     cause's one unit of prior weight, so that taking the best of them is not a free extra chance.
     """
-    def forms(bicycle: Bicycle, choices: FormChoices) -> list[Cause]:
+    def forms(bicycle: Model, choices: FormChoices) -> list[Cause]:
         free = ("m", "mz", "mxz", "mxzk") if choices.rigid_loads else ("m", "mz", "mxz")
         return [payload_form(bicycle, name, form, prior=1.0 / len(free)) for form in free]
 
     return forms
 
 
-def payload_causes(bicycle: Bicycle, name: str, rigid: bool = True) -> list[Cause]:
+def payload_causes(bicycle: Model, name: str, rigid: bool = True) -> list[Cause]:
     """Return the forms of a payload cause, ``payload`` (rear frame) or ``front_payload`` (front frame)."""
     return _payload_forms(name)(bicycle, FormChoices(rigid_loads=rigid))
 
 
-def _parameter_forms(key: str) -> Callable[[Bicycle, FormChoices], list[Cause]]:
-    def forms(bicycle: Bicycle, choices: FormChoices) -> list[Cause]:
+def _parameter_forms(key: str) -> Callable[[Model, FormChoices], list[Cause]]:
+    def forms(bicycle: Model, choices: FormChoices) -> list[Cause]:
         if key not in bicycle.parameters:
             return []
         # A wrong parameter is one hypothesis, whichever parameter: the keys share one unit of prior.
@@ -318,12 +364,15 @@ REGISTRY: tuple[CauseDeclaration, ...] = (
     CauseDeclaration("tyre_compliance", _tyre_forms, ("tyre",)),
     # The controller's commanded torque scaled [-], delayed [s] (Pade approximant in the linear
     # model) or passed through a first-order lag of that time constant [s].
-    declare("controller_gain", Value("controller_gain", "", (0.2, 5.0), null=1.0), _controller_gain,
-            families=("steer_torque_dynamics", "controller"), kind="controller", applies=_has_controller),
-    declare("controller_delay", Value("controller_delay", "s", (0.0, 0.3)), _controller_delay,
-            families=("steer_torque_dynamics", "controller"), kind="controller", applies=_has_controller),
-    declare("controller_lag", Value("controller_lag", "s", (0.0, 0.3)), _controller_lag,
-            families=("steer_torque_dynamics", "controller"), kind="controller", applies=_has_controller),
+    CauseDeclaration("controller_gain", _controller_forms("controller_gain", Value("controller_gain", "", (0.2, 5.0),
+                                                                                 null=1.0), _controller_gain),
+                     ("steer_torque_dynamics", "controller"), kind="controller"),
+    CauseDeclaration("controller_delay", _controller_forms("controller_delay", Value("controller_delay", "s",
+                                                                                   (0.0, 0.3)), _controller_delay),
+                     ("steer_torque_dynamics", "controller"), kind="controller"),
+    CauseDeclaration("controller_lag", _controller_forms("controller_lag", Value("controller_lag", "s", (0.0, 0.3)),
+                                                         _controller_lag),
+                     ("steer_torque_dynamics", "controller"), kind="controller"),
     *(CauseDeclaration(f"parameter:{key}", _parameter_forms(key), PARAMETER_FAMILIES[key], kind="parameter")
       for key in BLAMEABLE_PARAMETERS),
 )
@@ -350,7 +399,7 @@ def declarations(extra: Sequence[CauseDeclaration] = ()) -> tuple[CauseDeclarati
     return every
 
 
-def candidate_causes(bicycle: Bicycle, include_parameters: bool = True, *, rigid_loads: bool = True,
+def candidate_causes(bicycle: Model, include_parameters: bool = True, *, rigid_loads: bool = True,
                      extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
     """Return every form of every declared cause for a bicycle, with starting values and bounds.
 
@@ -376,7 +425,7 @@ def candidate_causes(bicycle: Bicycle, include_parameters: bool = True, *, rigid
             for cause in declaration.forms(bicycle, choices)]
 
 
-def cause_by_name(bicycle: Bicycle, name: str, extra: Sequence[CauseDeclaration] = ()) -> Cause:
+def cause_by_name(bicycle: Model, name: str, extra: Sequence[CauseDeclaration] = ()) -> Cause:
     """Return the first form of the candidate cause called ``name`` (e.g. ``parameter:c``).
 
     Raises

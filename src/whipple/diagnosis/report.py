@@ -35,7 +35,7 @@ from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
 from whipple.measurement.measure import MeasuredRuns, Progress
 from whipple.measurement.steer_sign import is_flipped, phase_offset
 from whipple.model.assembly import extended_matrices, linear_model
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Fleet, Model, first_bicycle
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
 from whipple.stability.nearest_modes import near_oscillation
 
@@ -98,8 +98,9 @@ class DiagnosisReport:
 
     Attributes
     ----------
-    bicycle, extended : Bicycle
-        The base bicycle and the bicycle extended by the named cause (the base when none).
+    bicycle, extended : Bicycle or Fleet
+        The base model and the model extended by the named cause (the base when none): a
+        bicycle, or for an experiment of several groups a fleet of each group's bicycle.
     measurements, used : tuple of WindowMeasurement
         Every window, and the usable ones (the observations, in the same order).
     diagnosis : Diagnosis
@@ -109,7 +110,7 @@ class DiagnosisReport:
     gain : Gain or None
         Held-out errors of base and extended model; ``gain_note`` says why there is none.
     base_critical, extended_critical : CriticalSpeeds
-        Critical speeds of both models.
+        Critical speeds of both models (of a fleet: its first group's; ``group_critical`` has every group's).
     base_prediction, extended_prediction : Prediction
         Each model's mode nearest every observation (eigenvalue and mode shape).
     shapes : ShapeComparison
@@ -143,13 +144,16 @@ class DiagnosisReport:
     measured : MeasuredRuns or None
         The runs' windows as measured (:func:`whipple.measurement.measure.measure_runs`), where
         the diagnosis measured them; None when it was given windows measured elsewhere.
+    group_critical : tuple of (str, CriticalSpeeds, CriticalSpeeds)
+        For an experiment of several groups, each group's name and the critical speeds of its
+        base and extended bicycle; empty otherwise.
     """
 
-    bicycle: Bicycle
+    bicycle: Model
     measurements: tuple[WindowMeasurement, ...]
     used: tuple[WindowMeasurement, ...]
     diagnosis: Diagnosis
-    extended: Bicycle
+    extended: Model
     cause: Cause | None
     gain: Gain | None
     gain_note: str
@@ -168,6 +172,7 @@ class DiagnosisReport:
     open_values: OpenValues | None = None
     options: DiagnosisOptions = field(default_factory=DiagnosisOptions)
     measured: MeasuredRuns | None = None
+    group_critical: tuple[tuple[str, CriticalSpeeds, CriticalSpeeds], ...] = ()
 
     @property
     def observations(self) -> tuple[Observation, ...]:
@@ -255,7 +260,7 @@ def describe_residuals(observations: Sequence[Observation], predicted: np.ndarra
 
 
 def compare_shapes(observations: Sequence[Observation], prediction: Prediction,
-                   bicycle: Bicycle) -> ShapeComparison:
+                   bicycle: Model) -> ShapeComparison:
     """Measured over the model's mode shape, for the windows whose shapes are compared."""
     shapes = prediction.shapes
     compared = compared_shapes(bicycle, observations, prediction.eigenvalues)
@@ -284,7 +289,7 @@ def describe_mode_shapes(ratios: np.ndarray, signals: tuple[str, str]) -> str | 
             "relative to model)")
 
 
-def assemble(bicycle: Bicycle, measurements: MeasuredRuns | Sequence[WindowMeasurement],
+def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasurement],
              options: DiagnosisOptions | None = None, *, scheduler: str | None = None, workers: int | None = None,
              progress: Progress | None = None) -> DiagnosisReport:
     """Diagnose the usable windows of ``measurements`` against ``bicycle`` and measure the gain.
@@ -375,15 +380,20 @@ def assemble(bicycle: Bicycle, measurements: MeasuredRuns | Sequence[WindowMeasu
             best = next(c for c in candidates if c.name == every_cause[0].cause)
             prediction_fit = fit_cause(bicycle, best, observations)
     low, high = options.speed_range
+    groups = tuple((name, critical_speeds(linear_model(member), low, high),
+                    critical_speeds(linear_model(extended.member(name)), low, high))
+                   for name, member in bicycle.members) if isinstance(bicycle, Fleet) and isinstance(
+        extended, Fleet) else ()
     return DiagnosisReport(
         bicycle, tuple(windows), used, diagnosis, extended, chosen, gain, note,
-        critical_speeds(linear_model(bicycle), low, high), critical_speeds(linear_model(extended), low, high),
+        critical_speeds(linear_model(first_bicycle(bicycle)), low, high),
+        critical_speeds(linear_model(first_bicycle(extended)), low, high),
         base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes, options)),
         options.measurement.baseline,
         check_amplitudes(bicycle, used, base_prediction.eigenvalues) if options.amplitude_check else None,
         every_cause, prediction_gain, prediction_fit,
         open_values(chosen, diagnosis.best) if chosen is not None and diagnosis.best is not None else None,
-        options, measured_runs)
+        options, measured_runs, groups)
 
 
 #: Reduced chi-square of the best model above which the report warns that no candidate
@@ -505,6 +515,9 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
     }
     if report.amplitude is not None:
         result["nonlinear_amplitude"] = report.amplitude.to_dict()
+    if report.group_critical:
+        result["groups"] = [{"name": name, "base_model": base.to_dict(), "extended_model": extended.to_dict()}
+                            for name, base, extended in report.group_critical]
     if report.bicycle.extensions.tyre_compliance is None and report.extended.extensions.tyre_compliance is None:
         matrices = extended_matrices(report.extended.parameters, report.extended.extensions)
         result["extended_model"]["matrices"] = {name: getattr(matrices, name).tolist()

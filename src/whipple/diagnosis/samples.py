@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.observations import Observation, WindowSignals, noise_free
 from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
+from whipple.model.fleet import Model, members_of
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES
@@ -106,6 +107,7 @@ class SampleComparison:
     names: tuple[str, ...]
     bins: NDArray[np.int_] | None = None
     steps: NDArray[np.float64] | None = None
+    groups: tuple[str, ...] | None = None
 
     @classmethod
     def of(cls, observations: Sequence[Observation], binned: bool = True) -> SampleComparison | None:
@@ -138,7 +140,7 @@ class SampleComparison:
             bins[row], steps[row] = size, step
         speeds = np.array([o.speed for o in observations], dtype=float)
         return cls(speeds, tau, mask, targets, noise, tuple(MODE_SHAPE_STATES[name] for name in names), names,
-                   bins, steps)
+                   bins, steps, tuple(o.group for o in observations))
 
     @property
     def samples(self) -> int:
@@ -154,7 +156,7 @@ class SampleComparison:
     def _residual_mask(self) -> NDArray[np.bool_]:
         return np.broadcast_to(self.mask[:, None, :], self.targets.shape)
 
-    def residuals(self, models: Sequence[Bicycle], linear: Sequence[LinearModel | None] | None = None
+    def residuals(self, models: Sequence[Model], linear: Sequence[LinearModel | None] | None = None
                   ) -> NDArray[np.float64]:
         """Return each model's residual on every sample, in units of the noise; shape (models, samples).
 
@@ -166,8 +168,11 @@ class SampleComparison:
         1e3 on every sample.
         """
         linear = [None] * len(models) if linear is None else list(linear)
+        plain = [model for model in models if isinstance(model, Bicycle)]
+        if len(plain) < len(models):
+            return self._fleet_residuals(models, linear)
         matrices = [(linear_model(bicycle) if model is None else model).state_matrix(bicycle.model_speed(self.speeds))
-                    for bicycle, model in zip(models, linear, strict=True)]
+                    for bicycle, model in zip(plain, linear, strict=True)]
         mask = self._residual_mask()
         result = np.zeros((len(models), self.samples))
         # Models with as many states are solved together: one evaluation of all their windows.
@@ -181,6 +186,28 @@ class SampleComparison:
                 residual = repeated._window_residuals(values, signal_rows)
             result[members] = residual.reshape(len(members), *self.targets.shape)[:, mask]
         return result
+
+    def _fleet_residuals(self, models: Sequence[Model], linear: Sequence[LinearModel | None]) -> NDArray[np.float64]:
+        """:meth:`residuals` of models some of which are fleets: each member on its group's windows."""
+        result = np.zeros((len(models), self.samples))
+        owner = self.window_of_residuals()
+        for k, (model, given) in enumerate(zip(models, linear, strict=True)):
+            for bicycle, index in members_of(model, self.groups):
+                if index is None:
+                    result[k] = self.residuals([bicycle], [given])[0]
+                    continue
+                result[k, np.isin(owner, index)] = self._subset(index).residuals([bicycle], [given])[0]
+        return result
+
+    def _subset(self, index: NDArray[np.intp]) -> SampleComparison:
+        """Return the comparison of the windows ``index`` (in order) alone."""
+        def pick(array: NDArray | None) -> NDArray | None:
+            return None if array is None else array[index]
+
+        return replace(self, speeds=self.speeds[index], tau=self.tau[index], mask=self.mask[index],
+                       targets=self.targets[index], noise=self.noise[index], bins=pick(self.bins),
+                       steps=pick(self.steps),
+                       groups=None if self.groups is None else tuple(self.groups[int(n)] for n in index))
 
     def _repeated(self, copies: int) -> SampleComparison:
         """Return the windows repeated ``copies`` times (several models' windows evaluated at once)."""
@@ -237,7 +264,7 @@ class SampleComparison:
             residual[finite] = targets[finite] - fitted
         return residual.reshape(windows, count, length)
 
-    def fitted(self, bicycle: Bicycle, model: LinearModel | None = None) -> list[NDArray[np.float64]]:
+    def fitted(self, bicycle: Model, model: LinearModel | None = None) -> list[NDArray[np.float64]]:
         """Return each window's free response of a model fitted to its samples, (k, bins) in signal units."""
         residual = np.zeros(self.targets.shape)
         residual[self._residual_mask()] = self.residuals([bicycle], [model])[0]
@@ -259,7 +286,7 @@ class SampleComparison:
         residuals = self.mask.sum(axis=1) * len(self.states)
         return float(extra_states * 0.5 * np.sum(np.log(np.maximum(residuals, 1))))
 
-    def chi2_per_sample(self, bicycle: Bicycle, model: LinearModel | None = None) -> float:
+    def chi2_per_sample(self, bicycle: Model, model: LinearModel | None = None) -> float:
         """Return a model's chi-square per sample (1 where it leaves only the noise)."""
         residual = self.residuals([bicycle], [model])[0]
         return float(np.mean(residual**2))
@@ -284,7 +311,7 @@ def _binned(signals: WindowSignals, duration: float = BIN_DURATION
     return time[:count * size:size] - time[0], means, noise / np.sqrt(size), size, step
 
 
-def noise_free_samples(bicycle: Bicycle, observations: Sequence[Observation],
+def noise_free_samples(bicycle: Model, observations: Sequence[Observation],
                        model: LinearModel | None = None) -> list[Observation]:
     """Return the observations a model would give at the same windows without noise, samples and all.
 

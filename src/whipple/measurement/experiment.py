@@ -127,6 +127,8 @@ class WindowMeasurement:
         The weave's mode shape, where measured.
     number : int
         1-based position of the window in its run, by start time.
+    group : str
+        The group of an experiment the run belongs to ("" outside experiments of several groups).
     """
 
     run: Run
@@ -137,6 +139,7 @@ class WindowMeasurement:
     quality: str | None = None
     shape: AmplitudeRatio | None = None
     number: int = 0
+    group: str = ""
 
     @property
     def skipped(self) -> str | None:
@@ -179,6 +182,7 @@ class WindowMeasurement:
             "notes": self.notes,
             "window": self.number,
             "source": self.run.source,
+            **({"group": self.group} if self.group else {}),
         }
 
     def csv_row(self) -> list[object]:

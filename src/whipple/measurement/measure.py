@@ -43,6 +43,7 @@ from whipple.measurement.free_motion import set_aside_outlying
 from whipple.measurement.runs import Run, check_distinct_names
 from whipple.measurement.steer_sign import steer_sign_flipped
 from whipple.measurement.windows import Window
+from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import nearest_oscillations
 
@@ -250,8 +251,8 @@ def model_modes(windows: Sequence[WindowMeasurement], bicycle: Bicycle
 
 
 def measure_runs(runs: Sequence[Run], options: MeasurementOptions | None = None, *,
-                 windows: Sequence[Window] | None = None, bicycle: Bicycle | None = None,
-                 progress: Progress | None = None) -> MeasuredRuns:
+                 windows: Sequence[Window] | None = None, bicycle: Model | None = None,
+                 groups: Sequence[str] | None = None, progress: Progress | None = None) -> MeasuredRuns:
     """Measure every window of `runs`: the pipeline of ``whipple fit`` and ``whipple diagnose``.
 
     Parameters
@@ -263,9 +264,12 @@ def measure_runs(runs: Sequence[Run], options: MeasurementOptions | None = None,
         How to measure (default :class:`MeasurementOptions`).
     windows : sequence of Window, optional
         Windows to fit instead of the window finder's (e.g. from a windows file).
-    bicycle : Bicycle, optional
+    bicycle : Bicycle or Fleet, optional
         The model whose mode shape the steer signal's sign is checked against; without one the
-        sign is not checked.
+        sign is not checked. A fleet (the groups of an experiment) checks each group's windows
+        against its group's bicycle.
+    groups : sequence of str, optional
+        The group of each run (an experiment of several groups), given to each of its windows.
     progress : callable, optional
         Called as ``progress("runs", done, total)`` after each run is measured.
 
@@ -279,28 +283,34 @@ def measure_runs(runs: Sequence[Run], options: MeasurementOptions | None = None,
     if not runs:
         raise InputError("no runs to measure")
     check_distinct_names(runs)
+    if groups is not None and len(groups) != len(runs):
+        raise InputError(f"{len(groups)} groups given for {len(runs)} runs")
     auto = options.signals == "auto"
     signals = diagnosis_signals(runs) if auto else tuple(options.signals)
-    measured = _measured(runs, windows, options, signals, progress)
+    measured = _measured(runs, windows, options, signals, progress, groups)
     steer_sign = "not checked"
     if len(signals) > 1 and auto and options.check_steer_sign and bicycle is not None:
         steer_sign = "as the model's"
         if steer_sign_flipped(bicycle, measured.windows):
             # A flipped steer angle would mislead every comparison with a model: the roll rate alone.
             signals, steer_sign = signals[:1], "opposite to the model's"
-            measured = _measured(runs, windows, options, signals, progress)
+            measured = _measured(runs, windows, options, signals, progress, groups)
     elif auto and len(signals) == 1:
         steer_sign = "no steer signal"
     return replace(measured, steer_sign=steer_sign)
 
 
 def _measured(runs: Sequence[Run], windows: Sequence[Window] | None, options: MeasurementOptions,
-              signals: tuple[str, ...], progress: Progress | None) -> MeasuredRuns:
+              signals: tuple[str, ...], progress: Progress | None, groups: Sequence[str] | None) -> MeasuredRuns:
     """Fit every window of every run with `signals`, then apply the data set's rules."""
     fit_options = options.fit_options(signals)
     per_run = []
     for done, run in enumerate(runs, 1):
-        per_run.append(measure_run(run, windows, fit_options))
+        measurement = measure_run(run, windows, fit_options)
+        if groups is not None:
+            group = groups[done - 1]
+            measurement = replace(measurement, windows=tuple(replace(m, group=group) for m in measurement))
+        per_run.append(measurement)
         if progress is not None:
             progress("runs", done, len(runs))
     flat = [m for run in per_run for m in run]

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from whipple.measurement.experiment import WindowMeasurement
-from whipple.model.parameters import Bicycle
+from whipple.model.fleet import Model
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, near_oscillation, nearest_modes
 
 #: Median phase difference between measured and model mode shapes beyond which the steer
@@ -61,7 +61,7 @@ def is_flipped(ratios: ArrayLike) -> bool:
     return abs(phase_offset(ratios)) > FLIPPED_PHASE
 
 
-def shape_ratios(bicycle: Bicycle, measurements: Sequence[WindowMeasurement]) -> np.ndarray:
+def shape_ratios(bicycle: Model, measurements: Sequence[WindowMeasurement]) -> np.ndarray:
     """Return measured over model mode shapes of the usable windows whose shapes can be compared.
 
     Parameters
@@ -78,21 +78,21 @@ def shape_ratios(bicycle: Bicycle, measurements: Sequence[WindowMeasurement]) ->
     ndarray of complex
         One ratio per compared window, in order (dimensionless).
     """
-    shaped = [(m.fit.eigenvalue, m.speed.mean, m.shape) for m in measurements
+    shaped = [(m.fit.eigenvalue, m.speed.mean, m.shape, m.group) for m in measurements
               if m.usable and m.fit is not None and m.speed is not None and m.shape is not None
               and m.shape.signal in MODE_SHAPE_STATES and m.shape.reference in MODE_SHAPE_STATES]
     if not shaped:
         return np.zeros(0, dtype=complex)
-    measured = np.array([eigenvalue for eigenvalue, _, _ in shaped], dtype=np.complex128)
-    speeds = np.array([speed for _, speed, _ in shaped], dtype=np.float64)
-    signals: list[tuple[str, str] | None] = [(shape.signal, shape.reference) for _, _, shape in shaped]
-    predicted, shapes = nearest_modes(bicycle, speeds, measured, signals)
+    measured = np.array([eigenvalue for eigenvalue, _, _, _ in shaped], dtype=np.complex128)
+    speeds = np.array([speed for _, speed, _, _ in shaped], dtype=np.float64)
+    signals: list[tuple[str, str] | None] = [(shape.signal, shape.reference) for _, _, shape, _ in shaped]
+    predicted, shapes = nearest_modes(bicycle, speeds, measured, signals, [group for *_, group in shaped])
     compared = near_oscillation(predicted, measured) & np.isfinite(shapes)
-    ratios = np.array([shape.ratio for _, _, shape in shaped], dtype=np.complex128)
+    ratios = np.array([shape.ratio for _, _, shape, _ in shaped], dtype=np.complex128)
     return ratios[compared] / shapes[compared]
 
 
-def steer_sign_flipped(bicycle: Bicycle, measurements: Sequence[WindowMeasurement]) -> bool:
+def steer_sign_flipped(bicycle: Model, measurements: Sequence[WindowMeasurement]) -> bool:
     """Return whether the usable windows' mode shapes are out of phase with the model's.
 
     Parameters

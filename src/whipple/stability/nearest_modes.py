@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from whipple.model.assembly import linear_model, second_order_matrices
+from whipple.model.fleet import Model, members_of
 from whipple.model.parameters import Bicycle
 from whipple.stability.quartic import second_order_eigenvalues, second_order_eigenvectors
 
@@ -84,32 +85,38 @@ def nearest_oscillations(bicycle: Bicycle, speeds: ArrayLike, targets: ArrayLike
     return chosen.astype(np.complex128), near_oscillation(chosen, targets)
 
 
-def nearest_modes(bicycle: Bicycle, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
-                  signals: Sequence[tuple[str, str] | None]
+def nearest_modes(bicycle: Model, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
+                  signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None = None
                   ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Return the model's eigenvalue nearest each target, and its eigenvector's ratio of two signals.
 
     At each measured speed [m/s] (speed_scale applied), the model eigenvalue (upper half plane)
     nearest ``targets`` [1/s], and its eigenvector's ratio of two signals (MODE_SHAPE_STATES;
-    NaN where ``signals`` is None).
+    NaN where ``signals`` is None). ``groups``: each window's group, where ``bicycle`` is a
+    :class:`~whipple.model.fleet.Fleet` (each window is evaluated with its group's bicycle).
     """
-    chosen, shapes = nearest_modes_of_models([bicycle], speeds, targets, signals)
+    chosen, shapes = nearest_modes_of_models([bicycle], speeds, targets, signals, groups)
     return chosen[0], shapes[0]
 
 
-def nearest_modes_of_models(bicycles: Sequence[Bicycle], speeds: NDArray[np.float64],
-                            targets: NDArray[np.complex128], signals: Sequence[tuple[str, str] | None]
+def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float64],
+                            targets: NDArray[np.complex128], signals: Sequence[tuple[str, str] | None],
+                            groups: Sequence[str] | None = None
                             ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """:func:`nearest_modes` of several bicycles at the same windows; each result (bicycles, windows).
+    """:func:`nearest_modes` of several models at the same windows; each result (models, windows).
 
     Models with the states ``[q, q']`` only are solved together: one closed-form solve of all
     their quartics costs little more than one model's, whose many small array operations are
     what an evaluation costs (a fit's finite-difference Jacobian evaluates several models at
-    once). Other models are solved one by one.
+    once). Other models are solved one by one, and a fleet group by group on its group's
+    windows (``groups``: each window's group).
     """
+    plain = [bicycle for bicycle in bicycles if isinstance(bicycle, Bicycle)]
+    if len(plain) < len(bicycles):
+        return _nearest_of_fleets(bicycles, speeds, targets, signals, groups)
     rows = np.array([n for n, pair in enumerate(signals) if pair is not None], dtype=int)
-    true_speeds = [bicycle.model_speed(speeds) for bicycle in bicycles]
-    matrices = [second_order_matrices(bicycle, v) for bicycle, v in zip(bicycles, true_speeds, strict=True)]
+    true_speeds = [bicycle.model_speed(speeds) for bicycle in plain]
+    matrices = [second_order_matrices(bicycle, v) for bicycle, v in zip(plain, true_speeds, strict=True)]
     if all(m is not None for m in matrices):
         M, C, K = (np.stack([m[k] for m in matrices if m is not None]) for k in range(3))
         chosen, vectors = _nearest_second_order(M[:, None], C, K, targets, rows)
@@ -117,7 +124,7 @@ def nearest_modes_of_models(bicycles: Sequence[Bicycle], speeds: NDArray[np.floa
         # Each model once, those with the states [q, q'] from the matrices already built.
         solved = [_nearest_second_order(*m, targets, rows) if m is not None
                   else _nearest_by_eig(bicycle, v, targets, rows)
-                  for bicycle, v, m in zip(bicycles, true_speeds, matrices, strict=True)]
+                  for bicycle, v, m in zip(plain, true_speeds, matrices, strict=True)]
         chosen = np.stack([values for values, _ in solved])
         vectors = np.stack([vector[:, :4] for _, vector in solved])
     shapes = np.full(chosen.shape, np.nan, dtype=complex)
@@ -126,6 +133,22 @@ def nearest_modes_of_models(bicycles: Sequence[Bicycle], speeds: NDArray[np.floa
         denominator = [MODE_SHAPE_STATES[signals[n][1]] for n in rows]  # type: ignore[index]
         along = np.arange(len(rows))
         shapes[:, rows] = vectors[:, along, numerator] / vectors[:, along, denominator]
+    return chosen, shapes
+
+
+def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], targets: NDArray[np.complex128],
+                       signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None
+                       ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """:func:`nearest_modes_of_models` of models some of which are fleets: each member on its windows."""
+    speeds, targets = np.asarray(speeds, dtype=float), np.asarray(targets, dtype=complex)
+    chosen = np.full((len(models), len(speeds)), np.nan, dtype=complex)
+    shapes = np.full((len(models), len(speeds)), np.nan, dtype=complex)
+    for k, model in enumerate(models):
+        for bicycle, index in members_of(model, groups):
+            where = slice(None) if index is None else index
+            picked = [signals[int(n)] for n in np.arange(len(speeds))[where]]
+            found, shape = nearest_modes_of_models([bicycle], speeds[where], targets[where], picked)
+            chosen[k, where], shapes[k, where] = found[0], shape[0]
     return chosen, shapes
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.priors import Prior, gross_error_prior
 from whipple.model.fleet import Model
 from whipple.model.parameter_set import PARAMETER_UNITS
 from whipple.model.parameters import Payload
@@ -53,6 +54,10 @@ class Cause:
         (:func:`whipple.diagnosis.starts.refinement_starts`) instead of a search of its own;
         fitted alone, the coarse grid of starts spans those values only, the others held at
         their start (:func:`whipple.diagnosis.starts.grid_starts`).
+    value_priors : tuple of Prior or None
+        Each value's physical prior (:mod:`whipple.diagnosis.priors`), where the evidence is a
+        marginal likelihood with priors (``DiagnosisOptions(occam="prior")``): the fit then
+        finds the values' maximum a posteriori. None: no prior (the BIC's charge).
     """
 
     name: str
@@ -64,6 +69,7 @@ class Cause:
     prior: float = 1.0
     null: tuple[float, ...] | None = None
     refines: tuple[str, ...] | None = None
+    value_priors: tuple[Prior, ...] | None = None
 
     @property
     def limits(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -102,7 +108,31 @@ _PAYLOAD_VALUES = {"m": ("mass",), "x": ("x",), "z": ("z",), "k": ("roll_gyratio
 _PAYLOAD_UNITS = {"mass": "kg", "x": "m", "z": "m", "roll_gyration": "m", "yaw_gyration": "m"}
 
 
-def payload_form(bicycle: Model, name: str, free: str, prior: float = 1.0) -> Cause:
+#: Prior scale [kg] of a load's mass (half-normal): luggage on a rack weighs 2-15 kg, a basket's
+#: load 1-8 kg; a load far heavier than these is not luggage.
+LOAD_MASS_SCALE = {"payload": 10.0, "front_payload": 5.0}
+#: Prior scale [m] of a load's own radii of gyration (half-normal): a box 0.5 m across has 0.2 m.
+GYRATION_SCALE = 0.1
+
+
+def payload_priors(bicycle: Model, name: str, axes: Sequence[str]) -> tuple[Prior, ...]:
+    """Return the priors of a payload form's values.
+
+    The mass half-normal (:data:`LOAD_MASS_SCALE`); x and z normal over the frame's extent (the
+    middle of their bounds, a quarter of their range: the bounds two standard deviations away);
+    the radii of gyration half-normal (:data:`GYRATION_SCALE`).
+    """
+    bounds = payload_bounds(bicycle, name)
+    priors = {"mass": Prior("halfnormal", 0.0, LOAD_MASS_SCALE[name], "luggage on a bicycle's frame"),
+              "roll_gyration": Prior("halfnormal", 0.0, GYRATION_SCALE, "a load's own size"),
+              "yaw_gyration": Prior("halfnormal", 0.0, GYRATION_SCALE, "a load's own size")}
+    for axis in ("x", "z"):
+        low, high = bounds[axis]
+        priors[axis] = Prior("normal", 0.5 * (low + high), 0.25 * (high - low), "anywhere on the frame")
+    return tuple(priors[axis] for axis in axes)
+
+
+def payload_form(bicycle: Model, name: str, free: str, prior: float = 1.0, priors: bool = False) -> Cause:
     """Return one form of a payload cause, its fixed coordinates at the frame's mass centre.
 
     Parameters
@@ -121,6 +151,8 @@ def payload_form(bicycle: Model, name: str, free: str, prior: float = 1.0) -> Ca
         enter the linear model, and the sum keeps the tensor physical).
     prior : float
         As in :class:`Cause`.
+    priors : bool
+        Give the values their physical priors (:func:`payload_priors`).
     """
     letter = PAYLOAD_FRAMES[name]
     if free not in ("m", "mx", "mz", "mxz", "mxzk"):
@@ -147,7 +179,8 @@ def payload_form(bicycle: Model, name: str, free: str, prior: float = 1.0) -> Ca
                  null=(0.0,) if free == "m" else None,
                  # A rigid load is a point mass refined: the point mass's fit places it (or,
                  # fitted alone, the grid does, its own inertia held at none).
-                 refines=tuple(f"{name}_{axis}" for axis in ("mass", "x", "z")) if "k" in free else None)
+                 refines=tuple(f"{name}_{axis}" for axis in ("mass", "x", "z")) if "k" in free else None,
+                 value_priors=payload_priors(bicycle, name, axes) if priors else None)
 
 
 def _parameter(key: str) -> Callable[[Model, Sequence[float]], Model]:
@@ -169,7 +202,7 @@ POSITIVE_PARAMETERS = frozenset(("w", "rR", "mR", "IRxx", "IRyy", "mB", "IBxx", 
                                  "mF", "IFxx", "IFyy"))
 
 
-def parameter_cause(bicycle: Model, key: str, share: float) -> Cause:
+def parameter_cause(bicycle: Model, key: str, share: float, priors: bool = False) -> Cause:
     """``parameter:<key>``: the bicycle's value of key is wrong.
 
     Bounds: the value +/- its magnitude, except that a positive quantity stays above a third
@@ -180,7 +213,8 @@ def parameter_cause(bicycle: Model, key: str, share: float) -> Cause:
     span = max(abs(value), 1e-3)
     lower = value / 3.0 if key in POSITIVE_PARAMETERS and value >= 0 else value - span
     return Cause(f"parameter:{key}", (key,), (PARAMETER_UNITS.get(key, ""),), (value,), ((lower, value + span),),
-                 _parameter(key), prior=share, null=(value,))
+                 _parameter(key), prior=share, null=(value,),
+                 value_priors=(gross_error_prior(key, bicycle.parameters, bicycle.uncertainty),) if priors else None)
 
 
 def with_cause(bicycle: Model, cause: Cause, values: Sequence[float]) -> Model:

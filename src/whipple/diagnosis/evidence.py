@@ -55,6 +55,8 @@ from whipple.diagnosis.model_terms import is_term, term_words
 from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.options import DiagnosisOptions, VerdictRules
 from whipple.diagnosis.pair_search import leading_pairs, screened_pairs
+from whipple.diagnosis.priors import laplace_evidence
+from whipple.diagnosis.registry import CALIBRATION
 from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import quick_starts
 from whipple.errors import InputError
@@ -224,7 +226,8 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         # No single cause explains the data, or the best could stand in for two: try the
         # leading few in pairs, each pair started from its members' fitted values. Model terms
         # are never paired, nor refinements (a rigid load: see families.cause_pairs).
-        pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name) and cause.refines is None]
+        pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name) and cause.refines is None
+                    and cause.name != CALIBRATION]
         members, member_fits = [causes[k] for k in pairable], [fits[k] for k in pairable]
         started = leading_pairs(members, _scored(members, base, member_fits, n, whitening.samples, options),
                                 options.pairs.leading)
@@ -479,11 +482,16 @@ def occam_factor(cause: Cause, fit: CauseFit, n: int, occam: str = "bic") -> flo
     tyre relaxation length at its shortest) the likelihood is far from Gaussian and the
     approximation fails (it would charge nothing); each direction is therefore charged at least
     ln(n) / 2, the BIC's charge (n residuals). With ``occam="bic"`` (the default), that charge
-    alone: -k ln(n) / 2.
+    alone: -k ln(n) / 2. With ``occam="prior"``, the Laplace approximation with the cause's
+    physical priors (:func:`~whipple.diagnosis.priors.laplace_evidence`: the prior density at
+    the values and the share of the prior the data leave open); a cause without priors is
+    charged the BIC's.
     """
     k = len(fit.parameters)
     floor = -0.5 * np.log(max(n, 1))
-    if occam == "bic":
+    if occam == "prior" and cause.value_priors is not None:
+        return laplace_evidence(cause.value_priors, fit.values, fit.jacobian)
+    if occam in ("bic", "prior"):
         return k * floor
     jacobian = np.asarray(fit.jacobian, dtype=float)
     if jacobian.ndim != 2 or jacobian.shape[1] != k or not np.all(np.isfinite(jacobian)):

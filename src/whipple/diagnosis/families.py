@@ -133,9 +133,11 @@ def combined_cause(first: Cause, second: Cause) -> Cause:
         return second.apply(first.apply(bicycle, values[:split]), values[split:])
 
     null = None if first.null is None or second.null is None else first.null + second.null
+    priors = (None if first.value_priors is None or second.value_priors is None
+              else first.value_priors + second.value_priors)
     return Cause(first.name + COMBINATION + second.name, first.parameters + second.parameters,
                  first.units + second.units, first.start + second.start, first.bounds + second.bounds, apply,
-                 prior=first.prior * second.prior, null=null)
+                 prior=first.prior * second.prior, null=null, value_priors=priors)
 
 
 def general_forms(causes: Sequence[Cause], refinements: bool = True) -> list[Cause]:

@@ -17,6 +17,7 @@ from scipy.optimize import least_squares
 
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.observations import Observation, compared_shapes, mode_targets
+from whipple.diagnosis.priors import robust_prior_residuals
 from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
@@ -272,21 +273,32 @@ def fit_cause(bicycle: Model, cause: Cause, observations: Sequence[Observation],
 
     ``starts``: starting values to try instead of the default few spread over the bounds.
     ``grid``: also start from the best points of a coarse grid over the bounds (False: a local
-    refit from ``starts``, e.g. from values fitted to more of the same data).
+    refit from ``starts``, e.g. from values fitted to more of the same data). A cause with
+    priors on its values (:attr:`Cause.value_priors`) is fitted to its maximum a posteriori: its
+    priors' residuals join the data's (:func:`~whipple.diagnosis.priors.robust_prior_residuals`);
+    the fit's chi-square and residuals stay the data's.
     """
     whitening = window_whitening(observations, bicycle) if whitening is None else whitening
     lower, upper = cause.limits
     scale = np.maximum(np.abs(np.array(cause.start)), (upper - lower) * 1e-3)
+    priors = cause.value_priors
+
+    def with_priors(residual: NDArray[np.float64], values: NDArray[np.float64]) -> NDArray[np.float64]:
+        if priors is None:
+            return residual
+        return np.concatenate([residual, robust_prior_residuals(priors, _floats(values), ROBUST_SCALE)])
 
     def one(values: NDArray[np.float64]) -> NDArray[np.float64]:
-        return models_residuals([cause.apply(bicycle, _floats(values))], observations, whitening, predict=False)[0][0]
+        data = models_residuals([cause.apply(bicycle, _floats(values))], observations, whitening, predict=False)[0][0]
+        return with_priors(data, values)
 
     def misfits(points: list[NDArray[np.float64]]) -> list[NDArray[np.float64]]:
         # The residuals at several points (values in their units) in one evaluation; one at a
         # time where one of them fails, so that the failure is raised as without it.
         try:
-            return list(models_residuals([cause.apply(bicycle, _floats(values)) for values in points], observations,
-                                         whitening, predict=False)[0])
+            data = models_residuals([cause.apply(bicycle, _floats(values)) for values in points], observations,
+                                    whitening, predict=False)[0]
+            return [with_priors(residual, values) for residual, values in zip(data, points, strict=True)]
         except (np.linalg.LinAlgError, ValueError):
             return [one(values) for values in points]
 
@@ -324,9 +336,14 @@ def fit_cause(bicycle: Model, cause: Cause, observations: Sequence[Observation],
     if best is None:
         raise AnalysisError(f"fit of {cause.name} failed")
     values = best.x * scale
-    jacobian = np.asarray(best.jac / scale, dtype=float)
+    full = np.asarray(best.jac / scale, dtype=float)
+    # The data's rows (the Occam factor's Fisher information); the priors' rows join them in
+    # the covariance, the posterior's.
+    jacobian = full if priors is None else full[:-len(priors)]
+    if priors is not None:
+        full = np.vstack([jacobian, np.diag([prior.slope(float(v)) for prior, v in zip(priors, values, strict=True)])])
     try:
-        covariance = np.linalg.pinv(jacobian.T @ jacobian)
+        covariance = np.linalg.pinv(full.T @ full)
         std = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
     except np.linalg.LinAlgError:
         covariance = np.full((len(values), len(values)), np.inf)

@@ -23,6 +23,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.priors import Prior
 from whipple.diagnosis.registry import CauseDeclaration, add_terms, candidate_causes, claimed_terms
 from whipple.model.assembly import model_matrices
 from whipple.model.fleet import Model
@@ -60,10 +61,11 @@ def term_words(name: str) -> str:
     return f"{words}, {matrix}[{row}, {column}]"
 
 
-def term_causes(bicycle: Model, extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
+def term_causes(bicycle: Model, extra: Sequence[CauseDeclaration] = (), priors: bool = False) -> list[Cause]:
     """Return one cause per model term no declared cause is, sharing one unit of prior weight.
 
-    ``extra``: declarations besides the package's (their terms are left out too).
+    ``extra``: declarations besides the package's (their terms are left out too); ``priors``:
+    give each term a prior, normal about 0 with half its bound.
 
     Bounds: +/- the bicycle's own scale of that entry at ``REFERENCE_SPEED`` V (for
     stiffness S = |diag(K0 + V^2 K2)|, the geometric mean of its row's and column's entries;
@@ -82,8 +84,11 @@ def term_causes(bicycle: Model, extra: Sequence[CauseDeclaration] = ()) -> list[
         i, j = COORDINATES.index(row), COORDINATES.index(column)
         own = stiffness if matrix.startswith("K") else damping
         bound = float(np.sqrt(own[i] * own[j])) / speed ** TERM_MATRICES[matrix]
+        # A term's prior: normal about 0 with half the bicycle's own scale of that entry.
+        value_priors = (Prior("normal", 0.0, 0.5 * bound, "half the bicycle's own scale of the entry"),)
         causes.append(Cause(PREFIX + name, (name,), (TERM_UNITS[matrix],), (0.0,), ((-bound, bound),),
-                            _adder(name), prior=1.0 / len(names), null=(0.0,)))
+                            _adder(name), prior=1.0 / len(names), null=(0.0,),
+                            value_priors=value_priors if priors else None))
     return causes
 
 

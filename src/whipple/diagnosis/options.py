@@ -22,7 +22,7 @@ from whipple.measurement.measure import MeasurementOptions
 from whipple.model.fleet import Model
 
 #: How the evidence charges a cause's fitted values (:attr:`DiagnosisOptions.occam`).
-OCCAM_CHARGES = ("bic", "laplace")
+OCCAM_CHARGES = ("bic", "laplace", "prior")
 #: How the evidence charges a model's extra modal amplitudes (:attr:`DiagnosisOptions.amplitude_charge`).
 AMPLITUDE_CHARGES = ("bic", "noise")
 #: Where the fitting bias' fixed point starts (:attr:`DiagnosisOptions.fixed_point_start`).
@@ -231,8 +231,10 @@ class DiagnosisOptions:
             parameter causes unless :attr:`parameters`, then the model terms no declared cause
             is, if :attr:`model_terms`.
         """
-        causes = candidate_causes(bicycle, self.parameters, rigid_loads=self.rigid_loads, extra=self.causes)
-        return causes + (term_causes(bicycle, self.causes) if self.model_terms else [])
+        priors = self.occam == "prior"
+        causes = candidate_causes(bicycle, self.parameters, rigid_loads=self.rigid_loads, priors=priors,
+                                  extra=self.causes)
+        return causes + (term_causes(bicycle, self.causes, priors) if self.model_terms else [])
 
     def to_dict(self) -> dict[str, Any]:
         """Return the options as JSON-ready data (the report's record of what it ran with)."""

@@ -25,6 +25,7 @@ equations), then declared here.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
@@ -35,13 +36,15 @@ from whipple.diagnosis.causes import (
     parameter_cause,
     payload_form,
 )
+from whipple.diagnosis.priors import Prior, parameter_prior
 from whipple.model.fleet import Fleet, Model
 from whipple.model.linear_terms import TERM_NAMES, LinearTerms
 from whipple.model.parameters import Bicycle, TyreCompliance
 
 #: Kinds of declaration: ``physical`` causes, ``controller`` causes (a bicycle with a controller
-#: only; each group of an experiment has its own), ``parameter`` (one wrong benchmark parameter).
-KINDS = ("physical", "controller", "parameter")
+#: only; each group of an experiment has its own), ``parameter`` (one wrong benchmark parameter),
+#: ``calibration`` (every measured parameter off within its uncertainty; only with priors).
+KINDS = ("physical", "controller", "parameter", "calibration")
 
 
 @dataclass(frozen=True)
@@ -69,9 +72,13 @@ class FormChoices:
     ----------
     rigid_loads : bool
         Include the payloads' rigid-load form (a load with its own radii of gyration).
+    priors : bool
+        Give every value its physical prior (:mod:`whipple.diagnosis.priors`), and offer the
+        calibration of every measured parameter within its uncertainty.
     """
 
     rigid_loads: bool = True
+    priors: bool = False
 
 
 @dataclass(frozen=True)
@@ -141,12 +148,16 @@ class Value:
         Its physical bounds, in ``unit``.
     null : float
         The value at which the cause changes nothing (also the fit's start).
+    prior : Prior or None
+        What the value physically is on bicycles, before the data (:class:`~whipple.diagnosis.priors.Prior`);
+        None: no prior (the evidence then charges the value the BIC's ln(n)/2).
     """
 
     name: str
     unit: str
     bounds: tuple[float, float]
     null: float = 0.0
+    prior: Prior | None = None
 
 
 def declare(name: str, value: Value, apply: Callable[[Model, Sequence[float]], Model], *,
@@ -174,7 +185,9 @@ def declare(name: str, value: Value, apply: Callable[[Model, Sequence[float]], M
     def forms(bicycle: Model, choices: FormChoices) -> list[Cause]:
         if applies is not None and not applies(bicycle):
             return []
-        return [Cause(name, (value.name,), (value.unit,), (value.null,), (value.bounds,), apply, null=(value.null,))]
+        priors = (value.prior,) if choices.priors and value.prior is not None else None
+        return [Cause(name, (value.name,), (value.unit,), (value.null,), (value.bounds,), apply, null=(value.null,),
+                      value_priors=priors)]
 
     return CauseDeclaration(name, forms, families, kind, terms)
 
@@ -201,6 +214,7 @@ FAMILIES: tuple[Family, ...] = (
     Family("geometry", "the steering geometry (wheelbase, trail, head angle)"),
     Family("speed", "the speed measurement"),
     Family("tyre", "the tyre-road contact (lateral tyre compliance)"),
+    Family("calibration", "the measured parameters, each off within its measurement uncertainty"),
 )
 
 
@@ -249,13 +263,15 @@ def _controller_forms(name: str, value: Value, apply: Callable[[Bicycle, Sequenc
     the others.
     """
     def forms(model: Model, choices: FormChoices) -> list[Cause]:
+        priors = (value.prior,) if choices.priors and value.prior is not None else None
         if isinstance(model, Bicycle):
             if model.controller.is_empty():
                 return []
             return [Cause(name, (value.name,), (value.unit,), (value.null,), (value.bounds,), _alone(apply),
-                          null=(value.null,))]
+                          null=(value.null,), value_priors=priors)]
         return [Cause(name + GROUP_SUFFIX.format(group=group), (value.name + GROUP_SUFFIX.format(group=group),),
-                      (value.unit,), (value.null,), (value.bounds,), _in_group(group, apply), null=(value.null,))
+                      (value.unit,), (value.null,), (value.bounds,), _in_group(group, apply), null=(value.null,),
+                      value_priors=priors)
                 for group, member in model.members if not member.controller.is_empty()]
 
     return forms
@@ -296,7 +312,14 @@ def _tyre_forms(bicycle: Model, choices: FormChoices) -> list[Cause]:
     # Cornering stiffness [1/rad] from very soft to nearly rigid, relaxation length [m] from a
     # few millimetres to a metre; the fit starts at a typical bicycle tyre's (12 /rad, 0.15 m).
     return [Cause("tyre_compliance", ("cornering_stiffness", "relaxation_length"), ("1/rad", "m"), (12.0, 0.15),
-                  ((1.0, 500.0), (0.005, 1.0)), _tyre)]
+                  ((1.0, 500.0), (0.005, 1.0)), _tyre, value_priors=TYRE_PRIORS if choices.priors else None)]
+
+
+#: Priors of the tyres' values: bicycle tyres' cornering stiffness per load measured at about
+#: 8-20 /rad (median 12, within a factor 2.5 at one standard deviation), relaxation lengths of
+#: a few to 25 centimetres (median 0.1 m, factor 2.5).
+TYRE_PRIORS = (Prior("lognormal", 12.0, math.log(2.5), "bicycle tyres' measured cornering stiffness"),
+               Prior("lognormal", 0.1, math.log(2.5), "bicycle tyres' measured relaxation lengths"))
 
 
 def _payload_forms(name: str) -> Callable[[Model, FormChoices], list[Cause]]:
@@ -312,7 +335,7 @@ def _payload_forms(name: str) -> Callable[[Model, FormChoices], list[Cause]]:
     """
     def forms(bicycle: Model, choices: FormChoices) -> list[Cause]:
         free = ("m", "mz", "mxz", "mxzk") if choices.rigid_loads else ("m", "mz", "mxz")
-        return [payload_form(bicycle, name, form, prior=1.0 / len(free)) for form in free]
+        return [payload_form(bicycle, name, form, prior=1.0 / len(free), priors=choices.priors) for form in free]
 
     return forms
 
@@ -328,7 +351,7 @@ def _parameter_forms(key: str) -> Callable[[Model, FormChoices], list[Cause]]:
             return []
         # A wrong parameter is one hypothesis, whichever parameter: the keys share one unit of prior.
         keys = [k for k in BLAMEABLE_PARAMETERS if k in bicycle.parameters]
-        return [parameter_cause(bicycle, key, 1.0 / len(keys))]
+        return [parameter_cause(bicycle, key, 1.0 / len(keys), priors=choices.priors)]
 
     return forms
 
@@ -346,35 +369,73 @@ PARAMETER_FAMILIES: dict[str, tuple[str, ...]] = {
     "IFyy": ("wheel_spin",),
 }
 
+#: Name of the calibration candidate: every measured parameter fitted within its prior.
+CALIBRATION = "calibration"
+
+
+def _calibration_forms(model: Model, choices: FormChoices) -> list[Cause]:
+    """Return the calibration's one form: every blameable parameter, each with its measurement prior.
+
+    "The measured parameters are off": the parameters of a bicycle are measured (or estimated
+    from other bicycles) with errors, and the data may be explained by all of them moving a
+    little, each within its uncertainty, better than by any one named cause. Offered only where
+    the evidence has priors (without them the many values would make it the best fit always).
+    """
+    if not choices.priors:
+        return []
+    keys = [key for key in BLAMEABLE_PARAMETERS if key in model.parameters]
+    singles = [parameter_cause(model, key, 1.0) for key in keys]
+
+    def apply(bicycle: Model, values: Sequence[float]) -> Model:
+        return bicycle.with_parameters(**{key: float(value) for key, value in zip(keys, values, strict=True)})
+
+    return [Cause(CALIBRATION, tuple(keys), tuple(unit for single in singles for unit in single.units),
+                  tuple(float(model.parameters[key]) for key in keys),
+                  tuple(bound for single in singles for bound in single.bounds), apply,
+                  null=tuple(float(model.parameters[key]) for key in keys),
+                  value_priors=tuple(parameter_prior(key, model.parameters, model.uncertainty) for key in keys))]
+
+
 #: The package's candidate causes, in the order they are fitted and reported.
 REGISTRY: tuple[CauseDeclaration, ...] = (
     # Viscous damping about the steer axis: bearings, cables, an actuator's back-EMF [N m s/rad].
-    declare("steer_damping", Value("steer_damping", "N m s/rad", (0.0, 20.0)), _steer_damping,
+    declare("steer_damping", Value("steer_damping", "N m s/rad", (0.0, 20.0),
+                                   prior=Prior("halfnormal", 0.0, 1.0, "bearings, cables, a motor's back-EMF")),
+            _steer_damping,
             families=("steer_torque_dynamics",), terms=("D_steer_steer",)),
     # Rigid inertia about the steer axis not in the parameters: a motor's housing, a bag, a lamp.
-    declare("steer_inertia", Value("steer_inertia", "kg m^2", (0.0, 2.0)), _steer_inertia,
+    declare("steer_inertia", Value("steer_inertia", "kg m^2", (0.0, 2.0),
+                                   prior=Prior("halfnormal", 0.0, 0.05, "a lamp, bag or motor housing")),
+            _steer_inertia,
             families=("steer_axis_inertia", "front_mass")),
     # A geared motor's rotor inertia, reflected to the steer axis (steer equation only).
-    declare("reflected_steer_inertia", Value("reflected_steer_inertia", "kg m^2", (0.0, 2.0)),
+    declare("reflected_steer_inertia", Value("reflected_steer_inertia", "kg m^2", (0.0, 2.0),
+                                             prior=Prior("halfnormal", 0.0, 0.15, "a geared motor's N^2 J")),
             _reflected_steer_inertia, families=("steer_axis_inertia",)),
     # The speed signal off by a factor (measured speed = factor x true speed).
-    declare("speed_scale", Value("speed_scale", "", (0.5, 2.0), null=1.0), _speed_scale, families=("speed",)),
+    declare("speed_scale", Value("speed_scale", "", (0.5, 2.0), null=1.0,
+                                 prior=Prior("lognormal", 1.0, 0.05, "speed sensors calibrated to a few percent")),
+            _speed_scale, families=("speed",)),
     CauseDeclaration("payload", _payload_forms("payload"), ("rear_mass",)),
     CauseDeclaration("front_payload", _payload_forms("front_payload"), ("front_mass",)),
     CauseDeclaration("tyre_compliance", _tyre_forms, ("tyre",)),
     # The controller's commanded torque scaled [-], delayed [s] (Pade approximant in the linear
     # model) or passed through a first-order lag of that time constant [s].
-    CauseDeclaration("controller_gain", _controller_forms("controller_gain", Value("controller_gain", "", (0.2, 5.0),
-                                                                                 null=1.0), _controller_gain),
+    CauseDeclaration("controller_gain", _controller_forms("controller_gain", Value(
+        "controller_gain", "", (0.2, 5.0), null=1.0,
+        prior=Prior("lognormal", 1.0, 0.2, "an actuator's torque constant or amplifier gain")), _controller_gain),
                      ("steer_torque_dynamics", "controller"), kind="controller"),
-    CauseDeclaration("controller_delay", _controller_forms("controller_delay", Value("controller_delay", "s",
-                                                                                   (0.0, 0.3)), _controller_delay),
+    CauseDeclaration("controller_delay", _controller_forms("controller_delay", Value(
+        "controller_delay", "s", (0.0, 0.3),
+        prior=Prior("halfnormal", 0.0, 0.05, "sensing, computing and communication")), _controller_delay),
                      ("steer_torque_dynamics", "controller"), kind="controller"),
-    CauseDeclaration("controller_lag", _controller_forms("controller_lag", Value("controller_lag", "s", (0.0, 0.3)),
-                                                         _controller_lag),
+    CauseDeclaration("controller_lag", _controller_forms("controller_lag", Value(
+        "controller_lag", "s", (0.0, 0.3), prior=Prior("halfnormal", 0.0, 0.05, "an actuator of a few Hz or more")),
+        _controller_lag),
                      ("steer_torque_dynamics", "controller"), kind="controller"),
     *(CauseDeclaration(f"parameter:{key}", _parameter_forms(key), PARAMETER_FAMILIES[key], kind="parameter")
       for key in BLAMEABLE_PARAMETERS),
+    CauseDeclaration(CALIBRATION, _calibration_forms, ("calibration",), kind="calibration"),
 )
 
 
@@ -400,7 +461,7 @@ def declarations(extra: Sequence[CauseDeclaration] = ()) -> tuple[CauseDeclarati
 
 
 def candidate_causes(bicycle: Model, include_parameters: bool = True, *, rigid_loads: bool = True,
-                     extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
+                     priors: bool = False, extra: Sequence[CauseDeclaration] = ()) -> list[Cause]:
     """Return every form of every declared cause for a bicycle, with starting values and bounds.
 
     Parameters
@@ -411,6 +472,8 @@ def candidate_causes(bicycle: Model, include_parameters: bool = True, *, rigid_l
         Include ``parameter:<key>`` causes.
     rigid_loads : bool
         Include the payloads' rigid-load form.
+    priors : bool
+        Give every value its physical prior, and offer the calibration (:class:`FormChoices`).
     extra : sequence of CauseDeclaration
         More declarations (:func:`declarations`).
 
@@ -419,9 +482,9 @@ def candidate_causes(bicycle: Model, include_parameters: bool = True, *, rigid_l
     list of Cause
         In the order of the declarations.
     """
-    choices = FormChoices(rigid_loads=rigid_loads)
+    choices = FormChoices(rigid_loads=rigid_loads, priors=priors)
     return [cause for declaration in declarations(extra)
-            if include_parameters or declaration.kind != "parameter"
+            if include_parameters or declaration.kind not in ("parameter", "calibration")
             for cause in declaration.forms(bicycle, choices)]
 
 

@@ -23,16 +23,22 @@ GRID_STARTS = 2
 #: Causes with at most this many fitted values get the grid (4^3 = 64 model evaluations, about
 #: the cost of one started fit); pairs start from their members' fitted values instead.
 GRID_MAX_VALUES = 3
+#: Causes with more fitted values than this (more than any pair) start from their no-effect values only.
+LOCAL_VALUES = 8
 
 
 def default_starts(cause: Cause) -> list[NDArray[np.float64]]:
     """Return the fixed starts, in the values' units.
 
     The no-effect values, steps of 2% and 10% of the bounds from them, and for a cause with
-    several values three points spread over the bounds.
+    several values three points spread over the bounds. A cause with more values than
+    :data:`LOCAL_VALUES` (the calibration of every parameter) starts at its no-effect values only:
+    its priors hold it near them, and each start costs a fit of that many values.
     """
     lower, upper = cause.limits
     start = np.array(cause.start, dtype=float)
+    if len(cause.parameters) > LOCAL_VALUES:
+        return [start]
     tries = [start] + [np.clip(start + (upper - lower) * f, lower, upper) for f in (0.02, 0.1)]
     if len(cause.parameters) > 1:
         tries += [lower + (upper - lower) * np.resize(np.array(f), len(lower))

@@ -8,9 +8,7 @@ by their header line. Files ending in ``.gz`` are decompressed transparently.
 
 from __future__ import annotations
 
-import gzip
 import re
-import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,9 +18,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import InputError, RunFileError
-from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
+from whipple.measurement.layouts import RunLayout
+from whipple.measurement.run_table import read_run_table
 from whipple.measurement.speedometer import speedometer_speed
-from whipple.number_text import may_hold_other_numbers, parse_number
+from whipple.number_text import parse_number
 from whipple.simulation.simulator import SimulatedRun
 
 #: Runs shorter than this [s] are refused: they cannot hold a perturbation and its decay.
@@ -160,48 +159,11 @@ def read_run(
         are ASCII decimal text (:func:`whipple.number_text.parse_number`).
     """
     source = str(path)
-    lines = _read_lines(Path(path) if isinstance(path, str | Path) else path, source)
-    content = [(number, line) for number, line in enumerate(lines, 1) if line.strip()]
-    if not content:
-        raise RunFileError("empty file", source)
-    if layout is None:
-        chosen = detect_layout(content[0][1])
-    elif isinstance(layout, RunLayout):
-        chosen = layout
-    else:
-        chosen = load_layout(layout)
-    native = chosen is None
-    active = chosen or RunLayout(name="native", columns={name: name for name in SPEC_COLUMNS})
-
-    own, rows = _split_comments(content, active.comment, source)
-    metadata = {**active.metadata, **own}
-    if active.header:
-        if not rows:
-            raise RunFileError("no header line", source)
-        header_line = rows.pop(0)[1]
-        names = [name.strip() for name in header_line.split(active.delimiter)]
-    else:
-        names = list(active.names)
-    if len(set(names)) != len(names):
-        raise RunFileError("duplicate column names in the header", source)
-    if not rows:
-        raise RunFileError("no data rows", source)
-
-    wanted = {name: active.columns[name] for name in names if name in active.columns}
-    wanted.update({name: active.extra[name] for name in names if name in active.extra})
-    unknown = [n for n in names if n not in wanted and n not in active.ignore]
-    warnings = [f"ignored unknown column(s): {', '.join(unknown)}"] if unknown else []
-    missing = [n for n in active.columns if n not in names and not native]
-    if missing:
-        warnings.append(f"layout column(s) not in the file: {', '.join(missing)}")
-    if "roll_rate" not in wanted.values():
-        raise RunFileError("missing roll_rate column", source)
-
-    signals, notes = _parse_columns(rows, names, wanted, active.delimiter, source)
-    warnings += notes
+    table = read_run_table(path, layout, source)
+    active, signals, metadata, warnings = table.layout, table.signals, table.metadata, table.notes
     for name, factor in active.scale.items():
         if name in signals:
-            signals[name] = signals[name] * factor
+            signals[name] *= factor
     if "time" in signals and np.isnan(signals["time"]).any():
         # A sample without a time cannot be placed: drop the row (the jump is a gap).
         keep = ~np.isnan(signals["time"])
@@ -233,129 +195,6 @@ def read_run(
         sample_rate=sample_rate,
         warnings=tuple(warnings),
     )
-
-
-def _split_comments(
-    content: list[tuple[int, str]], comment: str, source: str
-) -> tuple[dict[str, str], list[tuple[int, str]]]:
-    """Split numbered lines into the metadata before the first row and the other rows.
-
-    A ``<comment> key: value`` line before the header (or first data row) is metadata; any
-    other comment line is skipped. A key given twice is refused: which of the two values is
-    meant cannot be told, and taking the last would silently change the run (a second
-    ``sample_rate`` rescales its time).
-    """
-    metadata: dict[str, str] = {}
-    lines: dict[str, int] = {}
-    rows: list[tuple[int, str]] = []
-    for number, line in content:
-        stripped = line.strip()
-        if comment and stripped.startswith(comment):
-            key, colon, value = stripped[len(comment):].partition(":")
-            key = key.strip()
-            if colon and not rows:
-                if key in lines:
-                    raise RunFileError(f"line {number}: metadata '{key}' given twice (first on line "
-                                       f"{lines[key]})", source)
-                lines[key] = number
-                metadata[key] = value.strip()
-            continue
-        rows.append((number, stripped))
-    return metadata, rows
-
-
-def _read_lines(path: Path | Readable, source: str) -> list[str]:
-    try:
-        data = path.read_bytes()
-    except OSError as error:
-        raise RunFileError(f"cannot read file ({error.strerror or error})", source) from None
-    if data[:2] == b"\x1f\x8b":
-        try:
-            data = gzip.decompress(data)
-        except (OSError, EOFError, zlib.error) as error:
-            raise RunFileError(f"corrupt gzip data ({error})", source) from None
-    try:
-        return data.decode("utf-8-sig").splitlines()
-    except UnicodeDecodeError:
-        raise RunFileError("not a text file (invalid UTF-8)", source) from None
-
-
-#: Columns whose cells must be numbers (or empty/NaN, a gap): the ones every analysis reads. A
-#: cell of text in another column (a logger's status word, a controller not yet switched on)
-#: only leaves a gap in that column.
-_NUMERIC = ("time", "roll_rate", "speed", "speedometer")
-
-
-def _parse_columns(
-    rows: list[tuple[int, str]],
-    names: list[str],
-    wanted: dict[str, str],
-    delimiter: str | None,
-    source: str,
-) -> tuple[dict[str, NDArray[np.float64]], list[str]]:
-    """Return the wanted columns as float arrays (NaN for gaps) and notes on their gaps.
-
-    Empty and NaN cells are gaps (NaN) in any column; text is refused in the columns every
-    analysis reads (:data:`_NUMERIC`), infinities too, and is a gap elsewhere.
-    """
-    table = [line.split(delimiter) for _, line in rows]
-    for (number, _), fields in zip(rows, table, strict=True):
-        if len(fields) != len(names):
-            raise RunFileError(
-                f"line {number} has {len(fields)} fields, the header has {len(names)}", source
-            )
-    signals: dict[str, NDArray[np.float64]] = {}
-    notes: list[str] = []
-    for column, target in wanted.items():
-        j = names.index(column)
-        cells = [fields[j] for fields in table]
-        values, text = _numbers(cells)
-        if target in _NUMERIC and text.any():
-            bad = int(np.argmax(text))
-            raise RunFileError(
-                f"line {rows[bad][0]}, column '{column}': non-numeric value '{cells[bad].strip()}'", source
-            )
-        infinite = np.isinf(values)
-        if target in _NUMERIC and infinite.any():
-            bad = int(np.argmax(infinite))
-            raise RunFileError(f"line {rows[bad][0]}, column '{column}': {cells[bad].strip()} value", source)
-        values[infinite] = np.nan
-        gaps = np.isnan(values)
-        if gaps.any():
-            lines = [rows[i][0] for i in np.flatnonzero(gaps)[[0, -1]]]
-            kind = "empty, NaN or non-numeric" if text.any() else "empty or NaN"
-            notes.append(f"column '{column}': {int(gaps.sum())} {kind} cell(s) (lines {lines[0]}-{lines[1]}), "
-                         "read as gaps")
-        signals[target] = values
-    return signals, notes
-
-
-def _numbers(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Cells as floats, NaN where empty or not a number; and where they held text."""
-    joined = "".join(cells)
-    # numpy converts as float() does, which also reads Unicode digits and underscores: a
-    # column that may hold any goes cell by cell through parse_number.
-    if not may_hold_other_numbers(joined):
-        try:
-            return np.array(cells, dtype=float), np.zeros(len(cells), dtype=bool)
-        except ValueError:
-            pass
-    return _lenient(cells)
-
-
-def _lenient(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Cells as floats, NaN where empty or not a number; and where they held text."""
-    values = np.full(len(cells), np.nan)
-    text = np.zeros(len(cells), dtype=bool)
-    for i, cell in enumerate(cells):
-        cell = cell.strip()
-        if not cell:
-            continue
-        try:
-            values[i] = parse_number(cell)
-        except ValueError:
-            text[i] = True
-    return values, text
 
 
 def _time_base(

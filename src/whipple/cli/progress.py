@@ -1,0 +1,68 @@
+"""Progress bars of long commands: on standard error, only when it is a terminal.
+
+A bar (tqdm) appears after :data:`DELAY` seconds, so quick runs show none; it is removed when
+its block ends, also on an error, so that an error message starts on a line of its own. In a
+pipe, a log file or a test nothing is drawn and tqdm is not even imported.
+"""
+
+from __future__ import annotations
+
+import sys
+from types import TracebackType
+from typing import Any
+
+#: Seconds before a bar appears.
+DELAY = 1.0
+
+
+def shown() -> bool:
+    """Return True if progress is drawn: standard error is a terminal."""
+    isatty = getattr(sys.stderr, "isatty", None)
+    return bool(isatty and isatty())
+
+
+class Progress:
+    """A progress bar (a context manager); does nothing unless standard error is a terminal.
+
+    Parameters
+    ----------
+    total : int or None
+        Steps expected (None: unknown, a counter and a rate are shown).
+    unit : str
+        What a step is (``"set"``, ``"run"``).
+    description : str
+        Text before the bar.
+    enabled : bool
+        False: no bar (``--quiet``).
+    """
+
+    def __init__(self, total: int | None, unit: str, description: str = "", enabled: bool = True) -> None:
+        self.bar: Any = None
+        if enabled and shown():
+            from tqdm import tqdm  # only on a terminal: 90 ms of start-up otherwise
+
+            self.bar = tqdm(total=total, unit=unit, desc=description or None, leave=False, file=sys.stderr,
+                            delay=DELAY, dynamic_ncols=True)
+
+    def update(self, steps: int = 1) -> None:
+        """Count `steps` more steps done."""
+        if self.bar is not None:
+            self.bar.update(steps)
+
+    def describe(self, text: str) -> None:
+        """Change the text before the bar (the step under way)."""
+        if self.bar is not None:
+            self.bar.set_description_str(text)
+
+    def close(self) -> None:
+        """Remove the bar (the line it was on is cleared)."""
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+    def __enter__(self) -> Progress:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
+                 trace: TracebackType | None) -> None:
+        self.close()

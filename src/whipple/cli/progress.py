@@ -49,10 +49,11 @@ class Progress:
         if self.bar is not None:
             self.bar.update(steps)
 
-    def describe(self, text: str) -> None:
-        """Change the text before the bar (the step under way)."""
+    def finished(self, name: str) -> None:
+        """Count one step done, naming it before the bar."""
         if self.bar is not None:
-            self.bar.set_description_str(text)
+            self.bar.set_postfix_str(name, refresh=False)
+            self.bar.update(1)
 
     def close(self) -> None:
         """Remove the bar (the line it was on is cleared)."""

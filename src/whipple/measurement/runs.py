@@ -18,7 +18,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import InputError, RunFileError
-from whipple.measurement.layouts import RunLayout
+from whipple.measurement.glitches import DEFAULT_RULE, GlitchRule, find_glitches
+from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout
 from whipple.measurement.run_table import read_run_table
 from whipple.measurement.speedometer import speedometer_speed
 from whipple.number_text import parse_number
@@ -136,6 +137,7 @@ def read_run(
     path: str | Path | Readable,
     layout: str | Path | RunLayout | None = None,
     min_duration: float = MIN_DURATION,
+    glitches: GlitchRule | None = DEFAULT_RULE,
 ) -> Run:
     """Read a run file.
 
@@ -148,6 +150,10 @@ def read_run(
         unless the first line identifies a built-in layout (e.g. the sbw-treadmill logs).
     min_duration : float
         Shortest acceptable run [s].
+    glitches : GlitchRule or None
+        Isolated wild samples of the run-file signals (not the time, not a speedometer's pulses)
+        found by this rule are left out as gaps, each named in the warnings
+        (:mod:`whipple.measurement.glitches`); None keeps every sample.
 
     Raises
     ------
@@ -178,6 +184,8 @@ def read_run(
             f"run too short ({time[-1] - time[0]:.3g} s; at least {min_duration:g} s needed)", source
         )
     _check_speed_source(signals, metadata, active, source)
+    if glitches is not None:
+        warnings += _leave_out_glitches(signals, time, glitches)
     speed = signals.get("speed")
     if speed is not None and np.nanmin(speed, initial=0.0) < 0:
         warnings.append(f"speed is negative in {int(np.sum(speed < 0))} sample(s): the model's forward speed is "
@@ -195,6 +203,28 @@ def read_run(
         sample_rate=sample_rate,
         warnings=tuple(warnings),
     )
+
+
+#: Glitches named one by one in a run's warnings; more are counted.
+_GLITCHES_NAMED = 3
+
+
+def _leave_out_glitches(signals: dict[str, NDArray[np.float64]], time: NDArray[np.float64],
+                        rule: GlitchRule) -> list[str]:
+    """Set the glitches of the run-file signals to NaN; return a note per signal that had any."""
+    notes = []
+    for name, values in signals.items():
+        if name not in SPEC_COLUMNS or name == "speedometer":
+            continue  # a layout's extra signals may spike by nature (an accelerometer at a push)
+        found = find_glitches(values, rule)
+        if not found.size:
+            continue
+        unit = SPEC_COLUMNS[name]
+        named = ", ".join(f"{values[i]:.6g} {unit} at {time[i]:.6g} s" for i in found[:_GLITCHES_NAMED].tolist())
+        more = f" and {found.size - _GLITCHES_NAMED} more" if found.size > _GLITCHES_NAMED else ""
+        values[found] = np.nan
+        notes.append(f"glitch: {found.size} isolated wild {name} sample(s) left out as gaps ({named}{more})")
+    return notes
 
 
 def _time_base(

@@ -47,7 +47,7 @@ from whipple.measurement.experiment import (
 )
 from whipple.measurement.free_motion import diagnosis_windows
 from whipple.measurement.reference_windows import read_windows
-from whipple.measurement.runs import check_distinct_names, read_run
+from whipple.measurement.runs import check_distinct_names, check_same_bicycle, read_run
 from whipple.model.parameters import load_bicycle, write_bicycle_toml
 
 
@@ -121,6 +121,7 @@ def run(args: argparse.Namespace) -> int:
     bicycle = load_bicycle(args.bicycle, rider=args.rider)
     runs = [read_run(source, args.layout) for source in sources]
     check_distinct_names(runs)
+    check_same_bicycle(runs)
     windows = read_windows(args.windows, runs) if args.windows is not None else None
     signals = diagnosis_signals(runs) if args.signals == "auto" else signal_names(args.signals)
     measurements = _measured(runs, windows, signals, args)

@@ -23,10 +23,8 @@ from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout
 from whipple.measurement.run_table import read_run_table
 from whipple.measurement.speedometer import speedometer_speed
 from whipple.number_text import parse_number
+from whipple.simulation.run_limits import MAX_SPEED, MIN_DURATION, MIN_SAMPLE_RATE
 from whipple.simulation.simulator import SimulatedRun
-
-#: Runs shorter than this [s] are refused: they cannot hold a perturbation and its decay.
-MIN_DURATION = 2.0
 
 
 class Readable(Protocol):
@@ -133,6 +131,25 @@ def check_distinct_names(runs: Sequence[Run]) -> None:
         raise InputError(f"two runs are named {twice[0]} ({files}; windows and figures go by run name)")
 
 
+def check_same_bicycle(runs: Sequence[Run]) -> None:
+    """Refuse runs whose metadata name different bicycles (the ``bicycle`` key; runs without it pass).
+
+    Measurements of two bicycles confronted with one model would blame the model for the
+    difference between the bicycles.
+
+    Raises
+    ------
+    InputError
+        Naming two runs (files) and the bicycles they name.
+    """
+    named = [(run, run.metadata["bicycle"].strip()) for run in runs if run.metadata.get("bicycle", "").strip()]
+    for run, bicycle in named[1:]:
+        first, first_bicycle = named[0]
+        if bicycle != first_bicycle:
+            raise InputError(f"runs of different bicycles: {first.source} names {first_bicycle!r}, {run.source} names "
+                             f"{bicycle!r} (metadata 'bicycle'); give the runs of one bicycle")
+
+
 def read_run(
     path: str | Path | Readable,
     layout: str | Path | RunLayout | None = None,
@@ -187,6 +204,12 @@ def read_run(
     if glitches is not None:
         warnings += _leave_out_glitches(signals, time, glitches)
     speed = signals.get("speed")
+    fastest = float(np.nanmax(np.abs(speed), initial=0.0)) if speed is not None else 0.0
+    if "speed" in metadata and speed is None:
+        fastest = _metadata_number(metadata, "speed", source)
+    if fastest > MAX_SPEED:
+        raise RunFileError(f"a speed of {fastest:.6g} m/s is beyond {MAX_SPEED:g} m/s, the fastest whipple analyses",
+                           source)
     if speed is not None and np.nanmin(speed, initial=0.0) < 0:
         warnings.append(f"speed is negative in {int(np.sum(speed < 0))} sample(s): the model's forward speed is "
                         "positive, so no window there is fitted (flip the speed's sign with a layout's [scale] "
@@ -242,10 +265,12 @@ def _time_base(
             raise RunFileError(
                 f"time is not strictly increasing at data row {bad} (t = {time[bad]:g} s)", source
             )
-        if "sample_rate" in metadata:
-            _metadata_number(metadata, "sample_rate", source)  # the time column rules; a bad value is still an error
+        stated = _metadata_number(metadata, "sample_rate", source) if "sample_rate" in metadata else None
         rate = float(1.0 / np.median(steps)) if steps.size else 0.0
         _check_sample_rate(rate, "from the time column; in ms or us instead of s?", source)
+        if stated is not None and abs(stated - rate) > RATE_TOLERANCE * rate:
+            raise RunFileError(f"metadata sample_rate {stated:g} Hz contradicts the time column ({rate:.6g} Hz from "
+                               f"its median step of {1 / rate:.6g} s): correct or remove one", source)
         return time, rate
     if "sample_rate" in metadata:
         rate = _metadata_number(metadata, "sample_rate", source)
@@ -257,8 +282,9 @@ def _time_base(
     return np.arange(n) / rate, rate
 
 
-#: Lowest sample rate [Hz] of a run: a weave of 0.5-3 Hz needs several samples per period.
-MIN_SAMPLE_RATE = 10.0
+#: Largest relative difference between a run's metadata sample rate and its time column's: a
+#: logger's clock drifts by parts per million, a mistyped or stale rate by a factor.
+RATE_TOLERANCE = 0.02
 
 
 def _check_sample_rate(rate: float, origin: str, source: str) -> None:

@@ -48,6 +48,9 @@ BODIES: tuple[tuple[str, str, str, str, str, str | None], ...] = (
     ("front frame", "mH", "IHxx", "IHyy", "IHzz", "IHxz"),
     ("front wheel", "mF", "IFxx", "IFyy", "IFxx", None),
 )
+#: Fastest forward speed [m/s] any command analyses, simulates or reads from a run: about 3000
+#: times the speed of sound, where v^2 K2 already swamps everything else in A(v).
+MAX_SPEED = 1e6
 #: Gravity below this [m/s^2] is a warning (the Moon has 1.6).
 LOW_GRAVITY = 1.0
 #: A triangle-inequality excess up to this many standard deviations is within measurement error.

@@ -30,7 +30,7 @@ MAX_RUN_SAMPLES = 10_000_000
 #: Most numbers kept from a run file (480 MB as float64): 10 million samples of 6 columns, fewer
 #: of more.
 MAX_RUN_VALUES = 60_000_000
-#: Most lines of any kind (data, comments, blank lines) of a run file.
+#: Most lines of any kind (data, comments, blank lines) of a run file: twice its most rows.
 MAX_RUN_LINES = 2 * MAX_RUN_SAMPLES
 
 #: Columns whose cells must be numbers (or empty/NaN, a gap): the ones every analysis reads. A
@@ -91,7 +91,7 @@ class _Gzip:
             raise RunFileError(f"corrupt gzip data ({error})", self.source) from None
 
 
-def read_run_table(path: Any, layout: str | Any | None, source: str) -> RunTable:
+def read_run_table(path: Any, layout: str | Any | None, source: str, max_samples: int = MAX_RUN_SAMPLES) -> RunTable:
     """Read the metadata, header and wanted columns of a run file (``.gz`` decompressed on the fly).
 
     Parameters
@@ -102,6 +102,8 @@ def read_run_table(path: Any, layout: str | Any | None, source: str) -> RunTable
         As for :func:`whipple.measurement.runs.read_run`.
     source : str
         Name of the file in messages.
+    max_samples : int
+        Most data rows read (at most :data:`MAX_RUN_VALUES` numbers are kept whatever it is).
 
     Raises
     ------
@@ -119,7 +121,7 @@ def read_run_table(path: Any, layout: str | Any | None, source: str) -> RunTable
         head = handle.peek(2)[:2] if hasattr(handle, "peek") else b""
         if head == b"\x1f\x8b":
             stream = _Gzip(handle, source)
-        return _Reader(layout, source).read(text_lines(stream, source, _run_file_error))
+        return _Reader(layout, source, max_samples).read(text_lines(stream, source, _run_file_error))
 
 
 def _run_file_error(problem: str, source: str) -> RunFileError:
@@ -129,8 +131,8 @@ def _run_file_error(problem: str, source: str) -> RunFileError:
 class _Reader:
     """The state of one file's reading: before the first row, at the header, in the data."""
 
-    def __init__(self, layout: str | Any | None, source: str) -> None:
-        self.layout_argument, self.source = layout, source
+    def __init__(self, layout: str | Any | None, source: str, max_samples: int) -> None:
+        self.layout_argument, self.source, self.max_samples = layout, source, max_samples
         self.table: RunTable | None = None
         self.comment = "#"
         self.metadata_lines: dict[str, int] = {}
@@ -139,16 +141,16 @@ class _Reader:
         self.columns: dict[str, list[NDArray[np.float64]]] = {}
         self.gaps: dict[str, _Gaps] = {}
         self.rows = 0
-        self.row_limit = MAX_RUN_SAMPLES
+        self.row_limit = max_samples
         self.header_done = False
 
     def read(self, blocks: Any) -> RunTable:
         number = 0
         for block in blocks:
-            if number + len(block) > MAX_RUN_LINES:
-                raise RunFileError(f"more than {MAX_RUN_LINES:,} lines: too long for a run file", self.source)
             self._block(block, number)
             number += len(block)
+            if number > 2 * self.max_samples:
+                raise RunFileError(f"more than {2 * self.max_samples:,} lines: too long for a run file", self.source)
         if self.table is None:
             raise RunFileError("empty file", self.source)
         if not self.header_done and self.table.layout.header:
@@ -249,7 +251,7 @@ class _Reader:
         self.wanted = wanted
         self.columns = {name: [] for name in wanted}
         self.gaps = {name: _Gaps() for name in wanted}
-        self.row_limit = min(MAX_RUN_SAMPLES, MAX_RUN_VALUES // len(wanted))
+        self.row_limit = min(self.max_samples, MAX_RUN_VALUES // len(wanted))
 
     def _data(self, numbers: range | list[int], rows: list[str]) -> None:
         """Parse data rows (stripped, with their line numbers) into the wanted columns."""

@@ -190,13 +190,15 @@ def _header(lines: Iterator[list[str]], path: Path) -> tuple[tuple[str, ...], in
     raise InputError("empty parameter table", path)
 
 
-def table_chunks(path: str | Path, rows: int = CHUNK_ROWS) -> tuple[tuple[str, ...], Iterator[TableChunk]]:
+def table_chunks(path: str | Path, rows: int = CHUNK_ROWS, max_lines: int = MAX_TABLE_ROWS
+                 ) -> tuple[tuple[str, ...], Iterator[TableChunk]]:
     """Read the header of a parameter table now and its rows lazily, `rows` at a time.
 
     Every cell must be a finite number. Lines starting with ``#`` and blank lines are ignored.
     ``-`` reads standard input. The file is read in blocks (a line longer than
     :data:`whipple.input_files.MAX_LINE_CHARACTERS`, binary data and more than
-    :data:`MAX_TABLE_ROWS` lines are refused when met), so memory is bounded by `rows`.
+    `max_lines` lines (:data:`MAX_TABLE_ROWS`) are refused when met), so memory is bounded by
+    `rows`.
 
     Returns
     -------
@@ -227,8 +229,8 @@ def table_chunks(path: str | Path, rows: int = CHUNK_ROWS) -> tuple[tuple[str, .
         total = 0
         for block in lines:
             total += len(block)
-            if total > MAX_TABLE_ROWS:
-                raise InputError(f"more than {MAX_TABLE_ROWS:,} lines: too long a parameter table (split it)", path)
+            if total > max_lines:
+                raise InputError(f"more than {max_lines:,} lines: too long a parameter table (split it)", path)
             yield block
 
     stream = counted()

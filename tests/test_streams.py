@@ -16,6 +16,7 @@ from pathlib import Path
 import pytest
 
 from whipple.cli import main
+from whipple.measurement.runs import read_run
 
 ENV = {**os.environ, "PYTHONWARNINGS": "ignore"}
 
@@ -106,3 +107,18 @@ def test_progress_is_drawn_only_on_a_terminal(tmp_path, capsys):
     assert main(["sweep", str(table), "-o", str(tmp_path / "o.csv")]) == 0
     captured = capsys.readouterr()
     assert captured.err == "" and captured.out.startswith("analysed 3000 of 3000")
+
+
+def test_a_simulated_run_to_standard_output_reads_back(tmp_path):
+    result = _whipple("simulate", "--bicycle", "benchmark", "--speed", "5", "--output", "-", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.startswith(b"# sample_rate: 100\n") and b"samples at 100 Hz" in result.stderr
+    saved = tmp_path / "run.csv"
+    saved.write_bytes(result.stdout)
+    assert read_run(saved).time.size == 1971
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.csv"]
+
+
+def test_a_figure_to_standard_output():
+    result = _whipple("stability", "benchmark", "--points", "5", "--plot", "-")
+    assert result.returncode == 0 and result.stdout[:8] == b"\x89PNG\r\n\x1a\n"

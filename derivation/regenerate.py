@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 import sympy as sm
@@ -35,8 +36,11 @@ def combined_hash(hashes: dict[str, str]) -> str:
     return digest.hexdigest()
 
 
-def generate() -> dict[str, str]:
-    """Derive every model and return the generated files' texts by file name."""
+def generate(progress: Callable[[str], object] | None = None) -> dict[str, str]:
+    """Derive every model and return the generated files' texts by file name.
+
+    `progress`, if given, is called with each model's name when its derivation is done.
+    """
     hashes = source_hashes()
     source_hash = combined_hash(hashes)
     files: dict[str, str] = {
@@ -50,6 +54,8 @@ def generate() -> dict[str, str]:
         else:
             files[f"{name}_numpy.py"] = emit_numpy(model, source_hash)
             files[f"{name}_casadi.py"] = emit_casadi(model, source_hash)
+        if progress is not None:
+            progress(name)
     manifest = {
         "generator": "whipple regenerate (derivation/regenerate.py)",
         "sympy": sm.__version__,

@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``tyre``).
 
-Derivation sources sha256: 5849ea184397072fcd8ef0cb717d387b2f9b93b72cf53f10515b5769f1573a43
+Derivation sources sha256: 85447a33b99f7a7cc45c28c4bf5678d54b6c5184e081d72ed53ff742e0d08074
 SymPy version: 1.14.0
 
 Equation form: E x' = (A0 + v A1 + ...) x + B f, x = [roll, steer, roll_rate, steer_rate, lateral_speed, yaw_rate, rear_lateral_force, front_lateral_force], f = [roll torque, steer torque].

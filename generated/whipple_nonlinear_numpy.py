@@ -3,7 +3,7 @@
 GENERATED FILE - do not edit. Produced by ``whipple regenerate`` from the SymPy
 derivation in derivation/ (model ``whipple_nonlinear``).
 
-Derivation sources sha256: 5849ea184397072fcd8ef0cb717d387b2f9b93b72cf53f10515b5769f1573a43
+Derivation sources sha256: 85447a33b99f7a7cc45c28c4bf5678d54b6c5184e081d72ed53ff742e0d08074
 SymPy version: 1.14.0
 
 Equation form: M u' = F + C^T f, C u' = b (the front contact's velocity C u vanishes; f is the contact force on the front wheel, yaw-frame components [N]), u = [yaw_rate, roll_rate, pitch_rate, steer_rate, rear_wheel_rate, front_wheel_rate]; the pitch solves h(roll, pitch, steer) = 0; the rear contact moves at (x', y') = rear_contact_velocity.

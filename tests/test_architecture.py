@@ -15,7 +15,7 @@ SOURCE = Path(__file__).resolve().parents[1] / "src" / "whipple"
 
 #: Layer of each sub-package: a module may import from its own layer's packages only below it,
 #: or from a lower layer. stability and simulation share a layer and do not import each other.
-LAYERS = {"errors": -1, "number_text": -1, "atomic": 0, "distributed": 0, "model": 1, "stability": 2,
+LAYERS = {"errors": -1, "number_text": -1, "atomic": 0, "input_files": 0, "distributed": 0, "model": 1, "stability": 2,
           "simulation": 2, "measurement": 3, "diagnosis": 4, "cli": 5}
 
 

@@ -1,13 +1,21 @@
 """Bad input found by fuzzing the command line: one line, a non-zero exit, inputs untouched."""
 
 import gzip
+import io
 import os
 import stat
+import threading
+import time
 from pathlib import Path
 
 import pytest
 
 from whipple.cli import main
+from whipple.errors import InputError, RunFileError
+from whipple.input_files import MAX_LINE_CHARACTERS, text_lines
+from whipple.measurement.run_table import read_run_table
+from whipple.measurement.runs import check_same_bicycle, read_run
+from whipple.stability.sweep import table_chunks
 
 DATA = Path(__file__).parent / "data" / "bicycleparameters" / "bicycles"
 BENCHMARK_TOML = Path(__file__).parents[1] / "src" / "whipple" / "data" / "benchmark.toml"
@@ -194,3 +202,94 @@ def test_corrupt_gzip_low_sample_rates_empty_speed_and_huge_cells(run_file, tmp_
     table.write_text("w,c" + "x" * 140000 + "\n1.02,0.08\n", encoding="utf-8")
     _one_line_error(capsys, 2, main(["sweep", str(table), "-o", str(tmp_path / "out.csv")]), str(table),
                     "not a readable CSV table")
+
+
+def _endless_fifo(folder: Path, chunk: bytes, head: bytes = b"") -> tuple[Path, threading.Thread]:
+    """A named pipe fed `head`, then `chunk` again and again until its reader goes away."""
+    fifo = folder / "endless.csv"
+    os.mkfifo(fifo)
+
+    def feed() -> None:
+        try:
+            with fifo.open("wb") as pipe:
+                pipe.write(head)
+                while True:
+                    pipe.write(chunk)
+        except (BrokenPipeError, OSError):
+            pass
+
+    writer = threading.Thread(target=feed, daemon=True)
+    writer.start()
+    return fifo, writer
+
+
+@pytest.mark.parametrize("command", ["fit", "sweep"])
+def test_an_endless_pipe_without_line_ends_is_refused_at_once(tmp_path, capsys, command):
+    fifo, writer = _endless_fifo(tmp_path, b"0.5," * 4096)
+    argv = ["fit", str(fifo)] if command == "fit" else ["sweep", str(fifo), "-o", str(tmp_path / "o.csv")]
+    started = time.perf_counter()
+    _one_line_error(capsys, 2, main(argv), str(fifo), f"line 1 is longer than {MAX_LINE_CHARACTERS} characters")
+    assert time.perf_counter() - started < 10
+    writer.join(timeout=10)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["endless.csv"]
+
+
+def test_an_endless_run_of_valid_rows_stops_at_its_cap(tmp_path):
+    # The cap itself (10 million rows) is measured in benchmarks/bench_inputs.py; here a small one.
+    fifo, writer = _endless_fifo(tmp_path, b"0.01,0.1,5\n" * 1000, head=b"time,roll_rate,speed\n")
+    with pytest.raises(RunFileError, match="more than 5,000 data rows: too long a run"):
+        read_run_table(fifo, None, str(fifo), max_samples=5000)
+    writer.join(timeout=10)
+    lines = tmp_path / "lines.csv"
+    lines.write_text("time,roll_rate,speed\n" + "\n" * 20000)
+    with pytest.raises(RunFileError, match="more than 10,000 lines: too long for a run file"):
+        read_run_table(lines, None, str(lines), max_samples=5000)
+    table = tmp_path / "sets.csv"
+    table.write_text("c\n" + "0.08\n" * 3000)
+    with pytest.raises(InputError, match="more than 2,000 lines: too long a parameter table"):
+        list(table_chunks(table, rows=100, max_lines=2000)[1])
+
+
+def test_lines_of_a_table_in_blocks():
+    text = "a,b\r\nc\rd\n" + "x" * 50 + "\n\ufeff"
+    blocks = list(text_lines(io.BytesIO(("\ufeff" + text).encode()), "t", block_bytes=7))
+    assert [line for block in blocks for line in block] == ["a,b", "c", "d", "x" * 50, "\ufeff"]
+    with pytest.raises(InputError, match="line 4 is longer than 40 characters"):
+        list(text_lines(io.BytesIO(text.encode()), "t", max_line=40, block_bytes=7))
+    with pytest.raises(InputError, match="invalid UTF-8"):
+        list(text_lines(io.BytesIO(b"ok\n\xff\xfe"), "t"))
+
+
+@pytest.mark.parametrize("speeds, words", [("-1:5", "need 0 <= LOW < HIGH (finite), got '-1:5'"),
+                                           ("-.5:5", "need 0 <= LOW < HIGH (finite), got '-.5:5'")])
+def test_a_negative_speed_range_is_named(capsys, speeds, words):
+    for command in (["check", "benchmark"], ["stability", "benchmark"]):
+        with pytest.raises(SystemExit) as raised:
+            main([*command, "--speeds", speeds])
+        assert raised.value.code == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and words in err and "expected one argument" not in err
+    _one_line_error(capsys, 2, main(["simulate", "--bicycle", "benchmark", "--speeds", "-1,2", "--output", "x"]),
+                    "speeds must be positive m/s, got -1")
+
+
+def test_runs_of_different_bicycles(run_file, tmp_path):
+    other = tmp_path / "other.csv"
+    other.write_text(run_file.read_text().replace("# bicycle: benchmark\n", "# bicycle: sbw2024\n"))
+    unnamed = tmp_path / "unnamed.csv"
+    unnamed.write_text(run_file.read_text().replace("# bicycle: benchmark\n", ""))
+    runs = [read_run(path) for path in (run_file, unnamed)]
+    check_same_bicycle(runs)  # a run that names none is not contradicted
+    with pytest.raises(InputError, match=f"runs of different bicycles: {run_file} names 'benchmark', {other} names "
+                                         "'sbw2024'"):
+        check_same_bicycle([*runs, read_run(other)])
+
+
+def test_a_metadata_sample_rate_within_a_clock_drift_is_no_contradiction(run_file, tmp_path):
+    close = tmp_path / "close.csv"
+    close.write_text(run_file.read_text().replace("# sample_rate: 100\n", "# sample_rate: 100.5\n"))
+    assert read_run(close).sample_rate == pytest.approx(100.0)
+    far = tmp_path / "far.csv"
+    far.write_text(run_file.read_text().replace("# sample_rate: 100\n", "# sample_rate: 1000\n"))
+    with pytest.raises(RunFileError, match="metadata sample_rate 1000 Hz contradicts the time column"):
+        read_run(far)

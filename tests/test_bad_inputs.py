@@ -91,6 +91,36 @@ def _cell(lines: list[str], row: int, column: str, value: str) -> list[str]:
     return lines[:h + 1 + row] + [",".join(cells)] + lines[h + 2 + row:]
 
 
+#: Command lines of the endless-input cases; DEV is the device.
+def _column(lines: list[str], column: str, value: str) -> list[str]:
+    h = _header_index(lines)
+    j = lines[h].split(",").index(column)
+    return lines[:h + 1] + [",".join(value if k == j else cell for k, cell in enumerate(line.split(",")))
+                            for line in lines[h + 1:]]
+
+
+DEVICE_COMMANDS = {
+    "fit": ["fit", "DEV"],
+    "sweep": ["sweep", "DEV", "-o", "{d}/out.csv"],
+    "diagnose": ["diagnose", "DEV", "--bicycle", "benchmark"],
+    "check rider": ["check", "benchmark", "--rider", "DEV"],
+    "fit layout": ["fit", "{d}/run.csv", "--layout", "DEV"],
+    "fit windows": ["fit", "{d}/run.csv", "--windows", "DEV"],
+    "stability rider": ["stability", "benchmark", "--rider", "DEV"],
+    "simulate rider": ["simulate", "--bicycle", "benchmark", "--rider", "DEV", "--speed", "5", "--output",
+                       "{d}/s.csv"],
+    "diagnose bicycle": ["diagnose", "{d}/run.csv", "--bicycle", "DEV"],
+}
+
+
+def _device_case(command: str, device: str, words: str) -> Builder:
+    """A command reading `device` (DEV in its line) where it expects a text file."""
+    def build(d: Path, t: str, r: str) -> Case:
+        return _check({"b.toml": t, "run.csv": r}, [arg.replace("DEV", device) for arg in DEVICE_COMMANDS[command]],
+                      device, words)
+    return build
+
+
 CASES: dict[str, Builder] = {
     # --- check: bicycle files ---------------------------------------------------------------
     "check missing file": lambda d, t, r: _check({}, ["check", "{d}/absent.toml"], "absent.toml",
@@ -292,14 +322,54 @@ CASES: dict[str, Builder] = {
                                                 "b.toml": t},
                                                ["diagnose", "{d}/run.csv", "--bicycle", "{d}/b.toml"], "run.csv",
                                                "column 'time': non-numeric value 'soon'"),
+    # --- endless and huge inputs (issue 53): exit 2 at once, whatever the command -------------
+    **{f"{command} {device}": _device_case(command, device, words)
+       for command in DEVICE_COMMANDS
+       for device, words in (("/dev/zero", "not a regular file" if command == "diagnose bicycle"
+                              else "not a text file (it holds NUL bytes)"),
+                             ("/dev/urandom", "invalid UTF-8" if command in ("fit", "sweep", "diagnose") else ""))
+       if words},
+    "check /dev/zero": lambda d, t, r: _check({}, ["check", "/dev/zero"], "/dev/zero", "not a regular file"),
+    "fit huge sparse file": lambda d, t, r: _check({"big.csv": b""}, ["fit", "{d}/big.csv"], "big.csv",
+                                                   "not a text file (it holds NUL bytes)"),
+    # --- contradictions (issue 53) --------------------------------------------------------------
+    "fit sample rate contradicts time": lambda d, t, r: _check(
+        {"run.csv": r.replace("# sample_rate: 100\n", "# sample_rate: 1000\n")}, ["fit", "{d}/run.csv"], "run.csv",
+        "metadata sample_rate 1000 Hz contradicts the time column (100 Hz"),
+    # (One such sample alone would be a glitch, left out: the whole run is that fast.)
+    "fit speed beyond any": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: _column(x, "speed", "2e6"))},
+                                                   ["fit", "{d}/run.csv"], "run.csv",
+                                                   "a speed of 2e+06 m/s is beyond 1e+06 m/s"),
+    "diagnose runs of two bicycles": lambda d, t, r: _check(
+        {"a.csv": r, "b.csv": r.replace("# bicycle: benchmark\n", "# bicycle: sbw2024\n")},
+        ["diagnose", "{d}/a.csv", "{d}/b.csv", "--bicycle", "benchmark"], "b.csv",
+        "runs of different bicycles"),
+    "check radius of gyration": lambda d, t, r: _check({"b.toml": _set(t, "mB", "1e-3")}, ["check", "{d}/b.toml"],
+                                                       "b.toml", "rear frame: a radius of gyration of 105 m"),
+    "fit windows start NaN": lambda d, t, r: _check({"run.csv": r, "w.csv": "run,start,stop\nrun,nan,5\n"},
+                                                    ["fit", "{d}/run.csv", "--windows", "{d}/w.csv"], "w.csv",
+                                                    "line 2: start time is nan (not a finite number of seconds)"),
+    "regenerate check of no folder": lambda d, t, r: _check({}, ["regenerate", "--check", "--output", "{d}/none"],
+                                                            "none", "--check: no such folder"),
+    # --- simulate writes nothing fit refuses (issue 53) -----------------------------------------
+    "simulate 5 Hz": lambda d, t, r: _check({}, ["simulate", "--bicycle", "benchmark", "--speed", "5", "--sample-rate",
+                                                 "5", "--output", "{d}/s.csv"], "5 Hz", "below 10 Hz"),
+    "simulate 1e6 m/s": lambda d, t, r: _check({}, ["simulate", "--bicycle", "benchmark", "--speed", "1e6",
+                                                    "--output", "{d}/s.csv"], "1000000.2 m/s",
+                                               "whipple analyses speeds up to 1e+06 m/s"),
+    "simulate noise 1e300": lambda d, t, r: _check({}, ["simulate", "--bicycle", "benchmark", "--speed", "5",
+                                                        "--noise", "1e300", "--output", "{d}/s.csv"], "2e+298 m/s",
+                                                   "would write negative speeds"),
 }
 
+def _snapshot(folder: Path) -> dict[str, bytes | int]:
+    # A huge (sparse) input is compared by size: reading it would take the test's memory.
+    return {str(p.relative_to(folder)): p.read_bytes() if p.stat().st_size < 1 << 20 else p.stat().st_size
+            for p in sorted(folder.rglob("*")) if p.is_file()}
 
-def _snapshot(folder: Path) -> dict[str, bytes]:
-    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
 
-
-def _prepare(name: str, tmp_path: Path, toml_text: str, run_text: str) -> tuple[Case, list[str], dict[str, bytes]]:
+def _prepare(name: str, tmp_path: Path, toml_text: str, run_text: str
+             ) -> tuple[Case, list[str], dict[str, bytes | int]]:
     folder = tmp_path / "work"
     folder.mkdir()
     locked = read_only_folder(tmp_path)
@@ -308,6 +378,8 @@ def _prepare(name: str, tmp_path: Path, toml_text: str, run_text: str) -> tuple[
         path = folder / relative
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_bytes(content if isinstance(content, bytes) else content.encode())
+        if relative == "big.csv":
+            os.truncate(path, 10 << 30)  # 10 GiB of zeros, sparse: no disk space used
     argv = [arg.replace("{d}", str(folder)).replace("{locked}", str(locked)) for arg in case.argv]
     return case, argv, _snapshot(folder)
 

@@ -12,7 +12,9 @@ import itertools
 import numpy as np
 import pytest
 
+from whipple.model.assembly import linear_model
 from whipple.model.linear import LinearModel, second_order_model
+from whipple.model.parameters import load_bicycle
 from whipple.stability import modes
 from whipple.stability.critical import critical_speeds
 from whipple.stability.eigen import eigen_analysis
@@ -157,3 +159,21 @@ def test_assignment_is_optimal_and_breaks_ties_like_scipy() -> None:
             totals = cost[np.arange(n), permutations].sum(axis=-1)
             assert cost[np.arange(n), chosen].sum() == pytest.approx(totals.min(), abs=1e-12)
             np.testing.assert_array_equal(chosen, linear_sum_assignment(cost)[1])
+
+
+def test_labels_that_cannot_all_be_right_are_not_given() -> None:
+    # A nearly massless rear frame with its inertia (mB = 1e-3 kg, IBxx = 9.2 kg m^2): the
+    # oscillation passes from one pair of branches to another over speed, and the weave group
+    # then held all four branches (three labelled weave_real_lower at v = 0).
+    bicycle = load_bicycle("benchmark").with_parameters(mB=1e-3)
+    result = eigen_analysis(linear_model(bicycle), np.linspace(0.0, 10.0, 201), vectors=False)
+    labels = result.labels
+    for row, values in zip(labels.reshape(-1, labels.shape[-1]), result.eigenvalues.reshape(-1, labels.shape[-1]),
+                           strict=True):
+        row = list(row)
+        assert row.count("weave") in (0, 2)
+        assert row.count(modes.WEAVE_UPPER) <= 1 and row.count(modes.WEAVE_LOWER) <= 1
+        weave = values[[k for k, name in enumerate(row) if name == "weave"]]
+        assert np.allclose(weave, np.conj(weave[::-1]))
+    at_rest = list(labels.reshape(-1, labels.shape[-1])[0])
+    assert at_rest.count(modes.WEAVE_UPPER) == 1 and at_rest.count(modes.WEAVE_LOWER) == 1

@@ -27,6 +27,7 @@ from whipple.model.parameters import (
     read_benchmark_txt,
     read_bicycle_toml,
     validate,
+    validate_rows,
     write_bicycle_toml,
 )
 
@@ -641,3 +642,20 @@ def test_every_path_form_is_accepted(tmp_path):
     path = Path(tmp_path / "bike.toml")
     write_bicycle_toml(load_bicycle("benchmark"), str(path))
     assert load_bicycle(path) == load_bicycle(str(path)) == load_bicycle("benchmark")
+
+
+def test_radii_of_gyration_no_part_of_a_bicycle_has():
+    benchmark = load_bicycle("benchmark")
+    # mB = 1e-3 kg with the benchmark's rear-frame inertia: a radius of gyration of 105 m (the
+    # largest principal moment, 11 kg m^2), which only a body over 100 m across has.
+    light = validate(benchmark.with_parameters(mB=1e-3))
+    assert any(p.startswith("rear frame: a radius of gyration of 105 m") for p in light.problems), light.problems
+    # 0.5 kg: 4.7 m, possible only for a body over 5 m across: a warning.
+    unusual = validate(benchmark.with_parameters(mB=0.5))
+    assert unusual.ok and any("radius of gyration of 4.69 m" in w for w in unusual.warnings)
+    # The bicycles of the field are far inside both bounds; a point mass (no inertia) too.
+    assert not [w for w in validate(benchmark).warnings if "gyration" in w]
+    assert validate(benchmark.with_parameters(IRxx=0.0, IRyy=0.0, rR=0.0)).ok
+    # In a batch, the rows are found (and a massless body is left to its own check).
+    rows = validate_rows({**benchmark.parameters, "mB": np.array([85.0, 1e-3, 0.0])})
+    assert rows[0] == "" and "radius of gyration" in rows[1] and "gyration" not in rows[2]

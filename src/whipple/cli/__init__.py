@@ -8,17 +8,25 @@ does not pay for loading SciPy, CasADi and matplotlib it never uses.
 Library errors caused by bad input (:class:`whipple.errors.InputError`) become a one-line
 message and exit code 2; failed analyses (:class:`whipple.errors.AnalysisError`) exit with 1;
 an output that cannot be written (a read-only folder, a path that is a folder) is bad input.
+SIGTERM and SIGHUP end a command as Ctrl-C does: temporary files are removed, outputs keep
+their old content, and the exit code is 128 + the signal's number. When an output option names
+standard output (``-``), the command's messages go to standard error.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
+import re
+import signal
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from types import FrameType
 
+from whipple.atomic import is_standard_output, messages_to_standard_error
 from whipple.errors import AnalysisError, InputError
 
 #: Subcommands in order of appearance in ``whipple --help``, with their one-line help.
@@ -34,11 +42,54 @@ COMMANDS = {
 }
 
 
+#: Options whose value may be ``-`` for standard output.
+OUTPUT_OPTIONS = ("csv", "json", "output", "save_model", "plot")
+#: Signals that end a command cleanly (as Ctrl-C does).
+ENDING_SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
 class _Parser(argparse.ArgumentParser):
-    """Argument parser whose usage errors exit with code 2 and a single line."""
+    """Argument parser whose usage errors exit with code 2 and a single line.
+
+    A value that starts with a minus sign and a digit (``--speeds -1:5``) is a value, not an
+    option: its own check then says what is wrong with it.
+    """
+
+    def __init__(self, *args, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-\.?[0-9]")
 
     def error(self, message: str) -> None:  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+class Terminated(BaseException):
+    """SIGTERM or SIGHUP arrived: the command unwinds (removing temporary files) and exits."""
+
+    def __init__(self, number: int) -> None:
+        super().__init__(number)
+        self.number = number
+
+
+def _terminate(number: int, frame: FrameType | None) -> None:
+    # One signal is enough: a second one must not interrupt the cleanup the first one started.
+    for other in ENDING_SIGNALS:
+        signal.signal(other, signal.SIG_IGN)
+    raise Terminated(number)
+
+
+@contextlib.contextmanager
+def _ending_signals_raise() -> Iterator[None]:
+    """Within the block, SIGTERM and SIGHUP raise :class:`Terminated` (main thread only)."""
+    try:
+        previous = {number: signal.signal(number, _terminate) for number in ENDING_SIGNALS}
+    except ValueError:  # not the main thread: signals stay as they are
+        previous = {}
+    try:
+        yield
+    finally:
+        for number, handler in previous.items():
+            signal.signal(number, handler)
 
 
 def _requested(argv: Sequence[str]) -> str | None:
@@ -66,12 +117,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``whipple`` console script."""
     arguments = list(sys.argv[1:] if argv is None else argv)
     args = build_parser(arguments).parse_args(arguments)
+    to_standard_output = any(isinstance(value, str | os.PathLike) and is_standard_output(value)
+                             for value in (getattr(args, name, None) for name in OUTPUT_OPTIONS))
+    messages = messages_to_standard_error() if to_standard_output else contextlib.nullcontext()
     try:
-        with warnings.catch_warnings():
+        with _ending_signals_raise(), messages, warnings.catch_warnings():
             # numpy's RuntimeWarnings (overflow, invalid value) would print lines of library
             # source before the one-line error that the checks of the results give.
             warnings.simplefilter("ignore", RuntimeWarning)
             return int(args.run(args))
+    except Terminated as ended:
+        print(f"whipple {args.command}: ended by {signal.Signals(ended.number).name}", file=sys.stderr)
+        return 128 + ended.number
     except InputError as error:
         print(f"whipple {args.command}: error: {error}", file=sys.stderr)
         return 2

@@ -15,7 +15,9 @@ from pathlib import Path
 import sympy
 
 import whipple.generated
-from whipple.atomic import write_text_atomic
+from whipple.atomic import check_writable, is_standard_output, write_text_atomic
+from whipple.cli.progress import Progress
+from whipple.derivation.models import MODELS
 from whipple.derivation.regenerate import MANIFEST, differences, generate
 from whipple.errors import InputError
 
@@ -35,10 +37,19 @@ def _default_folder() -> Path:
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     folder = args.output or _default_folder()
+    if is_standard_output(folder):
+        raise InputError("--output needs a folder, not standard output", folder)
     if folder.exists() and not folder.is_dir():
         raise InputError("--output needs a folder; this is a file", folder)
+    if args.check and not folder.is_dir():
+        raise InputError("--check: no such folder, nothing to compare with", folder)
+    if args.check and not (folder / MANIFEST).is_file():
+        raise InputError(f"--check: the folder holds no generated code (no {MANIFEST})", folder)
+    if not args.check:
+        check_writable(folder, is_folder=True)
     started = time.perf_counter()
-    files = generate()
+    with Progress(len(MODELS), "model", "deriving") as progress:
+        files = generate(progress=progress.finished)
     elapsed = time.perf_counter() - started
     if args.check:
         changed = differences(files, folder)

@@ -19,8 +19,9 @@ import re
 from pathlib import Path
 from typing import Any
 
-from whipple.atomic import check_writable, refuse_input_overwrite
+from whipple.atomic import check_writable, is_standard_output, refuse_input_overwrite
 from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, number, speed_list
+from whipple.cli.progress import Progress
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
@@ -93,7 +94,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--nonlinear", action="store_true",
                         help="integrate the nonlinear model (constraint drift and energy balance reported)")
     parser.add_argument("--output", required=True, metavar="DIR-or-FILE",
-                        help="folder for the run files, or a .csv file for a single speed")
+                        help="folder for the run files, or a .csv file for a single speed ('-': standard output)")
 
 
 def _file_name(bicycle: str, setting: str, speed: float) -> str:
@@ -109,9 +110,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"speeds must be positive m/s, got {bad[0]:g}")
     output = Path(args.output)
     refuse_input_overwrite(output, bicycle_inputs(args))
-    single_file = output.suffix.lower() == ".csv"
+    to_stdout = is_standard_output(args.output)
+    single_file = output.suffix.lower() == ".csv" or to_stdout
     if single_file and len(speeds) > 1:
-        raise InputError(f"{len(speeds)} speeds need an output folder, not a .csv file",
+        raise InputError(f"{len(speeds)} speeds need an output folder, not a .csv file or standard output",
                          args.output)
     if not single_file and output.exists() and not output.is_dir():
         raise InputError("output exists and is not a folder", args.output)
@@ -140,12 +142,13 @@ def run(args: argparse.Namespace) -> int:
     for target in targets:
         refuse_input_overwrite(target, bicycle_inputs(args))
     # Simulate everything first: a bad speed (e.g. aliasing) must not leave half the files.
-    if args.nonlinear:
-        runs = [simulate_nonlinear_run(bicycle, scenario, name=target.stem)
-                for scenario, target in zip(scenarios, targets, strict=True)]
-    else:
-        runs = [simulate_run(bicycle, scenario, model=model, name=target.stem)
-                for scenario, target in zip(scenarios, targets, strict=True)]
+    runs = []
+    with Progress(len(scenarios), "run", "simulating") as progress:
+        for scenario, target in zip(scenarios, targets, strict=True):
+            run_name = _file_name(name, args.setting, scenario.speed)[:-4] if to_stdout else target.stem
+            runs.append(simulate_nonlinear_run(bicycle, scenario, name=run_name) if args.nonlinear
+                        else simulate_run(bicycle, scenario, model=model, name=run_name))
+            progress.update()
     for scenario, target, simulated in zip(scenarios, targets, runs, strict=True):
         write_run_csv(simulated, target)
         windows = ", ".join(f"{a:.2f}-{b:.2f}" for a, b in simulated.segments) or "none"

@@ -17,6 +17,7 @@ import numpy as np
 from whipple.atomic import write_text_atomic
 from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, speed_range
 from whipple.cli.outputs import check_outputs, figure_format, save_figure
+from whipple.cli.progress import Progress
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
@@ -37,8 +38,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--points", type=integer, default=1001,
                         help=f"speeds in the table and figure (default 1001, at most {MAX_POINTS})")
     parser.add_argument("--plot", type=Path, metavar="FILE.png",
-                        help="write the figure (format from the suffix: png, pdf, svg, ...; png without one)")
-    parser.add_argument("--csv", type=Path, metavar="FILE.csv", help="write the eigenvalue table")
+                        help="write the figure (format from the suffix: png, pdf, svg, ...; png without one; '-': "
+                             "PNG on standard output)")
+    parser.add_argument("--csv", type=Path, metavar="FILE.csv",
+                        help="write the eigenvalue table ('-': standard output)")
     parser.add_argument("--json", action="store_true", help="print critical speeds and ranges as JSON")
 
 
@@ -52,18 +55,24 @@ def run(args: argparse.Namespace) -> int:
     bicycle = load_bicycle(args.bicycle, rider=args.rider)
     model = linear_model(bicycle)
     low, high = args.speeds
-    result = eigen_analysis(model, np.linspace(low, high, args.points), vectors=False)
-    critical = critical_speeds(model, low, high)
-    if args.csv is not None:
-        header, rows = eigenvalue_table(result)
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(header)
-        writer.writerows(rows)
-        write_text_atomic(args.csv, buffer.getvalue())
-    if args.plot is not None:
-        figure = plot_eigenvalues(result, critical, title=bicycle.name or str(args.bicycle))
-        save_figure(figure, args.plot, dpi=150)
+    steps = 2 + (args.csv is not None) + (args.plot is not None)
+    with Progress(steps, "step", "stability") as progress:
+        result = eigen_analysis(model, np.linspace(low, high, args.points), vectors=False)
+        progress.finished("eigenvalues")
+        critical = critical_speeds(model, low, high)
+        progress.finished("critical speeds")
+        if args.csv is not None:
+            header, rows = eigenvalue_table(result)
+            buffer = io.StringIO()
+            writer = csv.writer(buffer, lineterminator="\n")
+            writer.writerow(header)
+            writer.writerows(rows)
+            write_text_atomic(args.csv, buffer.getvalue())
+            progress.finished("table")
+        if args.plot is not None:
+            figure = plot_eigenvalues(result, critical, title=bicycle.name or str(args.bicycle))
+            save_figure(figure, args.plot, dpi=150)
+            progress.finished("figure")
     if args.json:
         print(json.dumps({"bicycle": bicycle.name, **critical.to_dict()}, indent=2))
     else:

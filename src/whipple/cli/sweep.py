@@ -14,24 +14,26 @@ cluster; the output is the same byte for byte.
 from __future__ import annotations
 
 import argparse
-import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
-from whipple.atomic import atomic_path, refuse_input_overwrite
+from whipple.atomic import atomic_text, check_writable, refuse_input_overwrite
 from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, speed_range
+from whipple.cli.progress import Progress, shown
 from whipple.distributed import check_cluster_options, map_ordered
 from whipple.errors import InputError
+from whipple.input_files import is_regular_file
 from whipple.model.parameters import load_bicycle
-from whipple.stability.sweep import CHUNK_ROWS, SweepTask, analyse_chunk, header_line, table_chunks
+from whipple.stability.sweep import CHUNK_ROWS, MAX_CHUNK_ROWS, SweepTask, analyse_chunk, header_line, table_chunks
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
     add_rider_argument(parser)
-    parser.add_argument("table", type=Path, metavar="SETS.csv", help="parameter sets, one per row")
-    parser.add_argument("--output", "-o", type=Path, required=True, metavar="OUT.csv", help="results table")
+    parser.add_argument("table", type=Path, metavar="SETS.csv",
+                        help="parameter sets, one per row ('-': standard input)")
+    parser.add_argument("--output", "-o", type=Path, required=True, metavar="OUT.csv",
+                        help="results table ('-': standard output)")
     parser.add_argument("--bicycle", default="benchmark", metavar="PARAMS",
                         help="bicycle supplying absent columns, extensions and controller (default benchmark)")
     parser.add_argument("--speeds", type=speed_range, default=(0.0, 10.0), metavar="LOW:HIGH",
@@ -43,59 +45,41 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                          help="analyse chunks on a local Dask cluster of N processes")
     cluster.add_argument("--scheduler", metavar="ADDRESS",
                          help="analyse chunks on an existing Dask cluster (e.g. tcp://host:8786)")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar (drawn only on a terminal)")
 
 
-def _count_rows(path: Path) -> int | None:
-    """Count the data lines of the table (for the progress bar); None if it cannot be read."""
+def _count_lines(path: Path) -> int | None:
+    """Count the lines of a regular file (for the progress bar); None for a stream or an unreadable file."""
+    if not is_regular_file(path):
+        return None
     try:
         with path.open("rb") as handle:
-            return sum(1 for line in handle if line.strip() and not line.lstrip().startswith(b"#")) - 1
+            return sum(block.count(b"\n") for block in iter(lambda: handle.read(1 << 20), b""))
     except OSError:
         return None
-
-
-class _Progress:
-    """Sets done, total and rate on one line of stderr (tqdm would double the start-up time)."""
-
-    def __init__(self, total: int | None, shown: bool) -> None:
-        self.total, self.shown, self.done = total, shown, 0
-        self.start = self.last = time.perf_counter()
-
-    def update(self, rows: int) -> None:
-        self.done += rows
-        now = time.perf_counter()
-        if self.shown and (now - self.last > 0.5 or self.done == self.total):
-            self.last = now
-            of = f" of {self.total}" if self.total else ""
-            rate = self.done / max(now - self.start, 1e-9)
-            print(f"\r{self.done}{of} parameter sets, {rate:.0f}/s", end="", file=sys.stderr, flush=True)
-
-    def close(self) -> None:
-        if self.shown and self.done:
-            print(file=sys.stderr)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     refuse_input_overwrite(args.output, [args.table, *bicycle_inputs(args)])
-    if args.chunk < 1:
-        raise InputError(f"--chunk must be at least 1, got {args.chunk}")
+    if not 1 <= args.chunk <= MAX_CHUNK_ROWS:
+        raise InputError(f"--chunk must be between 1 and {MAX_CHUNK_ROWS}, got {args.chunk}")
     check_cluster_options(args.scheduler, args.workers)
+    check_writable(args.output)
     names, chunks = table_chunks(args.table, args.chunk)
     base = load_bicycle(args.bicycle, rider=args.rider)
     tasks: Iterator[SweepTask] = (SweepTask(chunk, base, args.speeds) for chunk in chunks)
-    total = _count_rows(args.table) if not args.quiet else None
+    # The lines of the file (a few are the header, comments or blank): the bar's total, roughly.
+    total = _count_lines(args.table) if not args.quiet and shown() else None
     rows = skipped = 0
-    progress = _Progress(total, not args.quiet and (total or 0) >= 200)
-    with (map_ordered(analyse_chunk, tasks, scheduler=args.scheduler, workers=args.workers) as results,
-          atomic_path(args.output) as temporary, temporary.open("w", encoding="utf-8", newline="") as out):
+    with (Progress(total, "set", "parameter sets", enabled=not args.quiet) as progress,
+          map_ordered(analyse_chunk, tasks, scheduler=args.scheduler, workers=args.workers) as results,
+          atomic_text(args.output) as out):
         out.write(header_line(names))
         for result in results:
             out.write(result.text)
             rows, skipped = rows + result.rows, skipped + result.skipped
             progress.update(result.rows)
-    progress.close()
     print(f"analysed {rows - skipped} of {rows} parameter sets"
           + (f" ({skipped} not physical, see the problem column)" if skipped else "") + f"; wrote {args.output}")
     return 0

@@ -27,7 +27,7 @@ from whipple.measurement.experiment import RunMeasurement, WindowMeasurement
 from whipple.measurement.layouts import RunLayout
 from whipple.measurement.measure import MeasuredRuns, Progress, measure_runs
 from whipple.measurement.reference_windows import read_windows
-from whipple.measurement.runs import Run, read_run
+from whipple.measurement.runs import Run, check_same_bicycle, read_run
 from whipple.measurement.windows import Window
 from whipple.model.fleet import Fleet
 from whipple.model.parameters import Bicycle, load_bicycle
@@ -165,15 +165,18 @@ def _measured_experiment(experiment: ExperimentLike, options: DiagnosisOptions, 
         labels += [group.name] * len(read)
         if group.windows is not None:
             chosen += list(read_windows(_path(group.windows), read))
+    check_same_bicycle(runs)
     measured = measure_runs(runs, options.measurement, windows=chosen or None, bicycle=fleet, groups=labels,
                             progress=progress)
     return fleet, measured
 
 
 def _read(sources: Sequence[RunSource], layout: Layout) -> list[Run]:
-    """Return the runs of files (a run already read is taken as it is)."""
+    """Return the runs of files (a run already read is taken as it is), all of one bicycle by their metadata."""
     given = Path(os.fspath(layout)) if isinstance(layout, os.PathLike) else layout
-    return [source if isinstance(source, Run) else read_run(_path(source), given) for source in sources]
+    runs = [source if isinstance(source, Run) else read_run(_path(source), given) for source in sources]
+    check_same_bicycle(runs)
+    return runs
 
 
 def _path(source: str | os.PathLike[str] | Traversable) -> Path | Traversable:

@@ -54,6 +54,7 @@ from pathlib import Path
 from typing import Any
 
 from whipple.errors import RunFileError
+from whipple.input_files import read_small_file
 from whipple.number_text import parse_number
 
 #: Columns of the run-file spec, with their SI units.
@@ -160,16 +161,20 @@ def load_layout(layout: str | Path) -> RunLayout:
         entry = resources.files("whipple.data").joinpath("layouts", f"{layout}.toml")
         return parse_layout(entry.read_text(encoding="utf-8"), layout, f"layout {layout}")
     path = Path(layout)
+    data = read_small_file(path, "layout file", _layout_error)
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        known = ", ".join(builtin_layouts())
-        raise RunFileError(
-            f"cannot read layout file ({error.strerror or error}); built-in layouts: {known}", path
-        ) from None
+        text = data.decode("utf-8")
     except UnicodeDecodeError:
         raise RunFileError("bad layout file: not a text file (invalid UTF-8)", path) from None
     return parse_layout(text, path.stem, path)
+
+
+def _layout_error(problem: str, source: str) -> RunFileError:
+    """Return the error of a layout file that cannot be read (a mistyped built-in name?) or is no text."""
+    if problem.startswith("cannot read"):
+        return RunFileError(f"{problem.replace('file:', 'layout file:')}; built-in layouts: "
+                            f"{', '.join(builtin_layouts())}", source)
+    return RunFileError(f"bad layout file: {problem}", source)
 
 
 def parse_layout(text: str, name: str, source: str | Path) -> RunLayout:

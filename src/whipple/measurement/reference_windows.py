@@ -17,6 +17,7 @@ import numpy as np
 
 from whipple.atomic import write_text_atomic
 from whipple.errors import RunFileError
+from whipple.input_files import read_small_file
 from whipple.measurement.runs import Readable, Run, run_name
 from whipple.measurement.windows import Window
 from whipple.number_text import parse_integer, parse_number
@@ -37,9 +38,11 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
         (with `runs`) no window of any of the runs.
     """
     source = str(path)
-    readable = Path(path) if isinstance(path, str | Path) else path
     try:
-        text = readable.read_bytes().decode("utf-8-sig")
+        # A user's file is read up to a size cap (an endless pipe is refused); the bundled one is small.
+        data = (read_small_file(path, "windows file", RunFileError) if isinstance(path, str | Path)
+                else path.read_bytes())
+        text = data.decode("utf-8-sig")
     except (OSError, UnicodeDecodeError) as error:
         raise RunFileError(f"cannot read windows file ({error})", source) from None
     try:
@@ -75,6 +78,10 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
             windows.append(Window(name, float(run.time[first]), float(run.time[last]),
                                   first, last + 1, "from windows file"))
             continue
+        for value, label in ((begin, "start"), (finish, "stop")):
+            if not np.isfinite(value):
+                raise RunFileError(f"line {number}: {label} time is {value} (not a finite number of seconds)",
+                                   source)
         if not finish > begin:
             raise RunFileError(f"line {number}: stop must be after start", source)
         first, stop = -1, -1

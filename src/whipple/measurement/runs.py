@@ -8,9 +8,7 @@ by their header line. Files ending in ``.gz`` are decompressed transparently.
 
 from __future__ import annotations
 
-import gzip
 import re
-import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,13 +18,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import InputError, RunFileError
-from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
+from whipple.measurement.glitches import DEFAULT_RULE, GlitchRule, find_glitches
+from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout
+from whipple.measurement.run_table import read_run_table
 from whipple.measurement.speedometer import speedometer_speed
-from whipple.number_text import may_hold_other_numbers, parse_number
+from whipple.number_text import parse_number
+from whipple.simulation.run_limits import MAX_SPEED, MIN_DURATION, MIN_SAMPLE_RATE
 from whipple.simulation.simulator import SimulatedRun
-
-#: Runs shorter than this [s] are refused: they cannot hold a perturbation and its decay.
-MIN_DURATION = 2.0
 
 
 class Readable(Protocol):
@@ -133,10 +131,30 @@ def check_distinct_names(runs: Sequence[Run]) -> None:
         raise InputError(f"two runs are named {twice[0]} ({files}; windows and figures go by run name)")
 
 
+def check_same_bicycle(runs: Sequence[Run]) -> None:
+    """Refuse runs whose metadata name different bicycles (the ``bicycle`` key; runs without it pass).
+
+    Measurements of two bicycles confronted with one model would blame the model for the
+    difference between the bicycles.
+
+    Raises
+    ------
+    InputError
+        Naming two runs (files) and the bicycles they name.
+    """
+    named = [(run, run.metadata["bicycle"].strip()) for run in runs if run.metadata.get("bicycle", "").strip()]
+    for run, bicycle in named[1:]:
+        first, first_bicycle = named[0]
+        if bicycle != first_bicycle:
+            raise InputError(f"runs of different bicycles: {first.source} names {first_bicycle!r}, {run.source} names "
+                             f"{bicycle!r} (metadata 'bicycle'); give the runs of one bicycle")
+
+
 def read_run(
     path: str | Path | Readable,
     layout: str | Path | RunLayout | None = None,
     min_duration: float = MIN_DURATION,
+    glitches: GlitchRule | None = DEFAULT_RULE,
 ) -> Run:
     """Read a run file.
 
@@ -149,6 +167,10 @@ def read_run(
         unless the first line identifies a built-in layout (e.g. the sbw-treadmill logs).
     min_duration : float
         Shortest acceptable run [s].
+    glitches : GlitchRule or None
+        Isolated wild samples of the run-file signals (not the time, not a speedometer's pulses)
+        found by this rule are left out as gaps, each named in the warnings
+        (:mod:`whipple.measurement.glitches`); None keeps every sample.
 
     Raises
     ------
@@ -160,48 +182,11 @@ def read_run(
         are ASCII decimal text (:func:`whipple.number_text.parse_number`).
     """
     source = str(path)
-    lines = _read_lines(Path(path) if isinstance(path, str | Path) else path, source)
-    content = [(number, line) for number, line in enumerate(lines, 1) if line.strip()]
-    if not content:
-        raise RunFileError("empty file", source)
-    if layout is None:
-        chosen = detect_layout(content[0][1])
-    elif isinstance(layout, RunLayout):
-        chosen = layout
-    else:
-        chosen = load_layout(layout)
-    native = chosen is None
-    active = chosen or RunLayout(name="native", columns={name: name for name in SPEC_COLUMNS})
-
-    own, rows = _split_comments(content, active.comment, source)
-    metadata = {**active.metadata, **own}
-    if active.header:
-        if not rows:
-            raise RunFileError("no header line", source)
-        header_line = rows.pop(0)[1]
-        names = [name.strip() for name in header_line.split(active.delimiter)]
-    else:
-        names = list(active.names)
-    if len(set(names)) != len(names):
-        raise RunFileError("duplicate column names in the header", source)
-    if not rows:
-        raise RunFileError("no data rows", source)
-
-    wanted = {name: active.columns[name] for name in names if name in active.columns}
-    wanted.update({name: active.extra[name] for name in names if name in active.extra})
-    unknown = [n for n in names if n not in wanted and n not in active.ignore]
-    warnings = [f"ignored unknown column(s): {', '.join(unknown)}"] if unknown else []
-    missing = [n for n in active.columns if n not in names and not native]
-    if missing:
-        warnings.append(f"layout column(s) not in the file: {', '.join(missing)}")
-    if "roll_rate" not in wanted.values():
-        raise RunFileError("missing roll_rate column", source)
-
-    signals, notes = _parse_columns(rows, names, wanted, active.delimiter, source)
-    warnings += notes
+    table = read_run_table(path, layout, source)
+    active, signals, metadata, warnings = table.layout, table.signals, table.metadata, table.notes
     for name, factor in active.scale.items():
         if name in signals:
-            signals[name] = signals[name] * factor
+            signals[name] *= factor
     if "time" in signals and np.isnan(signals["time"]).any():
         # A sample without a time cannot be placed: drop the row (the jump is a gap).
         keep = ~np.isnan(signals["time"])
@@ -216,7 +201,15 @@ def read_run(
             f"run too short ({time[-1] - time[0]:.3g} s; at least {min_duration:g} s needed)", source
         )
     _check_speed_source(signals, metadata, active, source)
+    if glitches is not None:
+        warnings += _leave_out_glitches(signals, time, glitches)
     speed = signals.get("speed")
+    fastest = float(np.nanmax(np.abs(speed), initial=0.0)) if speed is not None else 0.0
+    if "speed" in metadata and speed is None:
+        fastest = _metadata_number(metadata, "speed", source)
+    if fastest > MAX_SPEED:
+        raise RunFileError(f"a speed of {fastest:.6g} m/s is beyond {MAX_SPEED:g} m/s, the fastest whipple analyses",
+                           source)
     if speed is not None and np.nanmin(speed, initial=0.0) < 0:
         warnings.append(f"speed is negative in {int(np.sum(speed < 0))} sample(s): the model's forward speed is "
                         "positive, so no window there is fitted (flip the speed's sign with a layout's [scale] "
@@ -235,127 +228,26 @@ def read_run(
     )
 
 
-def _split_comments(
-    content: list[tuple[int, str]], comment: str, source: str
-) -> tuple[dict[str, str], list[tuple[int, str]]]:
-    """Split numbered lines into the metadata before the first row and the other rows.
+#: Glitches named one by one in a run's warnings; more are counted.
+_GLITCHES_NAMED = 3
 
-    A ``<comment> key: value`` line before the header (or first data row) is metadata; any
-    other comment line is skipped. A key given twice is refused: which of the two values is
-    meant cannot be told, and taking the last would silently change the run (a second
-    ``sample_rate`` rescales its time).
-    """
-    metadata: dict[str, str] = {}
-    lines: dict[str, int] = {}
-    rows: list[tuple[int, str]] = []
-    for number, line in content:
-        stripped = line.strip()
-        if comment and stripped.startswith(comment):
-            key, colon, value = stripped[len(comment):].partition(":")
-            key = key.strip()
-            if colon and not rows:
-                if key in lines:
-                    raise RunFileError(f"line {number}: metadata '{key}' given twice (first on line "
-                                       f"{lines[key]})", source)
-                lines[key] = number
-                metadata[key] = value.strip()
+
+def _leave_out_glitches(signals: dict[str, NDArray[np.float64]], time: NDArray[np.float64],
+                        rule: GlitchRule) -> list[str]:
+    """Set the glitches of the run-file signals to NaN; return a note per signal that had any."""
+    notes = []
+    for name, values in signals.items():
+        if name not in SPEC_COLUMNS or name == "speedometer":
+            continue  # a layout's extra signals may spike by nature (an accelerometer at a push)
+        found = find_glitches(values, rule)
+        if not found.size:
             continue
-        rows.append((number, stripped))
-    return metadata, rows
-
-
-def _read_lines(path: Path | Readable, source: str) -> list[str]:
-    try:
-        data = path.read_bytes()
-    except OSError as error:
-        raise RunFileError(f"cannot read file ({error.strerror or error})", source) from None
-    if data[:2] == b"\x1f\x8b":
-        try:
-            data = gzip.decompress(data)
-        except (OSError, EOFError, zlib.error) as error:
-            raise RunFileError(f"corrupt gzip data ({error})", source) from None
-    try:
-        return data.decode("utf-8-sig").splitlines()
-    except UnicodeDecodeError:
-        raise RunFileError("not a text file (invalid UTF-8)", source) from None
-
-
-#: Columns whose cells must be numbers (or empty/NaN, a gap): the ones every analysis reads. A
-#: cell of text in another column (a logger's status word, a controller not yet switched on)
-#: only leaves a gap in that column.
-_NUMERIC = ("time", "roll_rate", "speed", "speedometer")
-
-
-def _parse_columns(
-    rows: list[tuple[int, str]],
-    names: list[str],
-    wanted: dict[str, str],
-    delimiter: str | None,
-    source: str,
-) -> tuple[dict[str, NDArray[np.float64]], list[str]]:
-    """Return the wanted columns as float arrays (NaN for gaps) and notes on their gaps.
-
-    Empty and NaN cells are gaps (NaN) in any column; text is refused in the columns every
-    analysis reads (:data:`_NUMERIC`), infinities too, and is a gap elsewhere.
-    """
-    table = [line.split(delimiter) for _, line in rows]
-    for (number, _), fields in zip(rows, table, strict=True):
-        if len(fields) != len(names):
-            raise RunFileError(
-                f"line {number} has {len(fields)} fields, the header has {len(names)}", source
-            )
-    signals: dict[str, NDArray[np.float64]] = {}
-    notes: list[str] = []
-    for column, target in wanted.items():
-        j = names.index(column)
-        cells = [fields[j] for fields in table]
-        values, text = _numbers(cells)
-        if target in _NUMERIC and text.any():
-            bad = int(np.argmax(text))
-            raise RunFileError(
-                f"line {rows[bad][0]}, column '{column}': non-numeric value '{cells[bad].strip()}'", source
-            )
-        infinite = np.isinf(values)
-        if target in _NUMERIC and infinite.any():
-            bad = int(np.argmax(infinite))
-            raise RunFileError(f"line {rows[bad][0]}, column '{column}': {cells[bad].strip()} value", source)
-        values[infinite] = np.nan
-        gaps = np.isnan(values)
-        if gaps.any():
-            lines = [rows[i][0] for i in np.flatnonzero(gaps)[[0, -1]]]
-            kind = "empty, NaN or non-numeric" if text.any() else "empty or NaN"
-            notes.append(f"column '{column}': {int(gaps.sum())} {kind} cell(s) (lines {lines[0]}-{lines[1]}), "
-                         "read as gaps")
-        signals[target] = values
-    return signals, notes
-
-
-def _numbers(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Cells as floats, NaN where empty or not a number; and where they held text."""
-    joined = "".join(cells)
-    # numpy converts as float() does, which also reads Unicode digits and underscores: a
-    # column that may hold any goes cell by cell through parse_number.
-    if not may_hold_other_numbers(joined):
-        try:
-            return np.array(cells, dtype=float), np.zeros(len(cells), dtype=bool)
-        except ValueError:
-            pass
-    return _lenient(cells)
-
-
-def _lenient(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Cells as floats, NaN where empty or not a number; and where they held text."""
-    values = np.full(len(cells), np.nan)
-    text = np.zeros(len(cells), dtype=bool)
-    for i, cell in enumerate(cells):
-        cell = cell.strip()
-        if not cell:
-            continue
-        try:
-            values[i] = parse_number(cell)
-        except ValueError:
-            text[i] = True
-    return values, text
+        unit = SPEC_COLUMNS[name]
+        named = ", ".join(f"{values[i]:.6g} {unit} at {time[i]:.6g} s" for i in found[:_GLITCHES_NAMED].tolist())
+        more = f" and {found.size - _GLITCHES_NAMED} more" if found.size > _GLITCHES_NAMED else ""
+        values[found] = np.nan
+        notes.append(f"glitch: {found.size} isolated wild {name} sample(s) left out as gaps ({named}{more})")
+    return notes
 
 
 def _time_base(
@@ -373,10 +265,12 @@ def _time_base(
             raise RunFileError(
                 f"time is not strictly increasing at data row {bad} (t = {time[bad]:g} s)", source
             )
-        if "sample_rate" in metadata:
-            _metadata_number(metadata, "sample_rate", source)  # the time column rules; a bad value is still an error
+        stated = _metadata_number(metadata, "sample_rate", source) if "sample_rate" in metadata else None
         rate = float(1.0 / np.median(steps)) if steps.size else 0.0
         _check_sample_rate(rate, "from the time column; in ms or us instead of s?", source)
+        if stated is not None and abs(stated - rate) > RATE_TOLERANCE * rate:
+            raise RunFileError(f"metadata sample_rate {stated:g} Hz contradicts the time column ({rate:.6g} Hz from "
+                               f"its median step of {1 / rate:.6g} s): correct or remove one", source)
         return time, rate
     if "sample_rate" in metadata:
         rate = _metadata_number(metadata, "sample_rate", source)
@@ -388,8 +282,9 @@ def _time_base(
     return np.arange(n) / rate, rate
 
 
-#: Lowest sample rate [Hz] of a run: a weave of 0.5-3 Hz needs several samples per period.
-MIN_SAMPLE_RATE = 10.0
+#: Largest relative difference between a run's metadata sample rate and its time column's: a
+#: logger's clock drifts by parts per million, a mistyped or stale rate by a factor.
+RATE_TOLERANCE = 0.02
 
 
 def _check_sample_rate(rate: float, origin: str, source: str) -> None:

@@ -24,6 +24,7 @@ import tomli_w
 from whipple import __version__
 from whipple.atomic import refuse_input_overwrite, write_text_atomic
 from whipple.errors import BicycleFileError
+from whipple.input_files import read_small_file
 from whipple.model.linear_terms import TERM_NAMES, LinearTerms
 from whipple.model.parameter_set import (
     CONTROLLER_STATES,
@@ -143,14 +144,16 @@ def _suggestion(key: str, allowed: tuple[str, ...]) -> str:
 
 
 def read_text(path: str | os.PathLike[str]) -> str:
-    """Return a text file's content; any failure is a one-line BicycleFileError."""
+    """Return a text file's content; any failure is a one-line BicycleFileError.
+
+    At most :data:`whipple.input_files.MAX_SMALL_FILE_BYTES` are read (a device or an endless
+    pipe is refused, not read to the end).
+    """
+    data = read_small_file(path, "bicycle file", BicycleFileError)
     try:
-        return Path(path).read_text(encoding="utf-8-sig")  # tolerate a byte-order mark
+        return data.decode("utf-8-sig")  # tolerate a byte-order mark
     except UnicodeDecodeError:
         raise BicycleFileError("not a UTF-8 text file", os.fspath(path)) from None
-    except OSError as error:
-        problem = f"cannot read file: {error.strerror or error}"
-        raise BicycleFileError(problem, os.fspath(path)) from None
 
 
 def parse_toml(text: str, source: str) -> StrictTable:

@@ -28,6 +28,7 @@ from whipple.model.physical_checks import (
     BODIES,
     LIMITS,
     excess_std,
+    gyration_findings,
     magnitude_findings,
     placement_findings,
     principal_moments,
@@ -433,7 +434,8 @@ def _check_parameters(parameters: Mapping[str, ArrayLike], found: _Findings,
     for name, value in p.items():
         found.flag(~np.isfinite(value), f"{_show(name, value)} is not finite")
     finite = {name: np.where(np.isfinite(value), value, np.nan) for name, value in p.items()}
-    for bad, text, warning in magnitude_findings(finite, PARAMETER_UNITS) + placement_findings(finite):
+    for bad, text, warning in [*magnitude_findings(finite, PARAMETER_UNITS), *placement_findings(finite),
+                               *gyration_findings(finite)]:
         found.flag(bad, text, warning)
     for name in ("w", "g"):
         if name in finite:

@@ -13,6 +13,13 @@ Used by :func:`whipple.model.parameter_set.validate`, which collects their findi
   with the stated uncertainties, and whether the largest moment enters the linear equations.
 - **Placement.** A frame's mass centre below the ground, or a massless body with inertia, is
   a warning: the equations take them, but no bicycle has them.
+- **Radii of gyration.** A body's largest radius of gyration about its mass centre,
+  sqrt(largest principal moment / mass), cannot exceed its size: the squared distance of a
+  point from an axis through the mass centre is the sum of its squared offsets along two
+  perpendicular directions, and the mean of each is a variance, at most D^2/4 for a body of
+  diameter D (Popoviciu's inequality); so k <= D / sqrt(2). Beyond :data:`LIMITS`' length
+  (a 100 m vehicle) that is refused, beyond :data:`PLAUSIBLE`'s (5 m) it is a warning: a light
+  body with a large inertia (``mB = 1e-3`` with ``IBxx = 9.2``: 96 m) is a typing error.
 - **Mass matrix.** Where a body has no inertia in the xz plane (point masses), the bicycle as
   a whole may still have none to roll or to steer; then M is singular and the model
   meaningless.
@@ -41,6 +48,9 @@ BODIES: tuple[tuple[str, str, str, str, str, str | None], ...] = (
     ("front frame", "mH", "IHxx", "IHyy", "IHzz", "IHxz"),
     ("front wheel", "mF", "IFxx", "IFyy", "IFxx", None),
 )
+#: Fastest forward speed [m/s] any command analyses, simulates or reads from a run: about 3000
+#: times the speed of sound, where v^2 K2 already swamps everything else in A(v).
+MAX_SPEED = 1e6
 #: Gravity below this [m/s^2] is a warning (the Moon has 1.6).
 LOW_GRAVITY = 1.0
 #: A triangle-inequality excess up to this many standard deviations is within measurement error.
@@ -100,6 +110,36 @@ def placement_findings(values: Mapping[str, Array]) -> list[tuple[NDArray[np.boo
             inertia = np.any(np.stack(np.broadcast_arrays(*(values[key] for key in present))) != 0, axis=0)
             findings.append(((values[mass] == 0) & inertia, f"{mass} = 0 with nonzero inertia "
                              f"({', '.join(present)}): a body without mass has none", True))
+    return findings
+
+
+def gyration_findings(values: Mapping[str, Array]) -> list[tuple[NDArray[np.bool_], str, bool]]:
+    """(bad, message, is_warning) for bodies whose radius of gyration no part of their size has.
+
+    See the module notes: a body of diameter D has radii of gyration of at most D / sqrt(2)
+    about its mass centre; D is bounded by the lengths of :data:`LIMITS` (refused) and
+    :data:`PLAUSIBLE` (a warning).
+    """
+    findings = []
+    for label, mass, xx, yy, zz, xz in BODIES:
+        keys = [key for key in (mass, xx, yy, zz) if key in values]
+        if len(keys) < 4:
+            continue
+        product = values[xz] if xz is not None and xz in values else np.zeros(())
+        largest = principal_moments(values[xx], values[yy], values[zz], product).max(axis=0)
+        m = values[mass]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            radius = np.sqrt(np.where(m > 0, largest / np.where(m > 0, m, 1.0), 0.0))
+        for limit, warning in ((LIMITS["m"], False), (PLAUSIBLE["m"], True)):
+            bound = limit / math.sqrt(2)
+            bad = radius > bound
+            if warning:
+                bad = bad & (radius <= LIMITS["m"] / math.sqrt(2))
+            shown = (f"a radius of gyration of {float(radius):.3g} m (largest moment {float(largest):.6g} kg m^2 "
+                     f"with {mass} = {float(m):.6g} kg)" if radius.ndim == 0 else "a radius of gyration")
+            findings.append((bad, f"{label}: {shown} above {bound:.3g} m, which only a body over {limit:g} m "
+                                  + ("across has: not a bicycle (a unit or typing error?)" if not warning
+                                     else "across has: unusual for a bicycle"), warning))
     return findings
 
 

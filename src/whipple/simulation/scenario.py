@@ -18,6 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import InputError
 from whipple.simulation.coasting import coasting_distance, coasting_speed, stopping_time
+from whipple.simulation.run_limits import MAX_SPEED, MAX_SPEED_NOISE_SHARE, MIN_DURATION, MIN_SAMPLE_RATE
 
 #: Signals a simulated run can hold, in the order they are drawn and written.
 SIGNALS = ("roll_rate", "yaw_rate", "steer_angle", "steer_rate", "roll_angle", "speed",
@@ -306,6 +307,27 @@ class RunScenario:
             raise ScenarioError(f"the speed {self.speed:g} m/s decaying by "
                                 f"{self.deceleration:g} m/s^2{drag} reaches 0 before the end "
                                 f"of the run ({end:.3g} s)")
+        self._check_readable(end)
+
+    def _check_readable(self, end: float) -> None:
+        """Refuse a run that whipple's reader would refuse (:mod:`whipple.simulation.run_limits`)."""
+        if self.sample_rate < MIN_SAMPLE_RATE:
+            raise ScenarioError(f"sample rate {self.sample_rate:g} Hz is below {MIN_SAMPLE_RATE:g} Hz, the lowest a "
+                                "run is read at: too slow to resolve the weave")
+        if end < MIN_DURATION:
+            raise ScenarioError(f"the run would last {end:.3g} s; a run is read from {MIN_DURATION:g} s on")
+        sensor = self.sensors.speed if "speed" in self.columns else Sensor()
+        final = (float(coasting_speed(self.speed, self.deceleration, self.drag, end)) if self.setting == "ground"
+                 else self.speed)
+        lowest = final + sensor.bias
+        if not (lowest > 0 and sensor.noise <= MAX_SPEED_NOISE_SHARE * lowest):
+            raise ScenarioError(f"the speed sensor's noise ({sensor.noise:.3g} m/s standard deviation, bias "
+                                f"{sensor.bias:.3g} m/s) would write negative speeds: it must stay below "
+                                f"{MAX_SPEED_NOISE_SHARE:g} of the lowest speed ({lowest:.3g} m/s)")
+        highest = self.speed + sensor.bias + 10 * sensor.noise
+        if highest > MAX_SPEED:
+            raise ScenarioError(f"speeds up to {highest:.9g} m/s would be written (with the sensor's noise and bias); "
+                                f"whipple analyses speeds up to {MAX_SPEED:g} m/s")
 
     def _check_pushes(self, pushes: tuple[Push, ...]) -> None:
         if not pushes:

@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import InputError
 from whipple.model.linear import LinearModel, check_model
+from whipple.model.physical_checks import MAX_SPEED
 from whipple.stability import modes
 
 #: Largest speed step [m/s] of the grid on which eigenvalues are tracked.
@@ -30,9 +31,6 @@ GEOMETRIC_FROM = 100.0
 #: ... as this fraction of it: eigenvalues change by about as little from point to point,
 #: and a grid to 10^6 m/s has some 2 x 10^4 points instead of 10^8.
 RELATIVE_STEP = 1e-3
-#: Fastest speed [m/s] analysed: about 3000 times the speed of sound, where v^2 K2 already
-#: swamps everything else in A(v).
-MAX_SPEED = 1e6
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,10 @@ Labelling
     * ``weave``: the oscillatory group that is complex on at least half the (non-negative)
       speeds with the lowest median frequency, else the one complex on most speeds. Where
       its branches are real (below the speed where weave forms from two real modes, the
-      double root) they are ``weave_real_upper`` and ``weave_real_lower`` by real part;
+      double root) they are ``weave_real_upper`` and ``weave_real_lower`` by real part. At
+      most one pair is weave at a speed: where the oscillation passes from one pair of
+      branches to another (the group then has more than two branches), the members outside
+      the pair are ``mode_<column>``;
     * ``capsize``: of the branches that are always real, the one with the largest mean real
       part among those dominated by roll (roll/steer amplitude of the eigenvector, both in
       rad), or among all if none is;
@@ -295,7 +298,47 @@ def label(
     codes[weave[:, None, :] & is_complex] = 0
     codes[np.broadcast_to(capsize[:, None, :], eig.shape)] = 3
     codes[np.broadcast_to(castering[:, None, :], eig.shape)] = 4
+    for b in np.flatnonzero(weave.sum(axis=-1) > 2).tolist():
+        codes[b] = _one_weave_pair(codes[b], weave[b], is_complex[b], eig[b].real)
     return columns, codes
+
+
+def _one_weave_pair(codes: NDArray[np.intp], weave: NDArray[np.bool_], is_complex: NDArray[np.bool_],
+                    real: NDArray[np.float64]) -> NDArray[np.intp]:
+    """Relabel a weave group of more than two branches so that at most one pair is weave at a speed.
+
+    Where the group has a complex pair, that pair is the weave and its other (real) members
+    are ``mode_<column>``; elsewhere the two real members that form the nearest complex pair
+    are ``weave_real_upper`` and ``weave_real_lower`` and the others ``mode_<column>``. (Such a
+    group arises when the oscillation passes from one pair of branches to another over speed,
+    as in a bicycle with a nearly massless rear frame.)
+
+    Parameters
+    ----------
+    codes : ndarray of int, shape (S, n)
+        Labels of one model (see :func:`label`), columns in display order.
+    weave, is_complex : ndarray of bool, shapes (n,) and (S, n)
+        The weave group's columns; which eigenvalues are complex.
+    real : ndarray, shape (S, n)
+        Real parts [1/s].
+    """
+    codes = codes.copy()
+    speeds, n = codes.shape
+    other = len(NAMES) + np.arange(n)
+    pairs = weave[None, :] & is_complex
+    has_pair = pairs.sum(axis=-1) >= 2
+    with_pair = np.flatnonzero(has_pair)
+    for s in range(speeds):
+        members = np.flatnonzero(weave & ~pairs[s])
+        codes[s, members] = other[members]
+        if has_pair[s] or not with_pair.size:
+            continue
+        nearest = with_pair[np.argmin(np.abs(with_pair - s))]
+        pair = np.flatnonzero(pairs[nearest])[:2]
+        if np.all(~is_complex[s, pair]):
+            upper, lower = (pair[0], pair[1]) if real[s, pair[0]] >= real[s, pair[1]] else (pair[1], pair[0])
+            codes[s, upper], codes[s, lower] = 1, 2
+    return codes
 
 
 def names(codes: NDArray[np.intp]) -> NDArray[np.str_]:

@@ -1,0 +1,21 @@
+"""What every command accepts as a run, in one place: the simulator writes no run the reader refuses.
+
+``whipple simulate`` checks its scenario against these limits before simulating, and
+:func:`whipple.measurement.runs.read_run` checks every file against them, so that a file one
+command writes the other reads.
+"""
+
+from __future__ import annotations
+
+from whipple.model.physical_checks import MAX_SPEED
+
+#: Lowest sample rate [Hz] of a run: a weave of 0.5-3 Hz needs several samples per period.
+MIN_SAMPLE_RATE = 10.0
+#: Shortest run [s]: a shorter one cannot hold a perturbation and its decay.
+MIN_DURATION = 2.0
+#: Largest standard deviation of a speed sensor's noise, as a share of the lowest speed of the
+#: run: a speed 10 standard deviations above zero never reads negative (a chance of 1e-23 per
+#: sample), and a sensor noisier than that is no speed sensor.
+MAX_SPEED_NOISE_SHARE = 0.1
+
+__all__ = ["MAX_SPEED", "MAX_SPEED_NOISE_SHARE", "MIN_DURATION", "MIN_SAMPLE_RATE"]

@@ -33,11 +33,13 @@ from pathlib import Path
 
 import numpy as np
 
+from whipple.diagnosis.causes import BLAMEABLE_PARAMETERS, POSITIVE_PARAMETERS
 from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
 from whipple.diagnosis.observations import noise_free
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.pipeline import diagnose
-from whipple.diagnosis.registry import cause_by_name
+from whipple.diagnosis.priors import parameter_prior
+from whipple.diagnosis.registry import CALIBRATION, cause_by_name
 from whipple.diagnosis.samples import noise_free_samples
 from whipple.measurement.experiment import JOINT_SIGNALS, FitOptions
 from whipple.measurement.measure import MeasurementOptions
@@ -87,6 +89,7 @@ EXPECTED: dict[str, str | None] = {
     "controller_delay": "controller_delay",
     "controller_lag": "controller_lag",
     TWO: "one of the two effects",
+    "calibration": "calibration",
 }
 _DATA = Path(__file__).resolve().parent / "data" / "bicycleparameters" / "bicycles"
 #: The uncontrolled bicycles of the trials: the benchmark, the seed paper's, a measured one.
@@ -347,7 +350,33 @@ def hidden_bicycle(base: Bicycle, cause: str, rng: np.random.Generator,
         # A first-order actuator of 1.3-5 Hz bandwidth (time constant 30-120 ms).
         value = rng.uniform(0.03, 0.12) * scale
         return base.with_controller(replace(base.controller, lag=value)), {"lag": value}, None
+    if cause == CALIBRATION:
+        return miscalibrated(base, rng, scale)
     raise ValueError(cause)
+
+
+def miscalibrated(base: Bicycle, rng: np.random.Generator, scale: float = 1.0
+                  ) -> tuple[Bicycle, dict[str, float], LinearModel | None]:
+    """The true bicycle of the calibration family: every measured parameter off by a draw from its uncertainty.
+
+    Each blameable parameter is off by a standard normal draw times its measurement uncertainty
+    (the prior the calibration candidate gives it, :func:`whipple.diagnosis.priors.parameter_prior`),
+    and three of them, drawn at random, by 2 to 3 standard deviations (either sign): nothing else
+    is wrong. ``scale`` multiplies every error. The true values are returned under the
+    parameters' keys.
+    """
+    keys = [key for key in BLAMEABLE_PARAMETERS if key in base.parameters]
+    draws = rng.standard_normal(len(keys))
+    far = rng.choice(len(keys), size=3, replace=False)
+    draws[far] = rng.choice([-1.0, 1.0], size=3) * rng.uniform(2.0, 3.0, size=3)
+    changed = {}
+    for key, draw in zip(keys, draws, strict=True):
+        sigma = parameter_prior(key, base.parameters, base.uncertainty).scale
+        value = float(base.parameters[key]) + scale * draw * sigma
+        if key in POSITIVE_PARAMETERS:
+            value = max(value, 0.5 * float(base.parameters[key]))
+        changed[key] = value
+    return base.with_parameters(**changed), changed, None
 
 
 def cause_of_truth(key: str) -> str | None:
@@ -424,7 +453,7 @@ def trial_options(bicycle: Bicycle, min_cycles_above_noise: float | None = None,
 def trial_rng(cause: str, seed: int) -> np.random.Generator:
     """The random generator of a trial: its first draws are the hidden effect's (:func:`hidden_bicycle`)."""
     # Families added later go last, so that the earlier ones keep their random streams.
-    families = (*CAUSES, *PHYSICAL[:3], "motor", *CONTROLLER, "parameter", *PHYSICAL[3:], TWO)
+    families = (*CAUSES, *PHYSICAL[:3], "motor", *CONTROLLER, "parameter", *PHYSICAL[3:], TWO, CALIBRATION)
     return np.random.default_rng([seed, families.index(cause) if cause in families else 99])
 
 

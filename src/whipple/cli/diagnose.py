@@ -29,6 +29,7 @@ from whipple.diagnosis.markdown import report_markdown
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.pipeline import diagnose
 from whipple.diagnosis.plots import report_figures
+from whipple.diagnosis.priors import shift_sentence
 from whipple.diagnosis.report import DiagnosisReport
 from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
@@ -138,6 +139,8 @@ def _print_report(report: DiagnosisReport, data: dict) -> None:
         print(f"  why not a confident name: {reason}")
     for name, estimate in data["estimate"].items():
         print(f"  {name} = {estimate['value']:.6g} +/- {estimate['std']:.3g} {estimate['unit']}")
+    if data["calibration"]:
+        print(f"  the calibration moves: {shift_sentence(data['calibration'])}")
     if report.open_values is not None:
         print(f"  the data leave open: {report.open_values.sentence()}")
     print("ranking: " + ", ".join(f"{cause} {evidence:.1f}" for cause, evidence in diagnosis.ranking()[:5]))

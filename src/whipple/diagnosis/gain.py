@@ -21,6 +21,7 @@ from typing import TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.admissible import offer_of
 from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.consistency import refits_without, without
 from whipple.diagnosis.evidence import diagnose_observations
@@ -134,10 +135,13 @@ def _fold_model(bicycle: Model, training: Sequence[Observation], causes: Sequenc
     if choose == "prediction":
         return _predictive_choice(bicycle, training, causes)
     diagnosis = diagnose_observations(bicycle, training, causes, options, estimate_spread=False, quick=True)
-    if diagnosis.chosen is None or diagnosis.best is None:
+    # The model this fold's diagnosis offers: its leading cause where physically consistent.
+    offer = offer_of(bicycle, diagnosis, causes if causes is not None else (options or DiagnosisOptions()).candidates(
+        bicycle), (options or DiagnosisOptions()).verdict.named_threshold)
+    if offer.cause is None or offer.fit is None:
         return bicycle, "none", diagnosis.verdict, ()
-    return (with_cause(bicycle, diagnosis.chosen, diagnosis.best.values), diagnosis.cause, diagnosis.verdict,
-            diagnosis.best.values)
+    return (with_cause(bicycle, offer.cause, offer.fit.values), offer.fit.cause, diagnosis.verdict,
+            offer.fit.values)
 
 
 def _predictive_choice(bicycle: Model, training: Sequence[Observation], causes: Sequence[Cause] | None

@@ -183,3 +183,35 @@ def gross_error_prior(key: str, parameters: Mapping[str, float], uncertainty: Ma
     measured = parameter_prior(key, parameters, uncertainty).scale
     scale = max(GROSS_ERROR * abs(value), 3.0 * measured)
     return Prior("normal", value, scale, "one value grossly wrong (an error or an estimate from another bicycle)")
+
+
+def prior_shifts(names: Sequence[str], priors: Sequence[Prior], values: Sequence[float], units: Sequence[str],
+                 least: float = 1.0) -> list[dict[str, float | str]]:
+    """Return the values that moved from their priors' centres by at least ``least`` standard deviations.
+
+    Parameters
+    ----------
+    names, priors, values, units : sequences
+        A fit's value names, their priors, fitted values and units.
+    least : float
+        Smallest shift reported [prior standard deviations].
+
+    Returns
+    -------
+    list of dict
+        ``name``, ``prior`` (centre), ``value``, ``unit`` and ``sigmas`` (the shift in standard
+        deviations of the prior, signed), largest first: what a calibration changed.
+    """
+    moved: list[dict[str, float | str]] = []
+    for name, prior, value, unit in zip(names, priors, values, units, strict=True):
+        sigmas = prior.residual(float(value)) - (prior.residual(prior.centre) if prior.kind != "halfnormal" else 0.0)
+        if abs(sigmas) >= least:
+            moved.append({"name": name, "prior": prior.centre, "value": float(value), "unit": unit,
+                          "sigmas": float(sigmas)})
+    return sorted(moved, key=lambda entry: -abs(float(entry["sigmas"])))
+
+
+def shift_sentence(moved: Sequence[Mapping[str, float | str]]) -> str:
+    """Say which values moved and by how many standard deviations ("" where none moved)."""
+    return ", ".join(f"{m['name']} {float(m['prior']):.4g} -> {float(m['value']):.4g}"
+                     f"{' ' + str(m['unit']) if m['unit'] else ''} ({float(m['sigmas']):+.1f} std)" for m in moved)

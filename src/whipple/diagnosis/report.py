@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.admissible import Offer, offer_of
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
@@ -29,6 +30,8 @@ from whipple.diagnosis.observations import (
     speed_groups,
 )
 from whipple.diagnosis.options import DiagnosisOptions
+from whipple.diagnosis.priors import prior_shifts
+from whipple.diagnosis.registry import CALIBRATION
 from whipple.diagnosis.samples import BIN_DURATION
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
@@ -106,7 +109,7 @@ class DiagnosisReport:
     diagnosis : Diagnosis
         Verdict, ranking and fits.
     cause : Cause or None
-        The form of the named cause used to extend the model.
+        The form of the cause used to extend the model: the offered one (see ``offer``).
     gain : Gain or None
         Held-out errors of base and extended model; ``gain_note`` says why there is none.
     base_critical, extended_critical : CriticalSpeeds
@@ -147,6 +150,10 @@ class DiagnosisReport:
     group_critical : tuple of (str, CriticalSpeeds, CriticalSpeeds)
         For an experiment of several groups, each group's name and the critical speeds of its
         base and extended bicycle; empty otherwise.
+    offer : Offer
+        The model offered (``cause``, ``extended``): the leading cause where physically
+        consistent, else the best-supported consistent one, with the better ones not offered and
+        why (:mod:`whipple.diagnosis.admissible`).
     """
 
     bicycle: Model
@@ -173,6 +180,7 @@ class DiagnosisReport:
     options: DiagnosisOptions = field(default_factory=DiagnosisOptions)
     measured: MeasuredRuns | None = None
     group_critical: tuple[tuple[str, CriticalSpeeds, CriticalSpeeds], ...] = ()
+    offer: Offer = field(default_factory=lambda: Offer(None, None))
 
     @property
     def observations(self) -> tuple[Observation, ...]:
@@ -343,8 +351,10 @@ def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasure
                         for o in measured]
     causes = options.candidates(bicycle)
     diagnosis = diagnose_observations(bicycle, observations, causes, options, progress=progress)
-    chosen = diagnosis.chosen
-    extended = with_cause(bicycle, chosen, diagnosis.best.values) if chosen and diagnosis.best else bicycle
+    # The model offered: the leading cause where physically consistent, else the best consistent one.
+    offer = offer_of(bicycle, diagnosis, causes, options.verdict.named_threshold)
+    chosen = offer.cause
+    extended = with_cause(bicycle, chosen, offer.fit.values) if chosen is not None and offer.fit else bicycle
     gain, note = None, ""
     # The measured window behind each observation, for the held-out time-domain error.
     series = [(m.fit.time, m.fit.measured, m.fit.baseline) for m in used if m.fit is not None]
@@ -388,12 +398,13 @@ def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasure
         bicycle, tuple(windows), used, diagnosis, extended, chosen, gain, note,
         critical_speeds(linear_model(first_bicycle(bicycle)), low, high),
         critical_speeds(linear_model(first_bicycle(extended)), low, high),
-        base_prediction, extended_prediction, shapes, summary, tuple(caveats(diagnosis, shapes, options)),
+        base_prediction, extended_prediction, shapes, summary,
+        tuple([*caveats(diagnosis, shapes, options), *offer.sentences()]),
         options.measurement.baseline,
         check_amplitudes(bicycle, used, base_prediction.eigenvalues) if options.amplitude_check else None,
         every_cause, prediction_gain, prediction_fit,
-        open_values(chosen, diagnosis.best) if chosen is not None and diagnosis.best is not None else None,
-        options, measured_runs, groups)
+        open_values(chosen, offer.fit) if chosen is not None and offer.fit is not None else None,
+        options, measured_runs, groups, offer)
 
 
 #: Reduced chi-square of the best model above which the report warns that no candidate
@@ -508,6 +519,12 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "fit_baseline": report.baseline,
         "comparison": diagnosis.comparison,
         "options": report.options.to_dict(),
+        "offered": None if report.offer.fit is None else {
+            "cause": report.offer.fit.cause,
+            "values": {name: {"value": value, "unit": unit} for name, value, unit in
+                       zip(report.offer.fit.parameters, report.offer.fit.values, report.offer.fit.units, strict=True)}},
+        "not_offered": [{"cause": name, "reasons": list(reasons)} for name, reasons in report.offer.rejected],
+        "calibration": calibration_shifts(report),
         "measurement": None if report.measured is None else {
             "signals": list(report.measured.signals), "steer_sign": report.measured.steer_sign,
             "method": report.measured.options.method, "windows": len(report.measurements),
@@ -523,6 +540,17 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         result["extended_model"]["matrices"] = {name: getattr(matrices, name).tolist()
                                                 for name in ("M", "C1", "D", "K0", "K2")}
     return result
+
+
+def calibration_shifts(report: DiagnosisReport) -> list[dict[str, float | str]]:
+    """Return what the offered calibration changed: each parameter that moved a standard deviation or more.
+
+    Empty unless the offered model is the calibration (every measured parameter within its uncertainty).
+    """
+    cause, fit = report.offer.cause, report.offer.fit
+    if cause is None or fit is None or cause.name != CALIBRATION or cause.value_priors is None:
+        return []
+    return prior_shifts(fit.parameters, cause.value_priors, fit.values, fit.units)
 
 
 def _fit_json(fit: CauseFit | None) -> dict[str, Any] | None:

@@ -161,11 +161,15 @@ def read_run(
     """
     source = str(path)
     lines = _read_lines(Path(path) if isinstance(path, str | Path) else path, source)
-    content = [(number, line) for number, line in enumerate(lines, 1) if line.strip()]
+    # Line numbers and text of the non-blank lines, kept apart: a tuple per line would cost
+    # more memory than the text of a long run.
+    numbers = np.flatnonzero([bool(line.strip()) for line in lines]) + 1
+    content = [lines[number - 1] for number in numbers]
+    del lines
     if not content:
         raise RunFileError("empty file", source)
     if layout is None:
-        chosen = detect_layout(content[0][1])
+        chosen = detect_layout(content[0])
     elif isinstance(layout, RunLayout):
         chosen = layout
     else:
@@ -173,12 +177,14 @@ def read_run(
     native = chosen is None
     active = chosen or RunLayout(name="native", columns={name: name for name in SPEC_COLUMNS})
 
-    own, rows = _split_comments(content, active.comment, source)
+    own, row_numbers, rows = _split_comments(numbers, content, active.comment, source)
+    del content
     metadata = {**active.metadata, **own}
     if active.header:
         if not rows:
             raise RunFileError("no header line", source)
-        header_line = rows.pop(0)[1]
+        header_line = rows[0]
+        row_numbers, rows = row_numbers[1:], rows[1:]
         names = [name.strip() for name in header_line.split(active.delimiter)]
     else:
         names = list(active.names)
@@ -197,7 +203,8 @@ def read_run(
     if "roll_rate" not in wanted.values():
         raise RunFileError("missing roll_rate column", source)
 
-    signals, notes = _parse_columns(rows, names, wanted, active.delimiter, source)
+    signals, notes = _parse_columns(row_numbers, rows, names, wanted, active.delimiter, source)
+    del rows
     warnings += notes
     for name, factor in active.scale.items():
         if name in signals:
@@ -236,32 +243,43 @@ def read_run(
 
 
 def _split_comments(
-    content: list[tuple[int, str]], comment: str, source: str
-) -> tuple[dict[str, str], list[tuple[int, str]]]:
+    numbers: NDArray[np.intp], content: list[str], comment: str, source: str
+) -> tuple[dict[str, str], NDArray[np.intp], list[str]]:
     """Split numbered lines into the metadata before the first row and the other rows.
 
     A ``<comment> key: value`` line before the header (or first data row) is metadata; any
     other comment line is skipped. A key given twice is refused: which of the two values is
     meant cannot be told, and taking the last would silently change the run (a second
     ``sample_rate`` rescales its time).
+
+    Returns
+    -------
+    metadata : dict of str to str
+    row_numbers : ndarray of int
+        The line number of each row.
+    rows : list of str
+        The rows (the header line first, if any), stripped.
     """
     metadata: dict[str, str] = {}
     lines: dict[str, int] = {}
-    rows: list[tuple[int, str]] = []
-    for number, line in content:
+    rows: list[str] = []
+    kept = np.zeros(len(content), dtype=bool)
+    for position, line in enumerate(content):
         stripped = line.strip()
         if comment and stripped.startswith(comment):
             key, colon, value = stripped[len(comment):].partition(":")
             key = key.strip()
             if colon and not rows:
+                number = int(numbers[position])
                 if key in lines:
                     raise RunFileError(f"line {number}: metadata '{key}' given twice (first on line "
                                        f"{lines[key]})", source)
                 lines[key] = number
                 metadata[key] = value.strip()
             continue
-        rows.append((number, stripped))
-    return metadata, rows
+        rows.append(stripped)
+        kept[position] = True
+    return metadata, numbers[kept], rows
 
 
 def _read_lines(path: Path | Readable, source: str) -> list[str]:
@@ -287,7 +305,8 @@ _NUMERIC = ("time", "roll_rate", "speed", "speedometer")
 
 
 def _parse_columns(
-    rows: list[tuple[int, str]],
+    row_numbers: NDArray[np.intp],
+    rows: list[str],
     names: list[str],
     wanted: dict[str, str],
     delimiter: str | None,
@@ -296,38 +315,56 @@ def _parse_columns(
     """Return the wanted columns as float arrays (NaN for gaps) and notes on their gaps.
 
     Empty and NaN cells are gaps (NaN) in any column; text is refused in the columns every
-    analysis reads (:data:`_NUMERIC`), infinities too, and is a gap elsewhere.
+    analysis reads (:data:`_NUMERIC`), infinities too, and is a gap elsewhere. The rows are
+    split ``_ROW_BLOCK`` at a time, so that the cells of a long run never all exist at once.
     """
-    table = [line.split(delimiter) for _, line in rows]
-    for (number, _), fields in zip(rows, table, strict=True):
-        if len(fields) != len(names):
-            raise RunFileError(
-                f"line {number} has {len(fields)} fields, the header has {len(names)}", source
-            )
+    columns = {column: names.index(column) for column in wanted}
+    values = {column: np.empty(len(rows)) for column in wanted}
+    text = {column: np.zeros(len(rows), dtype=bool) for column in wanted}
+    for first in range(0, len(rows), _ROW_BLOCK):
+        table = [line.split(delimiter) for line in rows[first:first + _ROW_BLOCK]]
+        for offset, fields in enumerate(table):
+            if len(fields) != len(names):
+                raise RunFileError(f"line {row_numbers[first + offset]} has {len(fields)} fields, the header has "
+                                   f"{len(names)}", source)
+        for column, j in columns.items():
+            cells = [fields[j] for fields in table]
+            block = slice(first, first + len(cells))
+            values[column][block], text[column][block] = _numbers(cells)
+            _refuse_bad_cells(column, wanted[column], values[column][block], text[column][block], cells,
+                              row_numbers[block], source)
     signals: dict[str, NDArray[np.float64]] = {}
     notes: list[str] = []
     for column, target in wanted.items():
-        j = names.index(column)
-        cells = [fields[j] for fields in table]
-        values, text = _numbers(cells)
-        if target in _NUMERIC and text.any():
-            bad = int(np.argmax(text))
-            raise RunFileError(
-                f"line {rows[bad][0]}, column '{column}': non-numeric value '{cells[bad].strip()}'", source
-            )
-        infinite = np.isinf(values)
-        if target in _NUMERIC and infinite.any():
-            bad = int(np.argmax(infinite))
-            raise RunFileError(f"line {rows[bad][0]}, column '{column}': {cells[bad].strip()} value", source)
-        values[infinite] = np.nan
-        gaps = np.isnan(values)
+        column_values = values[column]
+        column_values[np.isinf(column_values)] = np.nan
+        gaps = np.isnan(column_values)
         if gaps.any():
-            lines = [rows[i][0] for i in np.flatnonzero(gaps)[[0, -1]]]
-            kind = "empty, NaN or non-numeric" if text.any() else "empty or NaN"
+            lines = [row_numbers[i] for i in np.flatnonzero(gaps)[[0, -1]]]
+            kind = "empty, NaN or non-numeric" if text[column].any() else "empty or NaN"
             notes.append(f"column '{column}': {int(gaps.sum())} {kind} cell(s) (lines {lines[0]}-{lines[1]}), "
                          "read as gaps")
-        signals[target] = values
+        signals[target] = column_values
     return signals, notes
+
+
+#: Rows split into cells at a time while reading (about 100 MB of Python strings for 5 columns).
+_ROW_BLOCK = 1 << 16
+
+
+def _refuse_bad_cells(column: str, target: str, values: NDArray[np.float64], text: NDArray[np.bool_],
+                      cells: list[str], row_numbers: NDArray[np.intp], source: str) -> None:
+    """Refuse text and infinities in a column every analysis reads (:data:`_NUMERIC`)."""
+    if target not in _NUMERIC:
+        return
+    if text.any():
+        bad = int(np.argmax(text))
+        raise RunFileError(f"line {row_numbers[bad]}, column '{column}': non-numeric value '{cells[bad].strip()}'",
+                           source)
+    infinite = np.isinf(values)
+    if infinite.any():
+        bad = int(np.argmax(infinite))
+        raise RunFileError(f"line {row_numbers[bad]}, column '{column}': {cells[bad].strip()} value", source)
 
 
 def _numbers(cells: list[str]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:

@@ -25,8 +25,10 @@ from whipple.measurement.speedometer import speedometer_speed
 from whipple.number_text import may_hold_other_numbers, parse_number
 from whipple.simulation.simulator import SimulatedRun
 
-#: Runs shorter than this [s] are refused: they cannot hold a perturbation and its decay.
-MIN_DURATION = 2.0
+#: Runs shorter than this [s] are refused: they cannot hold a weave cycle (at most about 3 Hz at
+#: riding speeds, 1 Hz and less below 4 m/s). Whether a longer run holds one, the fit of its
+#: windows says (a cut segment of a published data set often holds just one cycle or two).
+MIN_DURATION = 1.0
 
 
 class Readable(Protocol):
@@ -193,8 +195,7 @@ def read_run(
     if not rows:
         raise RunFileError("no data rows", source)
 
-    wanted = {name: active.columns[name] for name in names if name in active.columns}
-    wanted.update({name: active.extra[name] for name in names if name in active.extra})
+    wanted = active.column_map(names)
     unknown = [n for n in names if n not in wanted and n not in active.ignore]
     warnings = [f"ignored unknown column(s): {', '.join(unknown)}"] if unknown else []
     missing = [n for n in active.columns if n not in names and not native]

@@ -51,6 +51,15 @@ PUSH_RATIO = 2.0
 TREND_TOLERANCE = 1.3
 #: Successive swing ratios above this mean the oscillation is growing (unstable).
 GROWTH = 1.2
+#: A swing from rest this many times the background's height is a push.
+STIR = 3.0
+#: A push from rest is over in less than this share of the free swing after it.
+QUICK_PUSH = 0.75
+#: ... and that swing back lasts at most this many times the swing after it (half periods alike).
+SLOW_SWING_BACK = 1.25
+#: Before a free oscillation's swing ratio is known, a swing may outgrow the one before by this
+#: factor (a weave growing at +1 1/s with a period of 2.5 s grows 3.5 times a swing).
+FIRST_GROWTH = PUSH_RATIO**2
 
 
 @dataclass(frozen=True)
@@ -212,6 +221,11 @@ class _Finder:
         self.wakes = self.rest >= 0
         self.swings = swings.heights
         self.noise, self.quiet, self.loud = swings.threshold, swings.background, swings.loud
+        # A swing from rest (the bicycle held, then let go) is a push from a lower height than
+        # one out of motion: nothing moves before it, so standing out of the background is enough.
+        self.stir = min(self.loud, STIR * self.quiet)
+        # Where the still stretches end (sorted), for windows that must end at one.
+        self.rests = self.rest[self.wakes]
         self.margin = max(1, int(run.sample_rate / (4 * swings.cutoff)))
         self.ratios = self.swings[1:] / np.maximum(self.swings[:-1], 1e-300)
         self.durations = np.diff(self.extremes)
@@ -271,12 +285,36 @@ class _Finder:
         """Whether a window starts after swing j (a push, or the rise of an unstable one)."""
         # The push stands out from the motion before it (two swings: about a period), or
         # starts from rest.
+        if self.pushed_from_rest(j) and self.swings[j] >= self.stir:
+            return True
         previous = 0.0 if self.wakes[j] else self.swings[max(j - 2, 0):j].max(initial=0.0)
         return self.swings[j] >= self.loud and (
             previous < self.quiet
             or self.swings[j] > PUSH_RATIO * previous
             or (self.ratio(j) > GROWTH and self.sustained(j))
         )
+
+    def pushed_from_rest(self, j: int) -> bool:
+        """Whether swing j is a push from rest: it starts from a still stretch and is quicker than
+        the swing after it.
+
+        The swing back after a push is a free half period; the push itself is over sooner (a
+        hand's hit). A weave that grows slowly out of the noise also starts from a still
+        stretch, but its first clear swing lasts a half period too.
+        """
+        if not (self.wakes[j] and j + 1 < self.swings.size and self.durations[j] < QUICK_PUSH * self.durations[j + 1]):
+            return False
+        # A swing back slower than the swing after it is still pushed (a hand that hits, then
+        # pushes on): the push ends with it.
+        return j + 2 >= self.swings.size or bool(self.durations[j + 1] <= SLOW_SWING_BACK * self.durations[j + 2])
+
+    def in_motion_at_start(self) -> bool:
+        """Whether the record starts in free motion: a segment cut after its push.
+
+        Its first extreme is no wake (the record does not start still) and its first swing
+        stands out of the background as a push would.
+        """
+        return bool(self.swings.size and not self.wakes[0] and self.swings[0] >= self.stir)
 
     def held(self, j: int) -> bool:
         """Whether the two swings after swing j are no more than noise (the bicycle held)."""
@@ -299,6 +337,10 @@ class _Finder:
         windows: list[Window] = []
         rejected: list[Window] = []
         j = 0
+        if self.in_motion_at_start():
+            # A segment cut after its push: the free motion runs from the first sample.
+            window, j = self.follow(-1)
+            (windows if not window.reason.startswith("rejected") else rejected).append(window)
         while j < self.swings.size:
             if not self.is_push(j):
                 j += 1
@@ -345,25 +387,36 @@ class _Finder:
                       (f"growing oscillation caught after {catch - first} swing(s)",))
 
     def follow(self, push: int) -> tuple[Window, int]:
-        """Return the window after push swing `push`, and the swing to resume the scan at."""
-        start = int(self.extremes[push + 1])
-        # After a push the first free swing starts from rest; out of a growing oscillation it
-        # simply continues the growth.
-        growth = self.is_growth(push)
+        """Return the window after push swing `push`, and the swing to resume the scan at.
+
+        ``push = -1``: the record starts in free motion, with no push in it (a segment cut
+        after its push); the window starts at its first sample.
+        """
+        start = int(self.extremes[push + 1]) if push >= 0 else 0
+        # After a push from rest (where the bicycle was held) the first free swing starts from
+        # rest: from -A to +r A it is (1 + r) times the push, at most twice unless the
+        # oscillation grows; a sharp push, which the low-pass filter blunts, looks smaller still.
+        # Its swing back is then free whatever its height, and the swing factor is read from the
+        # swings after it. Out of a growing oscillation the push simply continues the growth.
+        from_rest = push < 0 or self.pushed_from_rest(push)
+        growth = not from_rest and self.is_growth(push)
         trend: list[float] = [self.ratio(push)] if growth else []
         j = push + 1
         end, why, resume, tail = self.x.size, "end of record", self.swings.size, False
         # The oscillation has died out when its swings sink into the background, or below a
         # tenth of where they began when the record's background is itself oscillation.
-        first = self.swings[push:push + 2].max()
+        first = self.swings[max(push, 0):push + 2].max()
         level = max(self.noise, min(self.quiet, 0.1 * first))
         while j < self.swings.size:
             a = self.swings[j]
             half = np.median(np.diff(self.extremes[push + 1:j + 1])) if j > push + 1 else 0
-            # The first free swing starts from rest: from -A to +r A it is (1 + r) times the
-            # push, the first estimate of the swing factor r; a decaying oscillation is allowed
-            # a factor of 1 until two free swings give the trend.
-            factor = float(np.median(trend)) if trend else max(1.0, self.ratio(push + 1) - 1)
+            # The first estimate of the swing factor r: (1 + r) times the push for the first free
+            # swing; a decaying oscillation is allowed a factor of 1 until two free swings give
+            # the trend.
+            if trend:
+                factor = float(np.median(trend))
+            else:
+                factor = 1.0 if from_rest else max(1.0, self.ratio(push + 1) - 1)
             if (j > push + 1 or growth) and factor > GROWTH and self.ratio(j) < 1:
                 # A growing oscillation that shrinks has been caught at the extreme before.
                 end, why = int(self.extremes[j]) - self.margin, "caught (growth stops)"
@@ -398,7 +451,10 @@ class _Finder:
                 resume, tail = j, True
                 break
             if j == push + 1 and not growth:
-                expected = PUSH_RATIO * self.swings[push]
+                expected = np.inf if from_rest else PUSH_RATIO * self.swings[push]
+            elif not trend and from_rest:
+                # The first swing ratio of the free oscillation: any growth up to FIRST_GROWTH.
+                expected = FIRST_GROWTH * self.swings[j - 1] + 0.25 * level
             else:
                 expected = TREND_TOLERANCE * factor * self.swings[j - 1] + 0.25 * level
             if a > expected and not self.sustained(j):
@@ -410,7 +466,8 @@ class _Finder:
             j += 1
         else:
             # No swing above the noise after the last extreme: the rest is quiet.
-            half = np.median(np.diff(self.extremes[push:]))
+            spans = np.diff(self.extremes[max(push, 0):])
+            half = np.median(spans) if spans.size else self.half_period
             end, why = int(self.extremes[-1] + 2 * half), "decayed into the noise"
         # A tail added after the last clear extreme must not reach into the next push.
         later = next((i for i in range(j, self.swings.size) if self.is_push(i)), None)
@@ -418,28 +475,63 @@ class _Finder:
             end = self.onset(later)
             why = f"next push at {self.run.time[end]:.2f} s"
         # Nothing moves while the bicycle is held: a still stretch ends the window.
-        rests = self.rest[self.wakes & (self.rest > start) & (self.rest < end)]
-        if rests.size:
-            end, why = int(rests[0]), "came to rest"
-        clipped = self.saturated[(self.saturated > start) & (self.saturated < end)]
-        if clipped.size:
-            end, why = int(clipped[0]), "signal saturates"
+        held = int(np.searchsorted(self.rests, start, side="right"))
+        if held < self.rests.size and self.rests[held] < end:
+            end, why = int(self.rests[held]), "came to rest"
+        clipped = int(np.searchsorted(self.saturated, start, side="right"))
+        if clipped < self.saturated.size and self.saturated[clipped] < end:
+            end, why = int(self.saturated[clipped]), "signal saturates"
         end = min(end, self.x.size)
         notes = []
         if trend and np.median(trend) > 1:
             notes.append(f"growing oscillation (swing ratio {np.median(trend):.2f})")
         time = self.run.time
         # Free swings: those ending inside the window and standing out from the background.
-        inside = np.flatnonzero((self.extremes[1:] > start) & (self.extremes[1:] < end))
-        free = np.count_nonzero(self.swings[inside] >= level)
-        reason = f"perturbation at {time[self.extremes[push]]:.2f} s; ends: {why}"
+        ends = self.extremes[1:]
+        inside = slice(int(np.searchsorted(ends, start, side="right")), int(np.searchsorted(ends, end, side="left")))
+        free = int(np.count_nonzero(self.swings[inside] >= level))
+        began = (f"perturbation at {time[self.extremes[push]]:.2f} s" if push >= 0
+                 else f"free motion from the record's first sample at {time[0]:.2f} s (no push in it)")
+        reason = f"{began}; ends: {why}"
         # One swing back and then stillness is a push (or a catch) and its return, unless the
         # swing back overshoots where the push began: a heavily damped oscillation.
         still = why.startswith(("decayed", "came to rest")) or self.held(j)
-        overshoot = self.swings[push + 1] - self.swings[push] if push + 1 < self.swings.size else 0
+        overshoot = self.swings[push + 1] - self.swings[push] if 0 <= push < self.swings.size - 1 else 0
         if free < 1 or (free == 1 and still and overshoot <= 2 * self.noise) or end - start < 3:
-            reason = f"rejected: no oscillation after {time[self.extremes[push]]:.2f} s"
+            after = time[self.extremes[push]] if push >= 0 else time[0]
+            reason = f"rejected: no oscillation after {after:.2f} s: {_no_oscillation(free, why, end - start < 3)}"
         window = Window(self.run.name, float(time[start]), float(time[max(end, start + 1) - 1]),
                         start, max(end, start + 1), reason, tuple(notes))
         return window, resume
 
+
+#: How a window's end reads in a rejected stretch's reason: (the end's reason up to its time, if
+#: any, and the words for it).
+_ENDINGS = (
+    ("abrupt swing at", "the bicycle is caught (or pushed) at"),
+    ("forcing at", "the bicycle is pushed again at"),
+    ("caught (growth stops)", "the bicycle is caught at its largest lean"),
+    ("collapsed (a catch?)", "the bicycle is caught"),
+    ("came to rest", "the bicycle comes to rest (held)"),
+    ("decayed into the background", "the motion sinks into the background"),
+    ("decayed into the noise", "the motion sinks into the noise"),
+    ("oscillation stops (slow swing)", "the motion stops swinging back"),
+    ("next push at", "the next push at"),
+    ("signal saturates", "the signal saturates"),
+    ("end of record", "the record ends"),
+)
+
+
+def _no_oscillation(free: int, why: str, short: bool) -> str:
+    """Why a push gave no window, in a user's words: the free swings seen and how they ended."""
+    for start, words in _ENDINGS:
+        if why.startswith(start):
+            ending = words + why[len(start):]
+            break
+    else:
+        ending = why
+    if short:
+        return f"fewer than 3 samples before {ending}"
+    if free < 1:
+        return f"no free swing before {ending}"
+    return f"a single swing back before {ending}: a push and its return, not an oscillation"

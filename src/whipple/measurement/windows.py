@@ -52,7 +52,7 @@ TREND_TOLERANCE = 1.3
 #: Successive swing ratios above this mean the oscillation is growing (unstable).
 GROWTH = 1.2
 #: A swing from rest this many times the background's height is a push.
-STIR = 3.0
+STIR = 2.0
 #: A push from rest is over in less than this share of the free swing after it.
 QUICK_PUSH = 0.75
 #: ... and that swing back lasts at most this many times the swing after it (half periods alike).
@@ -295,14 +295,18 @@ class _Finder:
         )
 
     def pushed_from_rest(self, j: int) -> bool:
-        """Whether swing j is a push from rest: it starts from a still stretch and is quicker than
-        the swing after it.
+        """Whether swing j is a push from rest: from a still stretch, quicker and lower than the swing back.
 
         The swing back after a push is a free half period; the push itself is over sooner (a
         hand's hit). A weave that grows slowly out of the noise also starts from a still
         stretch, but its first clear swing lasts a half period too.
         """
         if not (self.wakes[j] and j + 1 < self.swings.size and self.durations[j] < QUICK_PUSH * self.durations[j + 1]):
+            return False
+        # The swing back goes from the push's height past the start (1 + r times the push), so
+        # it is the higher; a hand's wobble while it holds the bicycle is followed by more of
+        # the same.
+        if self.swings[j + 1] < self.swings[j]:
             return False
         # A swing back slower than the swing after it is still pushed (a hand that hits, then
         # pushes on): the push ends with it.
@@ -311,10 +315,12 @@ class _Finder:
     def in_motion_at_start(self) -> bool:
         """Whether the record starts in free motion: a segment cut after its push.
 
-        Its first extreme is no wake (the record does not start still) and its first swing
-        stands out of the background as a push would.
+        The record does not start still, and one of its first two swings (the first may be
+        the end of one, cut short) stands out as a push out of motion would.
         """
-        return bool(self.swings.size and not self.wakes[0] and self.swings[0] >= self.stir)
+        starts_still = self.rests.size > 0 and self.rests[0] <= self.extremes[0]
+        return bool(self.swings.size and not starts_still and not self.wakes[0]
+                    and self.swings[:2].max() >= self.loud)
 
     def held(self, j: int) -> bool:
         """Whether the two swings after swing j are no more than noise (the bicycle held)."""
@@ -338,8 +344,10 @@ class _Finder:
         rejected: list[Window] = []
         j = 0
         if self.in_motion_at_start():
-            # A segment cut after its push: the free motion runs from the first sample.
-            window, j = self.follow(-1)
+            # A segment cut after its push: the free motion runs from the first sample. Its
+            # first swing is partial where the record starts on it (its extreme lies before the
+            # cut): it stands in for the push.
+            window, j = self.follow(0 if self.extremes[0] <= self.margin else -1, at_start=True)
             (windows if not window.reason.startswith("rejected") else rejected).append(window)
         while j < self.swings.size:
             if not self.is_push(j):
@@ -386,19 +394,20 @@ class _Finder:
                       f"growth from {time[start]:.2f} s; ends: caught at {time[end]:.2f} s",
                       (f"growing oscillation caught after {catch - first} swing(s)",))
 
-    def follow(self, push: int) -> tuple[Window, int]:
+    def follow(self, push: int, at_start: bool = False) -> tuple[Window, int]:
         """Return the window after push swing `push`, and the swing to resume the scan at.
 
-        ``push = -1``: the record starts in free motion, with no push in it (a segment cut
-        after its push); the window starts at its first sample.
+        `at_start`: the record starts in free motion, with no push in it (a segment cut after
+        its push); the window starts at its first sample, and `push` is the partial swing the
+        record starts on (-1 if none).
         """
-        start = int(self.extremes[push + 1]) if push >= 0 else 0
+        start = 0 if at_start else int(self.extremes[push + 1])
         # After a push from rest (where the bicycle was held) the first free swing starts from
         # rest: from -A to +r A it is (1 + r) times the push, at most twice unless the
         # oscillation grows; a sharp push, which the low-pass filter blunts, looks smaller still.
         # Its swing back is then free whatever its height, and the swing factor is read from the
         # swings after it. Out of a growing oscillation the push simply continues the growth.
-        from_rest = push < 0 or self.pushed_from_rest(push)
+        from_rest = at_start or self.pushed_from_rest(push)
         growth = not from_rest and self.is_growth(push)
         trend: list[float] = [self.ratio(push)] if growth else []
         j = push + 1
@@ -490,7 +499,7 @@ class _Finder:
         ends = self.extremes[1:]
         inside = slice(int(np.searchsorted(ends, start, side="right")), int(np.searchsorted(ends, end, side="left")))
         free = int(np.count_nonzero(self.swings[inside] >= level))
-        began = (f"perturbation at {time[self.extremes[push]]:.2f} s" if push >= 0
+        began = (f"perturbation at {time[self.extremes[push]]:.2f} s" if not at_start
                  else f"free motion from the record's first sample at {time[0]:.2f} s (no push in it)")
         reason = f"{began}; ends: {why}"
         # One swing back and then stillness is a push (or a catch) and its return, unless the
@@ -498,7 +507,7 @@ class _Finder:
         still = why.startswith(("decayed", "came to rest")) or self.held(j)
         overshoot = self.swings[push + 1] - self.swings[push] if 0 <= push < self.swings.size - 1 else 0
         if free < 1 or (free == 1 and still and overshoot <= 2 * self.noise) or end - start < 3:
-            after = time[self.extremes[push]] if push >= 0 else time[0]
+            after = time[self.extremes[push]] if not at_start else time[0]
             reason = f"rejected: no oscillation after {after:.2f} s: {_no_oscillation(free, why, end - start < 3)}"
         window = Window(self.run.name, float(time[start]), float(time[max(end, start + 1) - 1]),
                         start, max(end, start + 1), reason, tuple(notes))

@@ -21,14 +21,19 @@ Procedures (``whipple.simulation``):
   0.1 s from rest, alternating, a catch after 5 s or at the roll limits, held, pushed again.
 * ``sharp``: pushes from rest of 0.04 s, of either sign at random, their sizes spread by
   +-40 % around a larger roll rate (0.8 rad/s), coasts caught by hand after 1.5-5 s.
+* ``growing``: at the speeds where the weave grows at +0.25, +0.5, +0.75 and +1 1/s (below the
+  weave speed), small pushes from rest (0.15 rad/s, either sign, sizes spread by +-40 %): the
+  weave grows out of them until the bicycle is caught at the roll or roll-rate limit.
 * ``cut``: the ``sharp`` runs cut into segments (``procedure.cut_run``), one per coast, from
   0-0.3 s after the push's end to 0.2 s before or 0.3 s after the catch: segments that start
   after their push, as published data sets hold them (segments shorter than 1 s are not
   written, the reader refuses them).
 
 Printed: per bicycle and procedure, coasts holding a cycle, those with a fitted window
-(and a usable one, passing the quality checks), windows fitted across a catch or a push; the
-overall rate; and the rejected stretches' reasons of the coasts without a window.
+(and a usable one, passing the quality checks), windows fitted across a catch or a push, and
+the median and 90th percentile of the usable windows' eigenvalue error relative to the model's
+weave, |fitted - model| / |model|; the overall rate; and the rejected stretches' reasons of the
+coasts without a window.
 
 Run: ``python benchmarks/bench_window_finder.py [--seeds 3] [--bicycles ...] [--procedures ...]``
 """
@@ -57,7 +62,9 @@ BICYCLES = {
     "browser": str(Path(__file__).resolve().parents[1] / "tests/data/bicycleparameters/bicycles/BrowserBenchmark.txt"),
     "sbw2024": "sbw2024",
 }
-PROCEDURES = ("seed", "sharp", "cut")
+PROCEDURES = ("seed", "sharp", "growing", "cut")
+#: Real parts of the weave [1/s] of the "growing" procedure's speeds.
+GROWTH_RATES = (0.25, 0.5, 0.75, 1.0)
 #: Speeds tried [m/s]; those where the weave does not oscillate or grows faster than
 #: ``MAX_GROWTH`` are left out.
 SPEEDS = (2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 6.0, 7.0)
@@ -72,10 +79,28 @@ def weave(model, speed: float) -> complex | None:
     return complex(oscillating[np.argmax(oscillating.real)]) if oscillating.size else None
 
 
+def growing_speeds(model) -> list[float]:
+    """The speeds [m/s] below the weave speed at which the weave's real part is each of GROWTH_RATES."""
+    grid = np.arange(0.3, 10.0, 0.02)
+    real = np.array([w.real if (w := weave(model, v)) is not None else np.nan for v in grid])
+    speeds = []
+    for rate in GROWTH_RATES:
+        # The fastest speed at which the real part falls through `rate`: the growing weave just
+        # below the weave speed, not another mode at walking pace.
+        falls = np.flatnonzero((real[:-1] >= rate) & (real[1:] < rate))
+        if falls.size:
+            k = falls[-1]
+            speeds.append(float(grid[k] + (grid[k + 1] - grid[k]) * (real[k] - rate) / (real[k] - real[k + 1])))
+    return speeds
+
+
 def scenario(procedure: str, speed: float, seed: int) -> RunScenario:
-    """The scenario of a run of `procedure` ("seed" or "sharp"; "cut" cuts "sharp" runs)."""
+    """The scenario of a run of `procedure` ("seed", "sharp" or "growing"; "cut" cuts "sharp" runs)."""
     if procedure == "seed":
         return RunScenario(speed=speed, seed=seed)
+    if procedure == "growing":
+        return RunScenario(speed=speed, seed=seed, push_duration=0.04, push_roll_rate=0.15, push_signs="random",
+                           push_spread=0.4)
     return RunScenario(speed=speed, seed=seed, push_duration=0.04, push_roll_rate=0.8, push_signs="random",
                        push_spread=0.4, coast_spread=0.7)
 
@@ -93,13 +118,14 @@ def pieces(simulated: SimulatedRun, procedure: str, seed: int) -> list[Simulated
     return cuts
 
 
-def coasts(simulated: SimulatedRun, frequency: float, fs: float, model) -> list[dict]:
-    """Measure a run; one record per coast holding a weave cycle."""
+def coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict]:
+    """Measure a run; one record per coast holding a weave cycle (`eigenvalue`: the model's weave [1/s])."""
+    frequency, fs = eigenvalue.imag, simulated.sample_rate
     try:
         measured = measure_run(run_from_simulation(simulated))
     except InputError as error:
         return [{"fitted": False, "usable": False, "across_catch": 0, "across_push": 0, "hand_mark": [],
-                 "why": [str(error)]}
+                 "errors": [], "why": [str(error)]}
                 for start, stop in simulated.segments if (stop - start) * frequency >= 2 * np.pi]
     records = []
     caught = set(simulated.catches)
@@ -119,6 +145,8 @@ def coasts(simulated: SimulatedRun, frequency: float, fs: float, model) -> list[
             "across_catch": len(across),
             "hand_mark": [_hand_mark(simulated, model, stop, m.fit.stop) for m in across],
             "across_push": sum(pushed and m.fit.start < start - 0.5 / fs for m in inside),
+            "errors": [abs(complex(m.fit.damping, m.fit.frequency) - eigenvalue) / abs(eigenvalue)
+                       for m in inside if m.usable],
             "why": why if not inside else [],
         })
     return records
@@ -154,14 +182,15 @@ def main() -> None:
         for procedure in args.procedures:
             count: Counter[str] = Counter()
             growing: Counter[str] = Counter()
-            for speed in args.speeds:
+            errors: list[float] = []
+            for speed in growing_speeds(model) if procedure == "growing" else args.speeds:
                 eigenvalue = weave(model, speed)
                 if eigenvalue is None or eigenvalue.real > MAX_GROWTH:
                     continue
                 for seed in range(args.seeds):
                     simulated = simulate_run(bicycle, scenario(procedure, speed, seed), model)
                     for piece in pieces(simulated, procedure, seed):
-                        for record in coasts(piece, eigenvalue.imag, piece.sample_rate, model):
+                        for record in coasts(piece, eigenvalue, model):
                             tally = Counter(coasts=1, fitted=record["fitted"], usable=record["usable"],
                                             across_catch=record["across_catch"], across_push=record["across_push"])
                             count.update(tally)
@@ -170,10 +199,12 @@ def main() -> None:
                             reasons.update(_short(why) for why in record["why"] or ["(nothing listed)"]
                                            if not record["fitted"])
                             marks.extend(record["hand_mark"])
+                            errors.extend(record["errors"])
             total.update(count)
             print(f"{name:13s} {procedure:6s} coasts {count['coasts']:4d}  fitted {count['fitted']:4d} "
                   f"({_rate(count, 'fitted')})  usable {count['usable']:4d} ({_rate(count, 'usable')})  "
                   f"across a catch {count['across_catch']}  across a push {count['across_push']}  "
+                  f"error {_percentiles(errors)}  "
                   f"| growing weave: {growing['coasts']} coasts, {growing['fitted']} fitted", flush=True)
     print(f"\nall: {total['coasts']} coasts holding a weave cycle, {total['fitted']} with a fitted window "
           f"({_rate(total, 'fitted')}), {total['usable']} usable ({_rate(total, 'usable')}); "
@@ -185,6 +216,10 @@ def main() -> None:
         print("why the coasts without a window gave none (the rejected stretches' reasons):")
         for reason, n in reasons.most_common(12):
             print(f"  {n:4d}  {reason}")
+
+
+def _percentiles(errors: list[float]) -> str:
+    return f"{100 * np.median(errors):.1f}%/{100 * np.quantile(errors, 0.9):.1f}%" if errors else "-"
 
 
 def _rate(count: Counter[str], key: str) -> str:

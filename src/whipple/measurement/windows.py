@@ -51,7 +51,7 @@ PUSH_RATIO = 2.0
 TREND_TOLERANCE = 1.3
 #: Successive swing ratios above this mean the oscillation is growing (unstable).
 GROWTH = 1.2
-#: A swing from rest this many times the background's height is a push.
+#: A swing from rest this many times the noise floor of swing heights is a push.
 STIR = 2.0
 #: A push from rest is over in less than this share of the free swing after it.
 QUICK_PUSH = 0.75
@@ -222,8 +222,8 @@ class _Finder:
         self.swings = swings.heights
         self.noise, self.quiet, self.loud = swings.threshold, swings.background, swings.loud
         # A swing from rest (the bicycle held, then let go) is a push from a lower height than
-        # one out of motion: nothing moves before it, so standing out of the background is enough.
-        self.stir = min(self.loud, STIR * self.quiet)
+        # one out of motion: nothing moves before it, so standing out of the noise is enough.
+        self.stir = min(self.loud, STIR * self.noise)
         # Where the still stretches end (sorted), for windows that must end at one.
         self.rests = self.rest[self.wakes]
         self.margin = max(1, int(run.sample_rate / (4 * swings.cutoff)))
@@ -285,7 +285,7 @@ class _Finder:
         """Whether a window starts after swing j (a push, or the rise of an unstable one)."""
         # The push stands out from the motion before it (two swings: about a period), or
         # starts from rest.
-        if self.pushed_from_rest(j) and self.swings[j] >= self.stir:
+        if (self.pushed_from_rest(j) or self.starts_growth(j)) and self.swings[j] >= self.stir:
             return True
         previous = 0.0 if self.wakes[j] else self.swings[max(j - 2, 0):j].max(initial=0.0)
         return self.swings[j] >= self.loud and (
@@ -311,6 +311,19 @@ class _Finder:
         # A swing back slower than the swing after it is still pushed (a hand that hits, then
         # pushes on): the push ends with it.
         return j + 2 >= self.swings.size or bool(self.durations[j + 1] <= SLOW_SWING_BACK * self.durations[j + 2])
+
+    def starts_growth(self, j: int) -> bool:
+        """Whether swing j starts a weave growing out of the noise, with no push to be seen.
+
+        The two swings after it each grow by more than ``GROWTH`` and at most ``FIRST_GROWTH``
+        (a weave growing at up to about +1 1/s), none of them from a still stretch (that is a
+        push from rest), and none of the three is quick: they swing at the pace of the record's
+        oscillation (a push and the hand's catch do not).
+        """
+        if j + 2 >= self.swings.size or self.quick(j):
+            return False
+        return all(GROWTH < self.ratio(i) <= FIRST_GROWTH and not self.quick(i) and not self.wakes[i]
+                   for i in (j + 1, j + 2))
 
     def in_motion_at_start(self) -> bool:
         """Whether the record starts in free motion: a segment cut after its push.
@@ -408,8 +421,10 @@ class _Finder:
         # Its swing back is then free whatever its height, and the swing factor is read from the
         # swings after it. Out of a growing oscillation the push simply continues the growth.
         from_rest = at_start or self.pushed_from_rest(push)
-        growth = not from_rest and self.is_growth(push)
-        trend: list[float] = [self.ratio(push)] if growth else []
+        # Out of the noise (no push seen), the growth's first ratio is the first trend.
+        rising = not from_rest and not self.is_growth(push) and self.starts_growth(push)
+        growth = not from_rest and (self.is_growth(push) or rising)
+        trend: list[float] = [self.ratio(push + 1 if rising else push)] if growth else []
         j = push + 1
         end, why, resume, tail = self.x.size, "end of record", self.swings.size, False
         # The oscillation has died out when its swings sink into the background, or below a

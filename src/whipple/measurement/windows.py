@@ -57,6 +57,9 @@ STIR = 2.0
 QUICK_PUSH = 0.75
 #: ... and that swing back lasts at most this many times the swing after it (half periods alike).
 SLOW_SWING_BACK = 1.25
+#: A swing halfway through its height within this share of its own time and of the swing
+#: before it was stopped (a catch).
+EARLY = 0.25
 #: Before a free oscillation's swing ratio is known, a swing may outgrow the one before by this
 #: factor (a weave growing at +1 1/s with a period of 2.5 s grows 3.5 times a swing).
 FIRST_GROWTH = PUSH_RATIO**2
@@ -325,6 +328,26 @@ class _Finder:
         return all(GROWTH < self.ratio(i) <= FIRST_GROWTH and not self.quick(i) and not self.wakes[i]
                    for i in (j + 1, j + 2))
 
+    def stops_early(self, j: int) -> bool:
+        """Whether swing j gets halfway through its height within ``EARLY`` of its time and of the last swing's.
+
+        A free swing, a damped or growing cosine from one extreme to the next, passes halfway
+        between them a third to two thirds of the way through, about a third to two thirds of a
+        half period (the swing before it) after it begins; one that a hand stops as it begins gets there at
+        once and then stays still (a heavily damped free swing settles too, but at the pace of
+        the oscillation). A swing that ends where the signal wakes from a still stretch has no
+        extreme at its end to measure halfway to.
+        """
+        if j < 1 or (j + 1 < self.swings.size and self.wakes[j + 1]):
+            return False
+        a, b = int(self.extremes[j]), int(self.extremes[j + 1])
+        middle = 0.5 * (self.smooth[a] + self.smooth[b])
+        beyond = np.flatnonzero((self.smooth[a:b + 1] - middle) * np.sign(self.smooth[a] - middle) <= 0)
+        # Early both within the swing (the rest of it is still) and against the swing before (a
+        # heavily damped free swing settles early in a long swing too, but at the oscillation's
+        # pace).
+        return bool(beyond.size and beyond[0] < EARLY * min(b - a, self.durations[j - 1]))
+
     def in_motion_at_start(self) -> bool:
         """Whether the record starts in free motion: a segment cut after its push.
 
@@ -463,6 +486,12 @@ class _Finder:
                 end, resume = self.onset(j), j
                 why = f"abrupt swing at {self.run.time[end]:.2f} s"
                 break
+            if a >= level and self.stops_early(j):
+                # The swing is over at its start: a hand stopped the bicycle (or pushed it) as
+                # the swing began.
+                end, resume = int(self.extremes[j]) - self.margin, j
+                why = f"stopped at {self.run.time[self.extremes[j]]:.2f} s (a catch?)"
+                break
             if self.wakes[j]:
                 end, why, resume = int(max(self.rest[j], start + 1)), "came to rest", j
                 break
@@ -537,6 +566,7 @@ _ENDINGS = (
     ("caught (growth stops)", "the bicycle is caught at its largest lean"),
     ("collapsed (a catch?)", "the bicycle is caught"),
     ("came to rest", "the bicycle comes to rest (held)"),
+    ("stopped at", "the bicycle is stopped (caught) at"),
     ("decayed into the background", "the motion sinks into the background"),
     ("decayed into the noise", "the motion sinks into the noise"),
     ("oscillation stops (slow swing)", "the motion stops swinging back"),

@@ -71,12 +71,14 @@ def main() -> None:
             reasons.update(_short(why) for why in tally.reasons)
             print(f"{name:13s} {procedure:6s} coasts {count['coasts']:4d}  fitted {count['fitted']:4d} "
                   f"({_rate(count, 'fitted')})  usable {count['usable']:4d} ({_rate(count, 'usable')})  "
-                  f"across a catch {count['across_catch']}  across a push {count['across_push']}  "
+                  f"across a catch {count['across_catch']} ({count['usable_across_catch']} usable)  "
+                  f"across a push {count['across_push']}  "
                   f"error {_percentiles(tally.errors)}  "
                   f"| growing weave: {growing['coasts']} coasts, {growing['fitted']} fitted", flush=True)
     print(f"\nall: {total['coasts']} coasts holding a weave cycle, {total['fitted']} with a fitted window "
           f"({_rate(total, 'fitted')}), {total['usable']} usable ({_rate(total, 'usable')}); "
-          f"fitted across a catch: {total['across_catch']}, across a push: {total['across_push']}")
+          f"fitted across a catch: {total['across_catch']} ({total['usable_across_catch']} of them usable), "
+          f"across a push: {total['across_push']}")
     if marks:
         print(f"the hand's mark on the windows fitted across a catch (noise standard deviations): "
               f"{', '.join(f'{m:.2f}' for m in sorted(marks))}; {sum(m >= 1 for m in marks)} of them at 1 or more")

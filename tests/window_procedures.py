@@ -92,7 +92,8 @@ def coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict]:
     try:
         measured = measure_run(run_from_simulation(simulated))
     except InputError as error:
-        return [{"fitted": False, "usable": False, "across_catch": 0, "across_push": 0, "hand_mark": [],
+        return [{"fitted": False, "usable": False, "across_catch": 0, "usable_across_catch": 0, "across_push": 0,
+                 "hand_mark": [],
                  "errors": [], "why": [str(error)]}
                 for start, stop in simulated.segments if (stop - start) * frequency >= 2 * np.pi]
     records = []
@@ -111,6 +112,7 @@ def coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict]:
             "fitted": bool(inside),
             "usable": any(m.usable for m in inside),
             "across_catch": len(across),
+            "usable_across_catch": sum(m.usable for m in across),
             "hand_mark": [_hand_mark(simulated, model, stop, m.fit.stop) for m in across],
             "across_push": sum(pushed and m.fit.start < start - 0.5 / fs for m in inside),
             "errors": [abs(complex(m.fit.damping, m.fit.frequency) - eigenvalue) / abs(eigenvalue)
@@ -139,7 +141,8 @@ class Tally:
     """What the coasts of one bicycle and procedure gave.
 
     ``count``: coasts holding a weave cycle (``coasts``), with a fitted window (``fitted``), a
-    usable one (``usable``), windows fitted across a catch or a push; ``growing``: the same for
+    usable one (``usable``), windows fitted across a catch (``across_catch``; those usable:
+    ``usable_across_catch``) or a push (``across_push``); ``growing``: the same for
     the coasts of a growing weave; ``errors``: the usable windows' |fitted - model| / |model|;
     ``marks``: the hand's mark on each window fitted across a catch [noise std]; ``reasons``:
     the rejected stretches' reasons of the coasts without a window.
@@ -167,7 +170,8 @@ def procedure_tally(name: str, procedure: str, seeds: Iterable[int], speeds: Ite
             for piece in pieces(simulated, procedure, seed):
                 for record in coasts(piece, eigenvalue, model):
                     counted = Counter(coasts=1, fitted=record["fitted"], usable=record["usable"],
-                                      across_catch=record["across_catch"], across_push=record["across_push"])
+                                      across_catch=record["across_catch"], across_push=record["across_push"],
+                                      usable_across_catch=record["usable_across_catch"])
                     tally.count.update(counted)
                     if eigenvalue.real > 0:
                         tally.growing.update(counted)

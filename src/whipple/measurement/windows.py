@@ -57,6 +57,8 @@ STIR = 2.0
 QUICK_PUSH = 0.75
 #: ... and that swing back lasts at most this many times the swing after it (half periods alike).
 SLOW_SWING_BACK = 1.25
+#: Half periods of a free oscillation differ by less than this factor (a growth's three swings).
+ALIKE = 1.5
 #: A swing halfway through its height within this share of its own time and of the swing
 #: before it was stopped (a catch).
 EARLY = 0.25
@@ -321,12 +323,15 @@ class _Finder:
         The two swings after it each grow by more than ``GROWTH`` and at most ``FIRST_GROWTH``
         (a weave growing at up to about +1 1/s), none of them from a still stretch (that is a
         push from rest), and none of the three is quick: they swing at the pace of the record's
-        oscillation (a push and the hand's catch do not).
+        oscillation (a push and the hand's catch do not), each lasting about as long as the
+        others (within a factor ``ALIKE``).
         """
         if j + 2 >= self.swings.size or self.quick(j):
             return False
-        return all(GROWTH < self.ratio(i) <= FIRST_GROWTH and not self.quick(i) and not self.wakes[i]
-                   for i in (j + 1, j + 2))
+        # Half periods alike, as a free oscillation's are.
+        durations = self.durations[j:j + 3]
+        return bool(durations.max() <= ALIKE * durations.min()) and all(
+            GROWTH < self.ratio(i) <= FIRST_GROWTH and not self.quick(i) and not self.wakes[i] for i in (j + 1, j + 2))
 
     def stops_early(self, j: int) -> bool:
         """Whether swing j gets halfway through its height within ``EARLY`` of its time and of the last swing's.
@@ -351,12 +356,19 @@ class _Finder:
     def in_motion_at_start(self) -> bool:
         """Whether the record starts in free motion: a segment cut after its push.
 
-        The record does not start still, and one of its first two swings (the first may be
-        the end of one, cut short) stands out as a push out of motion would.
+        The record does not start still, one of its first two swings (the first may be the end
+        of one, cut short) stands out as a push out of motion would, and its first swings last
+        about as long as the record's clear swings (within a factor ``ALIKE``), as the weave's
+        do: a record that starts while the bicycle is handled swings at another pace.
         """
         starts_still = self.rests.size > 0 and self.rests[0] <= self.extremes[0]
-        return bool(self.swings.size and not starts_still and not self.wakes[0]
-                    and self.swings[:2].max() >= self.loud)
+        if not self.swings.size or starts_still or self.wakes[0] or self.swings[:2].max() < self.loud:
+            return False
+        # The record's pace: its clear swings' typical duration (in a short segment the spectrum
+        # cannot resolve the weave's frequency).
+        typical = float(np.median(self.durations[self.swings >= self.stir]))
+        pace = float(np.median(self.durations[:3]))
+        return typical / ALIKE <= pace <= ALIKE * typical
 
     def held(self, j: int) -> bool:
         """Whether the two swings after swing j are no more than noise (the bicycle held)."""

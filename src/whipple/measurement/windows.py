@@ -9,12 +9,20 @@ alike; pushes and catches break that pattern. From the swings:
   its typical swing) that starts from rest, or at least doubles the swings of the period
   before it. Doubling is the most a free swing can do from rest (from ``-A`` to ``+r A``)
   unless the oscillation is growing, which the next swings reveal.
+* A **push from rest** (out of a still stretch, quicker and lower than the swing back) need
+  only stand out of the noise; its swing back is free whatever its height (a sharp push,
+  blunted by the low-pass filter, looks far smaller than the 1 + r times its swing back), and
+  the swing factor is read from the swings after it.
+* A weave **growing out of the noise** with no push seen (two swings each growing 1.2 to 4
+  times, at the record's pace) starts a window too; so does the first sample of a record that
+  starts in free motion (a segment cut after its push).
 * The **window** starts at the extreme that ends the push (the roll rate turns back: the push
   is over) and runs while the swings follow one decay (or growth) factor. It ends when the
   oscillation sinks below the background (one period after its last clear extreme), comes to
   rest, stops oscillating (a swing lasting over two half periods), when a swing outgrows the
   trend or is over in under half the time of its neighbours (outside forcing: a new push, a
-  hand), when a swing collapses far below the trend (a catch), when the signal saturates, or
+  hand), when a swing collapses far below the trend or is halfway through its height at once
+  (a catch), when the signal saturates, or
   at the end of the record.
 * A **grab**: the first swing after a push that is over in under half the record's half
   period and half the push's time, starting while the bicycle moves fast, is a hand catching
@@ -42,6 +50,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import RunFileError
+from whipple.measurement.rejections import no_oscillation
 from whipple.measurement.runs import Run, contiguous
 from whipple.measurement.swings import Swings, swings_of
 
@@ -564,40 +573,7 @@ class _Finder:
         overshoot = self.swings[push + 1] - self.swings[push] if 0 <= push < self.swings.size - 1 else 0
         if free < 1 or (free == 1 and still and overshoot <= 2 * self.noise) or end - start < 3:
             after = time[self.extremes[push]] if not at_start else time[0]
-            reason = f"rejected: no oscillation after {after:.2f} s: {_no_oscillation(free, why, end - start < 3)}"
+            reason = f"rejected: no oscillation after {after:.2f} s: {no_oscillation(free, why, end - start < 3)}"
         window = Window(self.run.name, float(time[start]), float(time[max(end, start + 1) - 1]),
                         start, max(end, start + 1), reason, tuple(notes))
         return window, resume
-
-
-#: How a window's end reads in a rejected stretch's reason: (the end's reason up to its time, if
-#: any, and the words for it).
-_ENDINGS = (
-    ("abrupt swing at", "the bicycle is caught (or pushed) at"),
-    ("forcing at", "the bicycle is pushed again at"),
-    ("caught (growth stops)", "the bicycle is caught at its largest lean"),
-    ("collapsed (a catch?)", "the bicycle is caught"),
-    ("came to rest", "the bicycle comes to rest (held)"),
-    ("stopped at", "the bicycle is stopped (caught) at"),
-    ("decayed into the background", "the motion sinks into the background"),
-    ("decayed into the noise", "the motion sinks into the noise"),
-    ("oscillation stops (slow swing)", "the motion stops swinging back"),
-    ("next push at", "the next push at"),
-    ("signal saturates", "the signal saturates"),
-    ("end of record", "the record ends"),
-)
-
-
-def _no_oscillation(free: int, why: str, short: bool) -> str:
-    """Why a push gave no window, in a user's words: the free swings seen and how they ended."""
-    for start, words in _ENDINGS:
-        if why.startswith(start):
-            ending = words + why[len(start):]
-            break
-    else:
-        ending = why
-    if short:
-        return f"fewer than 3 samples before {ending}"
-    if free < 1:
-        return f"no free swing before {ending}"
-    return f"a single swing back before {ending}: a push and its return, not an oscillation"

@@ -240,6 +240,10 @@ class _Finder:
         self.stir = min(self.loud, STIR * self.noise)
         # Where the still stretches end (sorted), for windows that must end at one.
         self.rests = self.rest[self.wakes]
+        # The record's pace: its clear swings' typical duration (in a short segment the spectrum
+        # cannot resolve the weave's frequency) [samples].
+        clear = self.swings >= self.stir
+        self.pace = float(np.median(np.diff(self.extremes)[clear])) if clear.any() else np.inf
         self.margin = max(1, int(run.sample_rate / (4 * swings.cutoff)))
         self.ratios = self.swings[1:] / np.maximum(self.swings[:-1], 1e-300)
         self.durations = np.diff(self.extremes)
@@ -311,8 +315,8 @@ class _Finder:
     def pushed_from_rest(self, j: int) -> bool:
         """Whether swing j is a push from rest: from a still stretch, quicker and lower than the swing back.
 
-        The swing back after a push is a free half period; the push itself is over sooner (a
-        hand's hit). A weave that grows slowly out of the noise also starts from a still
+        The swing back after a push is a free half period, at the record's pace; the push itself
+        is over sooner (a hand's hit). A weave that grows slowly out of the noise also starts from a still
         stretch, but its first clear swing lasts a half period too.
         """
         if not (self.wakes[j] and j + 1 < self.swings.size and self.durations[j] < QUICK_PUSH * self.durations[j + 1]):
@@ -320,7 +324,7 @@ class _Finder:
         # The swing back goes from the push's height past the start (1 + r times the push), so
         # it is the higher; a hand's wobble while it holds the bicycle is followed by more of
         # the same.
-        if self.swings[j + 1] < self.swings[j]:
+        if self.swings[j + 1] < self.swings[j] or not self.at_pace(float(self.durations[j + 1])):
             return False
         # A swing back slower than the swing after it is still pushed (a hand that hits, then
         # pushes on): the push ends with it.
@@ -373,11 +377,11 @@ class _Finder:
         starts_still = self.rests.size > 0 and self.rests[0] <= self.extremes[0]
         if not self.swings.size or starts_still or self.wakes[0] or self.swings[:2].max() < self.loud:
             return False
-        # The record's pace: its clear swings' typical duration (in a short segment the spectrum
-        # cannot resolve the weave's frequency).
-        typical = float(np.median(self.durations[self.swings >= self.stir]))
-        pace = float(np.median(self.durations[:3]))
-        return typical / ALIKE <= pace <= ALIKE * typical
+        return self.at_pace(float(np.median(self.durations[:3])))
+
+    def at_pace(self, duration: float) -> bool:
+        """Whether a swing of `duration` samples swings at the record's pace (within ``ALIKE``)."""
+        return self.pace / ALIKE <= duration <= ALIKE * self.pace
 
     def held(self, j: int) -> bool:
         """Whether the two swings after swing j are no more than noise (the bicycle held)."""

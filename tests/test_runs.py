@@ -83,7 +83,7 @@ def test_speed_from_speedometer_and_from_metadata(tmp_path):
         ("\n\n", "empty file"),
         ("time,steer_angle,speed\n0,1,2\n", "missing roll_rate"),
         (native_text().replace("0.020000,", "0.005000,", 1), "not strictly increasing at data row 2"),
-        (native_text(n=150), "too short"),
+        (native_text(n=90), "too short"),
         (native_text(speed=False), "missing speed information"),
         ("time,roll_rate,speed\n" + "".join(f"{i / 100},0.1,4\n" for i in range(300)).replace(
             "0.1,4\n", "inf,4\n", 1), "line 2, column 'roll_rate': inf value"),
@@ -146,6 +146,20 @@ def test_custom_layout_describes_foreign_files(tmp_path):
     assert run.speed() == pytest.approx(4.2)
     assert run.metadata["bicycle"] == "lab bike"
     assert run.warnings == ("ignored unknown column(s): wheel",)
+
+
+def test_a_column_named_time_is_the_time_without_a_columns_entry(tmp_path):
+    # A logger that writes "time" in ms, its rates in deg/s: the layout maps the rates only.
+    t = np.arange(250) * 10.0
+    rows = "\n".join(f"{a:.1f},{b:.4f},4.5" for a, b in zip(t, 5.0 * np.sin(t / 200), strict=True))
+    path = write(tmp_path, "time,gyro_x,v\n" + rows + "\n")
+    mapped = 'name = "lab"\n[columns]\ngyro_x = "roll_rate"\nv = "speed"\n'
+    run = read_run(path, layout=write(tmp_path, mapped + "[scale]\ntime = 0.001\n", "lab.toml"))
+    assert run.sample_rate == pytest.approx(100.0) and run.time[-1] == pytest.approx(2.49)
+    assert run.warnings == ()
+    # A column mapped to time wins; one the layout ignores stays ignored.
+    other = read_run(path, layout=write(tmp_path, 'sample_rate = 50\nignore = ["time"]\n' + mapped, "b.toml"))
+    assert other.sample_rate == 50.0 and other.time[-1] == pytest.approx(4.98)
 
 
 @pytest.mark.parametrize(

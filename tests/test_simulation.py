@@ -16,6 +16,8 @@ from whipple.model.assembly import linear_model
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import load_bicycle
 from whipple.simulation.discretization import expm_batch
+from whipple.simulation.procedure import cut_run
+from whipple.simulation.run_writer import format_true_windows
 from whipple.simulation.scenario import (
     PERFECT_SENSORS,
     SIGNALS,
@@ -252,6 +254,10 @@ def test_expm_batch_matches_scipy(bike):
         {"sensors": Sensors(roll_rate=Sensor(-0.1))},
         {"setting": "ground", "columns": ("roll_rate", "yaw_rate")},
         {"pushes": (Push(2.0),), "n_pushes": 1},
+        {"push_signs": "sometimes"},
+        {"push_spread": 1.0},
+        {"coast_spread": -0.1},
+        {"coast_spread": float("nan")},
     ],
 )
 def test_bad_scenarios_raise_one_line_input_errors(changes):
@@ -324,3 +330,35 @@ def test_cli_refuses_to_overwrite_its_input(tmp_path, capsys):
                  "--output", str(bicycle_file)])
     assert code == 2 and bicycle_file.read_text() == text
     assert "input" in capsys.readouterr().err
+
+
+def test_procedure_options_off_draw_nothing_and_on_draw_their_own_stream(bike):
+    # Defaults give the run they always gave: the options' own stream is not touched.
+    plain = simulate_run(bike, RunScenario(speed=5.0, seed=4))
+    spelled = simulate_run(bike, RunScenario(speed=5.0, seed=4, push_signs="alternate", push_spread=0.0,
+                                             coast_spread=0.0))
+    for name, values in plain.signals.items():
+        np.testing.assert_array_equal(values, spelled.signals[name])
+    assert [np.sign(p.roll_impulse) for p in plain.pushes] == [1.0, -1.0, 1.0]
+    # With them, the sizes and coasts change, and the hand's wobble and the noise do not.
+    drawn = simulate_run(bike, RunScenario(speed=5.0, seed=4, push_signs="random", push_spread=0.4,
+                                           coast_spread=0.5))
+    sizes = np.abs([p.roll_impulse for p in drawn.pushes]) / abs(plain.pushes[0].roll_impulse)
+    assert np.all((sizes >= 0.6 - 1e-9) & (sizes <= 1.4 + 1e-9)) and np.ptp(sizes) > 0.01
+    coasting = np.diff(drawn.segments, axis=1).ravel()
+    assert np.all((coasting >= 2.5 - 0.011) & (coasting <= 5.0 + 0.011))
+    np.testing.assert_array_equal(plain.state("roll")[:90], drawn.state("roll")[:90])  # held until the push
+
+
+def test_a_cut_keeps_times_and_clips_the_truth(bike):
+    run = simulate_run(bike, RunScenario(speed=5.0, seed=1))
+    first, second = run.segments[:2]
+    cut = cut_run(run, first[1] - 1.0, second[0] + 1.0)
+    assert cut.time[0] == pytest.approx(first[1] - 1.0) and cut.time[-1] == pytest.approx(second[0] + 1.0)
+    assert cut.segments == ((cut.time[0], first[1]), (second[0], cut.time[-1]))
+    assert cut.metadata["true_windows"] == format_true_windows(cut.segments)
+    assert cut.catches == (first[1],) and len(cut.pushes) == 1
+    k = int(np.searchsorted(run.time, cut.time[0]))
+    np.testing.assert_array_equal(cut.signals["roll_rate"], run.signals["roll_rate"][k:k + cut.time.size])
+    with pytest.raises(ScenarioError, match="fewer than 3 samples"):
+        cut_run(run, 100.0, 101.0)

@@ -137,6 +137,20 @@ class RunLayout:
     metadata: dict[str, str] = field(default_factory=dict)
     description: str = ""
 
+    def column_map(self, names: list[str]) -> dict[str, str]:
+        """File column -> run-file column, for a file whose columns are `names`.
+
+        The ``[columns]`` and ``[extra]`` entries; and a file column literally named ``time``
+        is the time when no entry maps a column to it (nor names it in ``extra`` or ``ignore``):
+        a layout need not say that ``time`` means time.
+        """
+        wanted = {name: self.columns[name] for name in names if name in self.columns}
+        wanted.update({name: self.extra[name] for name in names if name in self.extra})
+        if ("time" in names and "time" not in wanted and "time" not in self.ignore
+                and "time" not in self.columns.values()):
+            wanted["time"] = "time"
+        return wanted
+
 
 def builtin_layouts() -> tuple[str, ...]:
     """Names of the layouts shipped with whipple."""
@@ -210,7 +224,8 @@ def parse_layout(text: str, name: str, source: str | Path) -> RunLayout:
     return RunLayout(
         name=_string(data, "name", name, fail),
         columns=columns,
-        scale=_scale(data.get("scale", {}), {*columns.values(), *extra.values()}, fail),
+        # A file column named "time" is the time without an entry (RunLayout.column_map).
+        scale=_scale(data.get("scale", {}), {"time", *columns.values(), *extra.values()}, fail),
         extra=extra,
         ignore=tuple(_string_list(data.get("ignore", []), "ignore", fail)),
         delimiter=None if delimiter == "whitespace" else delimiter,

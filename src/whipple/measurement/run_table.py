@@ -238,8 +238,7 @@ class _Reader:
         if len(set(names)) != len(names):
             raise RunFileError("duplicate column names in the header", self.source)
         table.names = names
-        wanted = {name: layout.columns[name] for name in names if name in layout.columns}
-        wanted.update({name: layout.extra[name] for name in names if name in layout.extra})
+        wanted = layout.column_map(names)
         unknown = [n for n in names if n not in wanted and n not in layout.ignore]
         if unknown:
             table.notes.append(f"ignored unknown column(s): {', '.join(unknown)}")

@@ -195,7 +195,7 @@ def speed_regression(time: ArrayLike, speed: ArrayLike, start: float, stop: floa
     Parameters
     ----------
     time : array_like, shape (n,)
-        Sample times [s].
+        Sample times [s], increasing.
     speed : array_like, shape (n,)
         Forward speed at the samples [m/s] (e.g. a speedometer staircase sampled at `time`).
     start, stop : float
@@ -208,8 +208,9 @@ def speed_regression(time: ArrayLike, speed: ArrayLike, start: float, stop: floa
     """
     t = np.asarray(time, dtype=float)
     v = np.asarray(speed, dtype=float)
-    inside = (t >= start) & (t <= stop)
-    if np.count_nonzero(inside) < 2:
+    # The window's samples found by bisection: a long run's windows each cost their own length.
+    inside = slice(int(np.searchsorted(t, start, side="left")), int(np.searchsorted(t, stop, side="right")))
+    if inside.stop - inside.start < 2:
         raise RunFileError(f"speed window {start:g}-{stop:g} s holds fewer than 2 samples")
     centre = 0.5 * (start + stop)
     # Centred time keeps the intercept equal to the value at the centre.

@@ -134,13 +134,27 @@ def _extremes(
     began = sleeps[np.searchsorted(sleeps, wakes, side="right") - 1] if sleeps.size else wakes
     keep = np.ones(wakes.size, dtype=bool)
     if found.size:
-        keep = np.abs(found[None, :] - wakes[:, None]).min(axis=1) > max(1, still // 8)
+        keep = np.abs(found[_nearest(found, wakes)] - wakes) > max(1, still // 8)
     extremes = np.unique(np.concatenate([found, wakes[keep]]))
     # A wake that falls on an extreme makes that extreme the wake.
-    nearest = np.abs(extremes[None, :] - wakes[:, None]).argmin(axis=1)
     rest = np.full(extremes.size, -1, dtype=np.intp)
-    rest[nearest] = began
+    rest[_nearest(extremes, wakes)] = began
     return extremes, rest
+
+
+def _nearest(sorted_values: NDArray[np.intp], points: NDArray[np.intp]) -> NDArray[np.intp]:
+    """Index into `sorted_values` (increasing, not empty) of the value nearest each of `points`.
+
+    A search in the sorted values, so that memory and time grow with the number of values, not
+    with its product by the number of points (a long record holds tens of thousands of each).
+    Ties go to the lower value.
+    """
+    above = np.clip(np.searchsorted(sorted_values, points), 1, max(sorted_values.size - 1, 1))
+    below = above - 1
+    if sorted_values.size == 1:
+        return np.zeros(points.size, dtype=np.intp)
+    closer_above = np.abs(sorted_values[above] - points) < np.abs(points - sorted_values[below])
+    return np.where(closer_above, above, below).astype(np.intp)
 
 
 def _zigzag(x: NDArray[np.float64], threshold: float) -> NDArray[np.intp]:

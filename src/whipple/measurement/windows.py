@@ -9,12 +9,20 @@ alike; pushes and catches break that pattern. From the swings:
   its typical swing) that starts from rest, or at least doubles the swings of the period
   before it. Doubling is the most a free swing can do from rest (from ``-A`` to ``+r A``)
   unless the oscillation is growing, which the next swings reveal.
+* A **push from rest** (out of a still stretch, quicker and lower than the swing back) need
+  only stand out of the noise; its swing back is free whatever its height (a sharp push,
+  blunted by the low-pass filter, looks far smaller than the 1 + r times its swing back), and
+  the swing factor is read from the swings after it.
+* A weave **growing out of the noise** with no push seen (two swings each growing 1.2 to 4
+  times, at the record's pace) starts a window too; so does the first sample of a record that
+  starts in free motion (a segment cut after its push).
 * The **window** starts at the extreme that ends the push (the roll rate turns back: the push
   is over) and runs while the swings follow one decay (or growth) factor. It ends when the
   oscillation sinks below the background (one period after its last clear extreme), comes to
   rest, stops oscillating (a swing lasting over two half periods), when a swing outgrows the
   trend or is over in under half the time of its neighbours (outside forcing: a new push, a
-  hand), when a swing collapses far below the trend (a catch), when the signal saturates, or
+  hand), when a swing collapses far below the trend or is halfway through its height at once
+  (a catch), when the signal saturates, or
   at the end of the record.
 * A **grab**: the first swing after a push that is over in under half the record's half
   period and half the push's time, starting while the bicycle moves fast, is a hand catching
@@ -42,6 +50,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import RunFileError
+from whipple.measurement.rejections import no_oscillation
 from whipple.measurement.runs import Run, contiguous
 from whipple.measurement.swings import Swings, swings_of
 
@@ -51,6 +60,20 @@ PUSH_RATIO = 2.0
 TREND_TOLERANCE = 1.3
 #: Successive swing ratios above this mean the oscillation is growing (unstable).
 GROWTH = 1.2
+#: A swing from rest this many times the noise floor of swing heights is a push.
+STIR = 2.0
+#: A push from rest is over in less than this share of the free swing after it.
+QUICK_PUSH = 0.75
+#: ... and that swing back lasts at most this many times the swing after it (half periods alike).
+SLOW_SWING_BACK = 1.25
+#: Half periods of a free oscillation differ by less than this factor (a growth's three swings).
+ALIKE = 1.5
+#: A swing halfway through its height within this share of its own time and of the swing
+#: before it was stopped (a catch).
+EARLY = 0.25
+#: Before a free oscillation's swing ratio is known, a swing may outgrow the one before by this
+#: factor (a weave growing at +1 1/s with a period of 2.5 s grows 3.5 times a swing).
+FIRST_GROWTH = PUSH_RATIO**2
 
 
 @dataclass(frozen=True)
@@ -212,6 +235,15 @@ class _Finder:
         self.wakes = self.rest >= 0
         self.swings = swings.heights
         self.noise, self.quiet, self.loud = swings.threshold, swings.background, swings.loud
+        # A swing from rest (the bicycle held, then let go) is a push from a lower height than
+        # one out of motion: nothing moves before it, so standing out of the noise is enough.
+        self.stir = min(self.loud, STIR * self.noise)
+        # Where the still stretches end (sorted), for windows that must end at one.
+        self.rests = self.rest[self.wakes]
+        # The record's pace: its clear swings' typical duration (in a short segment the spectrum
+        # cannot resolve the weave's frequency) [samples].
+        clear = self.swings >= self.stir
+        self.pace = float(np.median(np.diff(self.extremes)[clear])) if clear.any() else np.inf
         self.margin = max(1, int(run.sample_rate / (4 * swings.cutoff)))
         self.ratios = self.swings[1:] / np.maximum(self.swings[:-1], 1e-300)
         self.durations = np.diff(self.extremes)
@@ -271,12 +303,85 @@ class _Finder:
         """Whether a window starts after swing j (a push, or the rise of an unstable one)."""
         # The push stands out from the motion before it (two swings: about a period), or
         # starts from rest.
+        if (self.pushed_from_rest(j) or self.starts_growth(j)) and self.swings[j] >= self.stir:
+            return True
         previous = 0.0 if self.wakes[j] else self.swings[max(j - 2, 0):j].max(initial=0.0)
         return self.swings[j] >= self.loud and (
             previous < self.quiet
             or self.swings[j] > PUSH_RATIO * previous
             or (self.ratio(j) > GROWTH and self.sustained(j))
         )
+
+    def pushed_from_rest(self, j: int) -> bool:
+        """Whether swing j is a push from rest: from a still stretch, quicker and lower than the swing back.
+
+        The swing back after a push is a free half period, at the record's pace; the push itself
+        is over sooner (a hand's hit). A weave that grows slowly out of the noise also starts from a still
+        stretch, but its first clear swing lasts a half period too.
+        """
+        if not (self.wakes[j] and j + 1 < self.swings.size and self.durations[j] < QUICK_PUSH * self.durations[j + 1]):
+            return False
+        # The swing back goes from the push's height past the start (1 + r times the push), so
+        # it is the higher; a hand's wobble while it holds the bicycle is followed by more of
+        # the same.
+        if self.swings[j + 1] < self.swings[j] or not self.at_pace(float(self.durations[j + 1])):
+            return False
+        # A swing back slower than the swing after it is still pushed (a hand that hits, then
+        # pushes on): the push ends with it.
+        return j + 2 >= self.swings.size or bool(self.durations[j + 1] <= SLOW_SWING_BACK * self.durations[j + 2])
+
+    def starts_growth(self, j: int) -> bool:
+        """Whether swing j starts a weave growing out of the noise, with no push to be seen.
+
+        The two swings after it each grow by more than ``GROWTH`` and at most ``FIRST_GROWTH``
+        (a weave growing at up to about +1 1/s), none of them from a still stretch (that is a
+        push from rest), and none of the three is quick: they swing at the pace of the record's
+        oscillation (a push and the hand's catch do not), each lasting about as long as the
+        others (within a factor ``ALIKE``).
+        """
+        if j + 2 >= self.swings.size or self.quick(j):
+            return False
+        # Half periods alike, as a free oscillation's are.
+        durations = self.durations[j:j + 3]
+        return bool(durations.max() <= ALIKE * durations.min()) and all(
+            GROWTH < self.ratio(i) <= FIRST_GROWTH and not self.quick(i) and not self.wakes[i] for i in (j + 1, j + 2))
+
+    def stops_early(self, j: int) -> bool:
+        """Whether swing j gets halfway through its height within ``EARLY`` of its time and of the last swing's.
+
+        A free swing, a damped or growing cosine from one extreme to the next, passes halfway
+        between them a third to two thirds of the way through, about a third to two thirds of a
+        half period (the swing before it) after it begins; one that a hand stops as it begins gets there at
+        once and then stays still (a heavily damped free swing settles too, but at the pace of
+        the oscillation). A swing that ends where the signal wakes from a still stretch has no
+        extreme at its end to measure halfway to.
+        """
+        if j < 1 or (j + 1 < self.swings.size and self.wakes[j + 1]):
+            return False
+        a, b = int(self.extremes[j]), int(self.extremes[j + 1])
+        middle = 0.5 * (self.smooth[a] + self.smooth[b])
+        beyond = np.flatnonzero((self.smooth[a:b + 1] - middle) * np.sign(self.smooth[a] - middle) <= 0)
+        # Early both within the swing (the rest of it is still) and against the swing before (a
+        # heavily damped free swing settles early in a long swing too, but at the oscillation's
+        # pace).
+        return bool(beyond.size and beyond[0] < EARLY * min(b - a, self.durations[j - 1]))
+
+    def in_motion_at_start(self) -> bool:
+        """Whether the record starts in free motion: a segment cut after its push.
+
+        The record does not start still, one of its first two swings (the first may be the end
+        of one, cut short) stands out as a push out of motion would, and its first swings last
+        about as long as the record's clear swings (within a factor ``ALIKE``), as the weave's
+        do: a record that starts while the bicycle is handled swings at another pace.
+        """
+        starts_still = self.rests.size > 0 and self.rests[0] <= self.extremes[0]
+        if not self.swings.size or starts_still or self.wakes[0] or self.swings[:2].max() < self.loud:
+            return False
+        return self.at_pace(float(np.median(self.durations[:3])))
+
+    def at_pace(self, duration: float) -> bool:
+        """Whether a swing of `duration` samples swings at the record's pace (within ``ALIKE``)."""
+        return self.pace / ALIKE <= duration <= ALIKE * self.pace
 
     def held(self, j: int) -> bool:
         """Whether the two swings after swing j are no more than noise (the bicycle held)."""
@@ -299,6 +404,12 @@ class _Finder:
         windows: list[Window] = []
         rejected: list[Window] = []
         j = 0
+        if self.in_motion_at_start():
+            # A segment cut after its push: the free motion runs from the first sample. Its
+            # first swing is partial where the record starts on it (its extreme lies before the
+            # cut): it stands in for the push.
+            window, j = self.follow(0 if self.extremes[0] <= self.margin else -1, at_start=True)
+            (windows if not window.reason.startswith("rejected") else rejected).append(window)
         while j < self.swings.size:
             if not self.is_push(j):
                 j += 1
@@ -344,26 +455,40 @@ class _Finder:
                       f"growth from {time[start]:.2f} s; ends: caught at {time[end]:.2f} s",
                       (f"growing oscillation caught after {catch - first} swing(s)",))
 
-    def follow(self, push: int) -> tuple[Window, int]:
-        """Return the window after push swing `push`, and the swing to resume the scan at."""
-        start = int(self.extremes[push + 1])
-        # After a push the first free swing starts from rest; out of a growing oscillation it
-        # simply continues the growth.
-        growth = self.is_growth(push)
-        trend: list[float] = [self.ratio(push)] if growth else []
+    def follow(self, push: int, at_start: bool = False) -> tuple[Window, int]:
+        """Return the window after push swing `push`, and the swing to resume the scan at.
+
+        `at_start`: the record starts in free motion, with no push in it (a segment cut after
+        its push); the window starts at its first sample, and `push` is the partial swing the
+        record starts on (-1 if none).
+        """
+        start = 0 if at_start else int(self.extremes[push + 1])
+        # After a push from rest (where the bicycle was held) the first free swing starts from
+        # rest: from -A to +r A it is (1 + r) times the push, at most twice unless the
+        # oscillation grows; a sharp push, which the low-pass filter blunts, looks smaller still.
+        # Its swing back is then free whatever its height, and the swing factor is read from the
+        # swings after it. Out of a growing oscillation the push simply continues the growth.
+        from_rest = at_start or self.pushed_from_rest(push)
+        # Out of the noise (no push seen), the growth's first ratio is the first trend.
+        rising = not from_rest and not self.is_growth(push) and self.starts_growth(push)
+        growth = not from_rest and (self.is_growth(push) or rising)
+        trend: list[float] = [self.ratio(push + 1 if rising else push)] if growth else []
         j = push + 1
         end, why, resume, tail = self.x.size, "end of record", self.swings.size, False
         # The oscillation has died out when its swings sink into the background, or below a
         # tenth of where they began when the record's background is itself oscillation.
-        first = self.swings[push:push + 2].max()
+        first = self.swings[max(push, 0):push + 2].max()
         level = max(self.noise, min(self.quiet, 0.1 * first))
         while j < self.swings.size:
             a = self.swings[j]
             half = np.median(np.diff(self.extremes[push + 1:j + 1])) if j > push + 1 else 0
-            # The first free swing starts from rest: from -A to +r A it is (1 + r) times the
-            # push, the first estimate of the swing factor r; a decaying oscillation is allowed
-            # a factor of 1 until two free swings give the trend.
-            factor = float(np.median(trend)) if trend else max(1.0, self.ratio(push + 1) - 1)
+            # The first estimate of the swing factor r: (1 + r) times the push for the first free
+            # swing; a decaying oscillation is allowed a factor of 1 until two free swings give
+            # the trend.
+            if trend:
+                factor = float(np.median(trend))
+            else:
+                factor = 1.0 if from_rest else max(1.0, self.ratio(push + 1) - 1)
             if (j > push + 1 or growth) and factor > GROWTH and self.ratio(j) < 1:
                 # A growing oscillation that shrinks has been caught at the extreme before.
                 end, why = int(self.extremes[j]) - self.margin, "caught (growth stops)"
@@ -386,6 +511,12 @@ class _Finder:
                 end, resume = self.onset(j), j
                 why = f"abrupt swing at {self.run.time[end]:.2f} s"
                 break
+            if a >= level and self.stops_early(j):
+                # The swing is over at its start: a hand stopped the bicycle (or pushed it) as
+                # the swing began.
+                end, resume = int(self.extremes[j]) - self.margin, j
+                why = f"stopped at {self.run.time[self.extremes[j]]:.2f} s (a catch?)"
+                break
             if self.wakes[j]:
                 end, why, resume = int(max(self.rest[j], start + 1)), "came to rest", j
                 break
@@ -398,7 +529,10 @@ class _Finder:
                 resume, tail = j, True
                 break
             if j == push + 1 and not growth:
-                expected = PUSH_RATIO * self.swings[push]
+                expected = np.inf if from_rest else PUSH_RATIO * self.swings[push]
+            elif not trend and from_rest:
+                # The first swing ratio of the free oscillation: any growth up to FIRST_GROWTH.
+                expected = FIRST_GROWTH * self.swings[j - 1] + 0.25 * level
             else:
                 expected = TREND_TOLERANCE * factor * self.swings[j - 1] + 0.25 * level
             if a > expected and not self.sustained(j):
@@ -410,7 +544,8 @@ class _Finder:
             j += 1
         else:
             # No swing above the noise after the last extreme: the rest is quiet.
-            half = np.median(np.diff(self.extremes[push:]))
+            spans = np.diff(self.extremes[max(push, 0):])
+            half = np.median(spans) if spans.size else self.half_period
             end, why = int(self.extremes[-1] + 2 * half), "decayed into the noise"
         # A tail added after the last clear extreme must not reach into the next push.
         later = next((i for i in range(j, self.swings.size) if self.is_push(i)), None)
@@ -418,28 +553,31 @@ class _Finder:
             end = self.onset(later)
             why = f"next push at {self.run.time[end]:.2f} s"
         # Nothing moves while the bicycle is held: a still stretch ends the window.
-        rests = self.rest[self.wakes & (self.rest > start) & (self.rest < end)]
-        if rests.size:
-            end, why = int(rests[0]), "came to rest"
-        clipped = self.saturated[(self.saturated > start) & (self.saturated < end)]
-        if clipped.size:
-            end, why = int(clipped[0]), "signal saturates"
+        held = int(np.searchsorted(self.rests, start, side="right"))
+        if held < self.rests.size and self.rests[held] < end:
+            end, why = int(self.rests[held]), "came to rest"
+        clipped = int(np.searchsorted(self.saturated, start, side="right"))
+        if clipped < self.saturated.size and self.saturated[clipped] < end:
+            end, why = int(self.saturated[clipped]), "signal saturates"
         end = min(end, self.x.size)
         notes = []
         if trend and np.median(trend) > 1:
             notes.append(f"growing oscillation (swing ratio {np.median(trend):.2f})")
         time = self.run.time
         # Free swings: those ending inside the window and standing out from the background.
-        inside = np.flatnonzero((self.extremes[1:] > start) & (self.extremes[1:] < end))
-        free = np.count_nonzero(self.swings[inside] >= level)
-        reason = f"perturbation at {time[self.extremes[push]]:.2f} s; ends: {why}"
+        ends = self.extremes[1:]
+        inside = slice(int(np.searchsorted(ends, start, side="right")), int(np.searchsorted(ends, end, side="left")))
+        free = int(np.count_nonzero(self.swings[inside] >= level))
+        began = (f"perturbation at {time[self.extremes[push]]:.2f} s" if not at_start
+                 else f"free motion from the record's first sample at {time[0]:.2f} s (no push in it)")
+        reason = f"{began}; ends: {why}"
         # One swing back and then stillness is a push (or a catch) and its return, unless the
         # swing back overshoots where the push began: a heavily damped oscillation.
         still = why.startswith(("decayed", "came to rest")) or self.held(j)
-        overshoot = self.swings[push + 1] - self.swings[push] if push + 1 < self.swings.size else 0
+        overshoot = self.swings[push + 1] - self.swings[push] if 0 <= push < self.swings.size - 1 else 0
         if free < 1 or (free == 1 and still and overshoot <= 2 * self.noise) or end - start < 3:
-            reason = f"rejected: no oscillation after {time[self.extremes[push]]:.2f} s"
+            after = time[self.extremes[push]] if not at_start else time[0]
+            reason = f"rejected: no oscillation after {after:.2f} s: {no_oscillation(free, why, end - start < 3)}"
         window = Window(self.run.name, float(time[start]), float(time[max(end, start + 1) - 1]),
                         start, max(end, start + 1), reason, tuple(notes))
         return window, resume
-

@@ -11,7 +11,7 @@ only by the model of the true motion.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,6 +28,9 @@ from whipple.simulation.speedometer_signal import speedometer_signal
 CATCH_DECAY = 7.5
 #: Automatic pushes: horizon [s] and step [s] of the sizing response, share of the roll limit.
 _SIZING_HORIZON, _SIZING_STEP, _SIZING_ROLL = 2.0, 0.005, 2 / 3
+#: Key of the random stream of the pushes' directions and sizes and the coasts' lengths: apart
+#: from the run's own stream, so that a scenario without these options draws what it always did.
+_PROCEDURE_STREAM = 51
 
 
 @dataclass(frozen=True)
@@ -183,9 +186,58 @@ def size_pushes(scenario: RunScenario, model: LinearModel) -> tuple[Push, ...]:
             if not peak_rate > 0:
                 raise ScenarioError("the model's roll rate does not respond to roll torque")
             roll_cap = _SIZING_ROLL * scenario.roll_limit / peak_roll if peak_roll else math.inf
-            impulse = (-1) ** i * min(scenario.push_roll_rate / peak_rate, roll_cap)
+            sign, size, _ = procedure_draws(scenario, i)
+            impulse = sign * min(size * scenario.push_roll_rate / peak_rate, roll_cap)
         sized.append(Push(push.time, float(impulse), push.steer_impulse, push.duration))
     return tuple(sized)
+
+
+def procedure_draws(scenario: RunScenario, i: int) -> tuple[int, float, float]:
+    """Direction (+1 or -1) and size factor of automatic push ``i``, and the factor of its coast.
+
+    The size factor multiplies ``push_roll_rate``, the coast factor ``max_coast``
+    (:attr:`RunScenario.push_signs`, ``push_spread``, ``coast_spread``). Without those options:
+    alternating directions, factors 1, and no random number drawn.
+    """
+    if scenario.push_signs == "alternate" and scenario.push_spread == 0 and scenario.coast_spread == 0:
+        return (-1) ** i, 1.0, 1.0
+    # Three numbers per push from a stream of the procedure's own, so that the i-th push's
+    # draws do not depend on which options are set.
+    draws = np.random.default_rng([scenario.seed, _PROCEDURE_STREAM]).uniform(size=(i + 1, 3))[i]
+    sign = (1 if draws[0] < 0.5 else -1) if scenario.push_signs == "random" else (-1) ** i
+    return sign, 1.0 + scenario.push_spread * (2 * draws[1] - 1), 1.0 - scenario.coast_spread * draws[2]
+
+
+def cut_run(run: SimulatedRun, start: float, stop: float) -> SimulatedRun:
+    """Return the samples of a simulated run from `start` to `stop` [s]: a cut segment.
+
+    Published data sets often hold segments cut from longer records: the free coasting and a
+    little around it, beginning after the push that started it. The cut keeps the samples'
+    times; its free-coasting ``segments`` (and ``true_windows``) are those of the run clipped to
+    the cut, and its pushes and catches those inside it.
+
+    Raises
+    ------
+    ScenarioError
+        If the cut holds fewer than 3 samples.
+    """
+    keep = (run.time >= start - 1e-9) & (run.time <= stop + 1e-9)
+    if np.count_nonzero(keep) < 3:
+        raise ScenarioError(f"a cut from {start:g} to {stop:g} s holds fewer than 3 samples")
+    first, last = float(run.time[keep][0]), float(run.time[keep][-1])
+    segments = tuple((max(a, first), min(b, last)) for a, b in run.segments if min(b, last) > max(a, first))
+    metadata = {**run.metadata, "true_windows": format_true_windows(segments)}
+
+    def part(values: NDArray[np.float64]) -> NDArray[np.float64]:
+        values = values[keep].copy()
+        values.flags.writeable = False
+        return values
+
+    return replace(run, time=part(run.time), states=part(run.states), speed=part(run.speed),
+                   truth={name: part(values) for name, values in run.truth.items()},
+                   signals={name: part(values) for name, values in run.signals.items()}, segments=segments,
+                   pushes=tuple(push for push in run.pushes if first <= push.time <= last),
+                   catches=tuple(t for t in run.catches if first <= t <= last), metadata=metadata)
 
 
 def push_torque(pushes: tuple[Push, ...], t: float) -> NDArray[np.float64]:
@@ -202,7 +254,7 @@ def push_torque(pushes: tuple[Push, ...], t: float) -> NDArray[np.float64]:
 def scheduled_catch(scenario: RunScenario, pushes: tuple[Push, ...], i: int) -> float:
     """Time [s] of the catch after push ``i`` unless a limit brings it earlier."""
     push = pushes[i]
-    due = push.time + push.duration + scenario.max_coast
+    due = push.time + push.duration + scenario.max_coast * procedure_draws(scenario, i)[2]
     if i + 1 < len(pushes):
         due = min(due, pushes[i + 1].time - scenario.settle)
     return due

@@ -11,8 +11,10 @@ from whipple.model.physical_checks import MAX_SPEED
 
 #: Lowest sample rate [Hz] of a run: a weave of 0.5-3 Hz needs several samples per period.
 MIN_SAMPLE_RATE = 10.0
-#: Shortest run [s]: a shorter one cannot hold a perturbation and its decay.
-MIN_DURATION = 2.0
+#: Shortest run [s]: a shorter one cannot hold a weave cycle (at most about 3 Hz at riding speeds,
+#: 1 Hz and less below 4 m/s). Whether a longer run holds one, the fit of its windows says (a cut
+#: segment of a published data set often holds just one cycle or two).
+MIN_DURATION = 1.0
 #: Largest standard deviation of a speed sensor's noise, as a share of the lowest speed of the
 #: run: a speed 10 standard deviations above zero never reads negative (a chance of 1e-23 per
 #: sample), and a sensor noisier than that is no speed sensor.

@@ -24,6 +24,8 @@ from whipple.simulation.run_limits import MAX_SPEED, MAX_SPEED_NOISE_SHARE, MIN_
 SIGNALS = ("roll_rate", "yaw_rate", "steer_angle", "steer_rate", "roll_angle", "speed",
            "speedometer")
 SETTINGS = ("treadmill", "ground")
+#: Directions of automatic pushes (:attr:`RunScenario.push_signs`).
+PUSH_SIGNS = ("alternate", "random")
 #: Most samples of one simulated run (or of all runs of one ``whipple simulate``): a simulation
 #: holds about 400 bytes per sample until its file is written (measured: 470 MB for 10^6).
 MAX_SAMPLES = 2_000_000
@@ -221,6 +223,17 @@ class RunScenario:
     hold_std : float
         Standard deviation of roll and steer [rad] while held (the hand is not perfectly
         still).
+    push_signs : {"alternate", "random"}
+        Directions of the automatic pushes: alternating (the first to the positive roll
+        rate), or each drawn at random (an experimenter who pushes from either side).
+    push_spread : float
+        Relative spread of the automatic pushes' sizes: each is ``push_roll_rate`` times a
+        factor drawn uniformly from ``[1 - push_spread, 1 + push_spread]``; 0 (in [0, 1)):
+        all alike.
+    coast_spread : float
+        Relative spread of the coasts before a scheduled catch: each lasts ``max_coast``
+        times a factor drawn uniformly from ``[1 - coast_spread, 1]`` (a hand that catches
+        when it chooses); 0 (in [0, 1)): all ``max_coast``.
     sensors : Sensors
         Noise and bias of each signal.
     faults : SensorFaults
@@ -252,6 +265,9 @@ class RunScenario:
     roll_limit: float = 0.25
     roll_rate_limit: float = 1.5
     hold_std: float = 0.001
+    push_signs: str = "alternate"
+    push_spread: float = 0.0
+    coast_spread: float = 0.0
     sensors: Sensors = Sensors()
     faults: SensorFaults = NO_FAULTS
     columns: tuple[str, ...] = ("roll_rate", "yaw_rate", "steer_angle", "speed")
@@ -267,6 +283,10 @@ class RunScenario:
             _check(name, getattr(self, name), lambda x: x >= 0, ">= 0")
         if self.duration is not None:
             _check("duration", self.duration, lambda x: x > 0, "positive")
+        if self.push_signs not in PUSH_SIGNS:
+            raise ScenarioError(f"push_signs must be one of {', '.join(PUSH_SIGNS)}, got {self.push_signs!r}")
+        for name in ("push_spread", "coast_spread"):
+            _check(name, getattr(self, name), lambda x: 0 <= x < 1, "in [0, 1)")
         if self.setting not in SETTINGS:
             raise ScenarioError(f"setting must be one of {', '.join(SETTINGS)}, "
                                 f"got {self.setting!r}")

@@ -1,0 +1,105 @@
+"""How many simulated coasts that hold a weave cycle give a fitted window, and whether any is fitted across a catch.
+
+Simulated runs know where each free coasting starts (the push's end) and ends (the catch):
+their ``segments``. For four bicycles (benchmark, kooijman2008, the Browser of
+BicycleParameters, sbw2024 with its controller), at speeds where the weave oscillates with a
+real part up to +1 1/s (growing weave included), runs are simulated with the procedures
+below and measured as ``whipple fit`` measures them (window finder, fit, cut before a catch).
+A coast counts when it holds at least one weave cycle of the model at its speed (its length
+times the weave frequency over 2 pi). It gives a window when a fitted window starts inside
+it; that window is fitted across the catch when its fit runs more than one sample past the
+catch, and across the push when it starts before the push's end. For a window fitted across a
+catch the hand's mark on its samples is measured: the largest difference, over the samples the
+fit holds after the catch, between the true roll rate and the free motion that would have
+followed without the hand (the model's state at the catch propagated freely), in standard
+deviations of the roll rate's noise. Under 1 the catch came while the motion had sunk into the
+noise, and the fit cannot tell it.
+
+Procedures (``whipple.simulation``):
+
+* ``seed``: the seed paper's, as ``RunScenario`` has it by default: held upright, a push of
+  0.1 s from rest, alternating, a catch after 5 s or at the roll limits, held, pushed again.
+* ``sharp``: pushes from rest of 0.04 s, of either sign at random, their sizes spread by
+  +-40 % around a larger roll rate (0.8 rad/s), coasts caught by hand after 1.5-5 s.
+* ``growing``: at the speeds where the weave grows at +0.25, +0.5, +0.75 and +1 1/s (below the
+  weave speed), small pushes from rest (0.15 rad/s, either sign, sizes spread by +-40 %): the
+  weave grows out of them until the bicycle is caught at the roll or roll-rate limit.
+* ``cut``: the ``sharp`` runs cut into segments (``procedure.cut_run``), one per coast, from
+  0-0.3 s after the push's end to 0.2 s before or 0.3 s after the catch: segments that start
+  after their push, as published data sets hold them (segments shorter than 1 s are not
+  written, the reader refuses them).
+
+Printed: per bicycle and procedure, coasts holding a cycle, those with a fitted window
+(and a usable one, passing the quality checks), windows fitted across a catch or a push, and
+the median and 90th percentile of the usable windows' eigenvalue error relative to the model's
+weave, |fitted - model| / |model|; the overall rate; and the rejected stretches' reasons of the
+coasts without a window.
+
+Run: ``python benchmarks/bench_window_finder.py [--seeds 3] [--bicycles ...] [--procedures ...]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+
+from window_procedures import BICYCLES, PROCEDURES, SPEEDS, procedure_tally  # noqa: E402
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=3)
+    parser.add_argument("--bicycles", nargs="+", default=list(BICYCLES), choices=list(BICYCLES))
+    parser.add_argument("--procedures", nargs="+", default=list(PROCEDURES), choices=PROCEDURES)
+    parser.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS))
+    args = parser.parse_args()
+    total: Counter[str] = Counter()
+    reasons: Counter[str] = Counter()
+    marks: list[float] = []
+    for name in args.bicycles:
+        for procedure in args.procedures:
+            tally = procedure_tally(name, procedure, range(args.seeds), args.speeds)
+            count, growing = tally.count, tally.growing
+            total.update(count)
+            marks.extend(tally.marks)
+            reasons.update(_short(why) for why in tally.reasons)
+            print(f"{name:13s} {procedure:6s} coasts {count['coasts']:4d}  fitted {count['fitted']:4d} "
+                  f"({_rate(count, 'fitted')})  usable {count['usable']:4d} ({_rate(count, 'usable')})  "
+                  f"across a catch {count['across_catch']} ({count['usable_across_catch']} usable)  "
+                  f"across a push {count['across_push']}  "
+                  f"error {_percentiles(tally.errors)}  "
+                  f"| growing weave: {growing['coasts']} coasts, {growing['fitted']} fitted", flush=True)
+    print(f"\nall: {total['coasts']} coasts holding a weave cycle, {total['fitted']} with a fitted window "
+          f"({_rate(total, 'fitted')}), {total['usable']} usable ({_rate(total, 'usable')}); "
+          f"fitted across a catch: {total['across_catch']} ({total['usable_across_catch']} of them usable), "
+          f"across a push: {total['across_push']}")
+    if marks:
+        print(f"the hand's mark on the windows fitted across a catch (noise standard deviations): "
+              f"{', '.join(f'{m:.2f}' for m in sorted(marks))}; {sum(m >= 1 for m in marks)} of them at 1 or more")
+    if reasons:
+        print("why the coasts without a window gave none (the rejected stretches' reasons):")
+        for reason, n in reasons.most_common(12):
+            print(f"  {n:4d}  {reason}")
+
+
+def _percentiles(errors: list[float]) -> str:
+    return f"{100 * np.median(errors):.1f}%/{100 * np.quantile(errors, 0.9):.1f}%" if errors else "-"
+
+
+def _rate(count: Counter[str], key: str) -> str:
+    return f"{100 * count[key] / count['coasts']:.0f}%" if count["coasts"] else "-"
+
+
+def _short(reason: str) -> str:
+    """A reason without its times, to count alike reasons together."""
+    return " ".join("#" if any(c.isdigit() for c in word) else word for word in reason.split())
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,182 @@
+"""Simulated procedures of real experiments, and how the window finder fares on their coasts.
+
+Used by tests/test_real_procedures.py (a fast subset and the slow rate) and
+benchmarks/bench_window_finder.py (the rate over bicycles, speeds, procedures and seeds; its
+docstring describes the procedures and what is counted).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.linalg import expm
+
+from whipple.errors import InputError
+from whipple.measurement.experiment import measure_run
+from whipple.measurement.runs import MIN_DURATION, run_from_simulation
+from whipple.model.assembly import linear_model
+from whipple.model.parameters import load_bicycle
+from whipple.simulation.procedure import SimulatedRun, cut_run
+from whipple.simulation.scenario import RunScenario
+from whipple.simulation.simulator import simulate_run
+
+BICYCLES = {
+    "benchmark": "benchmark",
+    "kooijman2008": "kooijman2008",
+    "browser": str(Path(__file__).resolve().parent / "data/bicycleparameters/bicycles/BrowserBenchmark.txt"),
+    "sbw2024": "sbw2024",
+}
+PROCEDURES = ("seed", "sharp", "growing", "cut")
+#: Real parts of the weave [1/s] of the "growing" procedure's speeds.
+GROWTH_RATES = (0.25, 0.5, 0.75, 1.0)
+#: Speeds tried [m/s]; those where the weave does not oscillate or grows faster than
+#: ``MAX_GROWTH`` are left out.
+SPEEDS = (2.0, 2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 6.0, 7.0)
+#: Largest real part of the weave [1/s] of the runs.
+MAX_GROWTH = 1.0
+
+
+def weave(model, speed: float) -> complex | None:
+    """The model's oscillating eigenvalue of largest real part at `speed` [m/s] [1/s], or None."""
+    eigenvalues = np.linalg.eigvals(model.state_matrix(speed))
+    oscillating = eigenvalues[eigenvalues.imag > 1e-6]
+    return complex(oscillating[np.argmax(oscillating.real)]) if oscillating.size else None
+
+
+def growing_speeds(model) -> list[float]:
+    """The speeds [m/s] below the weave speed at which the weave's real part is each of GROWTH_RATES."""
+    grid = np.arange(0.3, 10.0, 0.02)
+    real = np.array([w.real if (w := weave(model, v)) is not None else np.nan for v in grid])
+    speeds = []
+    for rate in GROWTH_RATES:
+        # The fastest speed at which the real part falls through `rate`: the growing weave just
+        # below the weave speed, not another mode at walking pace.
+        falls = np.flatnonzero((real[:-1] >= rate) & (real[1:] < rate))
+        if falls.size:
+            k = falls[-1]
+            speeds.append(float(grid[k] + (grid[k + 1] - grid[k]) * (real[k] - rate) / (real[k] - real[k + 1])))
+    return speeds
+
+
+def scenario(procedure: str, speed: float, seed: int) -> RunScenario:
+    """The scenario of a run of `procedure` ("seed", "sharp" or "growing"; "cut" cuts "sharp" runs)."""
+    if procedure == "seed":
+        return RunScenario(speed=speed, seed=seed)
+    if procedure == "growing":
+        return RunScenario(speed=speed, seed=seed, push_duration=0.04, push_roll_rate=0.15, push_signs="random",
+                           push_spread=0.4)
+    return RunScenario(speed=speed, seed=seed, push_duration=0.04, push_roll_rate=0.8, push_signs="random",
+                       push_spread=0.4, coast_spread=0.7)
+
+
+def pieces(simulated: SimulatedRun, procedure: str, seed: int) -> list[SimulatedRun]:
+    """The runs measured: the whole run, or for "cut" one segment around each coast."""
+    if procedure != "cut":
+        return [simulated]
+    rng = np.random.default_rng([seed, 1])
+    cuts = []
+    for start, stop in simulated.segments:
+        first, last = start + rng.uniform(0.0, 0.3), stop + rng.uniform(-0.2, 0.3)
+        if last - first >= MIN_DURATION:
+            cuts.append(cut_run(simulated, first, last))
+    return cuts
+
+
+def coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict]:
+    """Measure a run; one record per coast holding a weave cycle (`eigenvalue`: the model's weave [1/s])."""
+    frequency, fs = eigenvalue.imag, simulated.sample_rate
+    try:
+        measured = measure_run(run_from_simulation(simulated))
+    except InputError as error:
+        return [{"fitted": False, "usable": False, "across_catch": 0, "usable_across_catch": 0, "across_push": 0,
+                 "hand_mark": [],
+                 "errors": [], "why": [str(error)]}
+                for start, stop in simulated.segments if (stop - start) * frequency >= 2 * np.pi]
+    records = []
+    caught = set(simulated.catches)
+    for start, stop in simulated.segments:
+        if (stop - start) * frequency < 2 * np.pi:
+            continue
+        inside = [m for m in measured if m.fit is not None and start - 0.5 / fs <= m.fit.start < stop]
+        # Coasts cut by the record's end have no catch to cross.
+        ends_in_catch = any(abs(stop - t) < 1e-6 for t in caught)
+        pushed = simulated.time[0] < start - 0.5 / fs
+        why = [m.window.reason for m in measured if m.fit is None and m.window.start < stop
+               and m.window.stop > start]
+        across = [m for m in inside if ends_in_catch and m.fit.stop > stop + 1.01 / fs]
+        records.append({
+            "fitted": bool(inside),
+            "usable": any(m.usable for m in inside),
+            "across_catch": len(across),
+            "usable_across_catch": sum(m.usable for m in across),
+            "hand_mark": [_hand_mark(simulated, model, stop, m.fit.stop) for m in across],
+            "across_push": sum(pushed and m.fit.start < start - 0.5 / fs for m in inside),
+            "errors": [abs(complex(m.fit.damping, m.fit.frequency) - eigenvalue) / abs(eigenvalue)
+                       for m in inside if m.usable],
+            "why": why if not inside else [],
+        })
+    return records
+
+
+def _hand_mark(simulated: SimulatedRun, model, catch: float, stop: float) -> float:
+    """Largest |true - free| roll rate from the catch to `stop` [s], in roll-rate noise units."""
+    time = simulated.time
+    first, last = int(np.searchsorted(time, catch - 1e-9)), int(np.searchsorted(time, stop + 1e-9))
+    dt = float(time[1] - time[0])
+    step = expm(model.state_matrix(float(simulated.speed[first])) * dt)
+    state, free = simulated.states[first].copy(), []
+    for _ in range(first, last):
+        free.append(state[simulated.state_names.index("roll_rate")])
+        state = step @ state
+    difference = simulated.state("roll_rate")[first:last] - np.array(free)
+    return float(np.max(np.abs(difference)) / simulated.scenario.sensors.roll_rate.noise)
+
+
+@dataclass
+class Tally:
+    """What the coasts of one bicycle and procedure gave.
+
+    ``count``: coasts holding a weave cycle (``coasts``), with a fitted window (``fitted``), a
+    usable one (``usable``), windows fitted across a catch (``across_catch``; those usable:
+    ``usable_across_catch``) or a push (``across_push``); ``growing``: the same for
+    the coasts of a growing weave; ``errors``: the usable windows' |fitted - model| / |model|;
+    ``marks``: the hand's mark on each window fitted across a catch [noise std]; ``reasons``:
+    the rejected stretches' reasons of the coasts without a window.
+    """
+
+    count: Counter[str] = field(default_factory=Counter)
+    growing: Counter[str] = field(default_factory=Counter)
+    errors: list[float] = field(default_factory=list)
+    marks: list[float] = field(default_factory=list)
+    reasons: list[str] = field(default_factory=list)
+
+
+def procedure_tally(name: str, procedure: str, seeds: Iterable[int], speeds: Iterable[float] = SPEEDS) -> Tally:
+    """Simulate and measure the runs of bicycle `name` (a key of BICYCLES) by `procedure`."""
+    bicycle = load_bicycle(BICYCLES[name])
+    model = linear_model(bicycle)
+    tally = Tally()
+    seeds = list(seeds)
+    for speed in growing_speeds(model) if procedure == "growing" else speeds:
+        eigenvalue = weave(model, speed)
+        if eigenvalue is None or eigenvalue.real > MAX_GROWTH:
+            continue
+        for seed in seeds:
+            simulated = simulate_run(bicycle, scenario(procedure, speed, seed), model)
+            for piece in pieces(simulated, procedure, seed):
+                for record in coasts(piece, eigenvalue, model):
+                    counted = Counter(coasts=1, fitted=record["fitted"], usable=record["usable"],
+                                      across_catch=record["across_catch"], across_push=record["across_push"],
+                                      usable_across_catch=record["usable_across_catch"])
+                    tally.count.update(counted)
+                    if eigenvalue.real > 0:
+                        tally.growing.update(counted)
+                    if not record["fitted"]:
+                        tally.reasons.extend(record["why"] or ["(nothing listed)"])
+                    tally.marks.extend(record["hand_mark"])
+                    tally.errors.extend(record["errors"])
+    return tally

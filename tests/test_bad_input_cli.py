@@ -194,3 +194,44 @@ def test_corrupt_gzip_low_sample_rates_empty_speed_and_huge_cells(run_file, tmp_
     table.write_text("w,c" + "x" * 140000 + "\n1.02,0.08\n", encoding="utf-8")
     _one_line_error(capsys, 2, main(["sweep", str(table), "-o", str(tmp_path / "out.csv")]), str(table),
                     "not a readable CSV table")
+
+
+def test_evaluate_bad_inputs_are_one_line_and_leave_the_inputs(run_file, tmp_path, capsys):
+    experiment = tmp_path / "exp.toml"
+    experiment.write_text(f'[[group]]\nname = "g"\nbicycle = "benchmark"\nruns = "{run_file}"\n', encoding="utf-8")
+    models = tmp_path / "models"
+    models.mkdir()
+    run, out = str(run_file), str(tmp_path / "o.json")
+    cases = [
+        (["evaluate", "--bicycle", "benchmark"], "no runs"),
+        (["evaluate", run], "no model to score: give --bicycle"),
+        (["evaluate", run, "--bicycle", "benchmark", "--bicycle", "benchmark"], "--bicycle benchmark given twice"),
+        (["evaluate", run, "--bicycle", "nobike.toml"], "nobike.toml: no such file or built-in bicycle"),
+        (["evaluate", run, "--bicycle", "benchmark", "--models", str(models)], "--models gives one model per group"),
+        (["evaluate", run, "--experiment", str(experiment)], "RUN files cannot be given with it"),
+        (["evaluate", "--experiment", str(experiment), "--bicycle", "benchmark"], "--bicycle cannot be given"),
+        (["evaluate", "--experiment", str(tmp_path / "none.toml")], "no such experiment file"),
+        (["evaluate", "--experiment", str(experiment), "--models", str(models)], "no model for group 'g'"),
+        (["evaluate", "--experiment", str(experiment), "--models", str(tmp_path / "nodir")], "no such folder"),
+        (["evaluate", run, "--bicycle", "benchmark", "--json", run], "refusing to write output over input file"),
+        (["evaluate", "--experiment", str(experiment), "--json", str(experiment)], "refusing to write output"),
+        (["evaluate", "--experiment", str(experiment), "--csv", run], "refusing to write output"),
+        (["evaluate", run, "--bicycle", "benchmark", "--json", out, "--csv", out], "--json"),
+        (["evaluate", run, "--bicycle", "benchmark", "--windows", str(tmp_path / "w.csv")], "cannot read windows"),
+    ]
+    before = {path: path.read_bytes() for path in (run_file, experiment)}
+    for args, words in cases:
+        capsys.readouterr()
+        _one_line_error(capsys, 2, main(args), words)
+        assert all(path.read_bytes() == data for path, data in before.items())
+    assert not Path(out).exists()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(f'[[group]]\nname = "g"\nbicycle = "benchmark"\nruns = "{tmp_path}/*.log"\n', encoding="utf-8")
+    _one_line_error(capsys, 2, main(["evaluate", "--experiment", str(bad)]), str(bad), "group 1 ('g')",
+                    "matches no file")
+    for command in ("evaluate", "fit", "diagnose"):
+        with pytest.raises(SystemExit) as raised:
+            main([command, "--bundled", "model-matching", "--bicycle", "sbw2024"])
+        assert raised.value.code == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "invalid choice: 'model-matching'" in err[0] and "model-matching-on" in err[0]

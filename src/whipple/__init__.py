@@ -62,6 +62,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "whipple.diagnosis.pipeline": ("diagnose",),
     "whipple.diagnosis.evidence": ("Diagnosis", "diagnose_observations"),
     "whipple.diagnosis.gain": ("CauseGain", "Gain", "cause_gains", "held_out_gain"),
+    "whipple.diagnosis.evaluation": ("Evaluation", "evaluate", "evaluate_experiment"),
     "whipple.diagnosis.report": ("DiagnosisReport", "assemble", "report_json"),
 }
 _HOME = {name: module for module, names in _EXPORTS.items() for name in names}

@@ -144,6 +144,49 @@ class Experiment:
         """Return the experiment file and every file its groups read."""
         return (self.source, *(path for group in self.groups for path in group.inputs()))
 
+    def bicycles(self) -> dict[str, Bicycle]:
+        """Return each group's own bicycle (with its controller), by group name."""
+        return {group.name: group.bicycle for group in self.groups}
+
+
+def group_model_file(folder: str | os.PathLike[str], name: str) -> Path:
+    """Return the file of a group's model in a models folder: ``<folder>/<name>.toml``."""
+    return Path(os.fspath(folder)) / f"{name}.toml"
+
+
+def read_group_models(folder: str | os.PathLike[str], experiment: Experiment) -> dict[str, Bicycle]:
+    """Read one model per group of an experiment from a folder: ``<folder>/<group>.toml`` each.
+
+    Parameters
+    ----------
+    folder : str or path
+        A folder holding one bicycle file per group (other files are ignored), such as the
+        extended models a diagnosis of the experiment saves.
+    experiment : Experiment
+        The experiment whose groups need a model.
+
+    Returns
+    -------
+    dict
+        Group name to its model, in the experiment's order.
+
+    Raises
+    ------
+    InputError
+        No such folder, a group without its file, or a file that is no bicycle (one line naming it).
+    """
+    where = Path(os.fspath(folder))
+    if not where.is_dir():
+        raise InputError("no such folder of models (one bicycle file <group>.toml per group)", where)
+    models = {}
+    for group in experiment.groups:
+        path = group_model_file(where, group.name)
+        if not path.is_file():
+            raise InputError(f"no model for group {group.name!r} of {experiment.source} (a models folder holds one "
+                             "bicycle file <group>.toml per group)", path)
+        models[group.name] = load_bicycle(path)
+    return models
+
 
 def read_experiment(path: str | os.PathLike[str]) -> Experiment:
     """Read an experiment file: its groups, their bicycles loaded and their run patterns expanded.

@@ -293,3 +293,44 @@ def test_a_metadata_sample_rate_within_a_clock_drift_is_no_contradiction(run_fil
     far.write_text(run_file.read_text().replace("# sample_rate: 100\n", "# sample_rate: 1000\n"))
     with pytest.raises(RunFileError, match="metadata sample_rate 1000 Hz contradicts the time column"):
         read_run(far)
+
+
+def test_evaluate_bad_inputs_are_one_line_and_leave_the_inputs(run_file, tmp_path, capsys):
+    experiment = tmp_path / "exp.toml"
+    experiment.write_text(f'[[group]]\nname = "g"\nbicycle = "benchmark"\nruns = "{run_file}"\n', encoding="utf-8")
+    models = tmp_path / "models"
+    models.mkdir()
+    run, out = str(run_file), str(tmp_path / "o.json")
+    cases = [
+        (["evaluate", "--bicycle", "benchmark"], "no runs"),
+        (["evaluate", run], "no model to score: give --bicycle"),
+        (["evaluate", run, "--bicycle", "benchmark", "--bicycle", "benchmark"], "--bicycle benchmark given twice"),
+        (["evaluate", run, "--bicycle", "nobike.toml"], "nobike.toml: no such file or built-in bicycle"),
+        (["evaluate", run, "--bicycle", "benchmark", "--models", str(models)], "--models gives one model per group"),
+        (["evaluate", run, "--experiment", str(experiment)], "RUN files cannot be given with it"),
+        (["evaluate", "--experiment", str(experiment), "--bicycle", "benchmark"], "--bicycle cannot be given"),
+        (["evaluate", "--experiment", str(tmp_path / "none.toml")], "no such experiment file"),
+        (["evaluate", "--experiment", str(experiment), "--models", str(models)], "no model for group 'g'"),
+        (["evaluate", "--experiment", str(experiment), "--models", str(tmp_path / "nodir")], "no such folder"),
+        (["evaluate", run, "--bicycle", "benchmark", "--json", run], "refusing to write output over input file"),
+        (["evaluate", "--experiment", str(experiment), "--json", str(experiment)], "refusing to write output"),
+        (["evaluate", "--experiment", str(experiment), "--csv", run], "refusing to write output"),
+        (["evaluate", run, "--bicycle", "benchmark", "--json", out, "--csv", out], "--json"),
+        (["evaluate", run, "--bicycle", "benchmark", "--windows", str(tmp_path / "w.csv")], "cannot read file"),
+    ]
+    before = {path: path.read_bytes() for path in (run_file, experiment)}
+    for args, words in cases:
+        capsys.readouterr()
+        _one_line_error(capsys, 2, main(args), words)
+        assert all(path.read_bytes() == data for path, data in before.items())
+    assert not Path(out).exists()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(f'[[group]]\nname = "g"\nbicycle = "benchmark"\nruns = "{tmp_path}/*.log"\n', encoding="utf-8")
+    _one_line_error(capsys, 2, main(["evaluate", "--experiment", str(bad)]), str(bad), "group 1 ('g')",
+                    "matches no file")
+    for command in ("evaluate", "fit", "diagnose"):
+        with pytest.raises(SystemExit) as raised:
+            main([command, "--bundled", "model-matching", "--bicycle", "sbw2024"])
+        assert raised.value.code == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "invalid choice: 'model-matching'" in err[0] and "model-matching-on" in err[0]

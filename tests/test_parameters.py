@@ -93,6 +93,44 @@ def test_sbw2024_controller_is_the_steer_into_lean_law():
         assert not others.any(), f"F_{k} has other non-zero gains"
 
 
+def _readme_mm_law(v):
+    # The model-matching law as data/sbw-treadmill/README.md gives it: steer row [roll, steer, roll_rate, steer_rate].
+    k_t = 1.03764578291
+    return np.array([-0.348543214119, 0.11782139859 * v**2 - 0.0267476413381,
+                     -0.278924665158 * v + k_t * 2 * (6.5 - v), 0.016087729532 * v])
+
+
+def test_sbw2024_mm_is_sbw2024_with_the_model_matching_law():
+    matching, plain = load_bicycle("sbw2024-mm"), load_bicycle("sbw2024")
+    assert matching.parameters == plain.parameters
+    assert matching.extensions == plain.extensions
+    feedback = matching.controller.feedback_coefficients()
+    for v in (0.5, 1.5, 2.5, 3.6, 4.7, 5.2, 6.4):
+        gains = sum(v**k * matrix for k, matrix in enumerate(feedback))
+        np.testing.assert_allclose(gains[1], _readme_mm_law(v), rtol=1e-12, atol=1e-13)
+        assert not gains[0].any()  # no roll torque
+
+
+def test_sbw2024_mm_law_reproduces_the_logged_fork_command():
+    # The firmware's own record: command_fork (read as steer_torque) from the logged states.
+    from whipple.measurement.bundled import bundled_runs
+    from whipple.measurement.runs import read_run
+
+    feedback = load_bicycle("sbw2024-mm").controller.feedback_coefficients()
+    for entry in bundled_runs("model-matching-on")[1::2]:  # 9 and 16.2 km/h
+        run = read_run(entry)
+        s = run.signals
+        states = np.stack([s["roll_angle"], s["steer_angle"], s["roll_rate"], s["steer_rate"]])
+        law = sum(run.speed() ** k * (matrix[1] @ states) for k, matrix in enumerate(feedback))
+        logged = np.isfinite(s["controller_torque"])  # empty before the controller ran
+        error = np.abs(law - s["steer_torque"])[logged]
+        assert logged.sum() > 8000
+        assert np.mean(error < 1e-4) >= 0.99, entry.name
+        # The steer-into-lean law alone (sbw2024's) is far from the command: the feedback matters.
+        plain = (13.0 - 2.0 * run.speed()) * s["roll_rate"]
+        assert np.median(np.abs(plain - s["steer_torque"])[logged]) > 100 * np.median(error)
+
+
 def test_unknown_builtin_name_lists_the_builtin_names():
     with pytest.raises(BicycleFileError) as caught:
         load_bicycle("benchmrk")

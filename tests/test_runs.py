@@ -9,8 +9,14 @@ import numpy as np
 import pytest
 
 from whipple.errors import InputError, RunFileError
-from whipple.measurement.bundled import bundled_folder, bundled_reference_windows, bundled_runs
+from whipple.measurement.bundled import (
+    bundled_experiment_bicycle,
+    bundled_folder,
+    bundled_reference_windows,
+    bundled_runs,
+)
 from whipple.measurement.layouts import builtin_layouts, load_layout
+from whipple.measurement.reference_windows import read_windows
 from whipple.measurement.runs import read_run
 
 HEADER = "# sample_rate: 100\n# wheel_radius: 0.35\n# pulses_per_revolution: 20\n"
@@ -208,6 +214,27 @@ def test_bundled_treadmill_logs_are_recognised_and_mapped():
     assert 3.4 < np.median(speed) < 3.7
     explicit = read_run(files[2], layout="sbw-treadmill")
     np.testing.assert_array_equal(explicit.signals["roll_rate"], roll_rate)
+
+
+def test_bundled_runs_of_both_experiments():
+    speeds = ("5.4", "9", "12.6", "16.2", "18")
+    assert bundled_runs() == bundled_runs("model-matching-off")
+    on = bundled_runs("model-matching-on")
+    assert [f.name for f in on] == [f"eigen_mm_sil6.5n2_{speed}kph.log.gz" for speed in speeds]
+    assert bundled_experiment_bicycle("model-matching-on") == "sbw2024-mm"
+    assert bundled_experiment_bicycle("model-matching-off") == "sbw2024"
+    with pytest.raises(InputError, match="no bundled experiment 'mm'.*model-matching-on"):
+        bundled_runs("mm")
+    run = read_run(on[1])
+    assert run.name == "eigen_mm_sil6.5n2_9kph" and run.sample_rate == 100.0
+    assert 2.4 < np.median(run.speed()) < 2.6
+    # The logs as the repository holds them, read by the built-in layout.
+    with gzip.open(on[1], "rt") as log:
+        assert log.readline().startswith("sil_command,speed,lean_angle,lean_rate")
+    # The reference windows hold both experiments; each set of runs keeps its own.
+    on_runs = [read_run(entry) for entry in on[2:4]]
+    windows = read_windows(bundled_reference_windows(), on_runs)
+    assert len(windows) == 14 and {w.run for w in windows} == {r.name for r in on_runs}
 
 
 def test_bundled_data_carries_licence_and_provenance():

@@ -30,7 +30,7 @@ __version__ = "0.1.0"
 #: Public names by the module that defines them.
 _EXPORTS: dict[str, tuple[str, ...]] = {
     "whipple.errors": ("WhippleError", "InputError", "ParameterError", "BicycleFileError", "RunFileError",
-                       "AnalysisError"),
+                       "ExperimentFileError", "AnalysisError"),
     "whipple.model.parameters": ("Bicycle", "Controller", "Extensions", "Payload", "Rider", "TyreCompliance",
                                  "ValidationReport", "PARAMETER_NAMES", "PARAMETER_DESCRIPTIONS", "PARAMETER_UNITS",
                                  "builtin_names", "check_physical", "load_bicycle", "read_benchmark_txt",
@@ -53,7 +53,8 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "whipple.measurement.experiment": ("FitOptions", "RunMeasurement", "WindowMeasurement", "measure_run"),
     "whipple.measurement.measure": ("MeasurementOptions", "MeasuredRuns", "measure_runs"),
     "whipple.measurement.reference_windows": ("compare_windows", "read_windows", "write_windows"),
-    "whipple.measurement.bundled": ("bundled_runs", "bundled_reference_windows"),
+    "whipple.measurement.bundled": ("bundled_runs", "bundled_reference_windows", "bundled_experiment"),
+    "whipple.measurement.experiment_file": ("Experiment", "Group", "read_experiment"),
     "whipple.diagnosis.observations": ("Observation", "observations"),
     "whipple.diagnosis.causes": ("Cause",),
     "whipple.diagnosis.registry": ("CauseDeclaration", "Family", "Value", "candidate_causes", "declare"),
@@ -61,6 +62,7 @@ _EXPORTS: dict[str, tuple[str, ...]] = {
     "whipple.diagnosis.pipeline": ("diagnose",),
     "whipple.diagnosis.evidence": ("Diagnosis", "diagnose_observations"),
     "whipple.diagnosis.gain": ("CauseGain", "Gain", "cause_gains", "held_out_gain"),
+    "whipple.diagnosis.evaluation": ("Evaluation", "evaluate", "evaluate_experiment"),
     "whipple.diagnosis.report": ("DiagnosisReport", "assemble", "report_json"),
 }
 _HOME = {name: module for module, names in _EXPORTS.items() for name in names}

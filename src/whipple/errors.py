@@ -43,6 +43,10 @@ class RunFileError(InputError):
     """A measured or simulated run file cannot be read or analysed."""
 
 
+class ExperimentFileError(InputError):
+    """An experiment file (groups of runs, each with its bicycle) cannot be read, or names what is not there."""
+
+
 class OutputError(InputError):
     """An output file cannot be written (read-only folder, a folder in its place, a full disk).
 

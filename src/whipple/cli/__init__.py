@@ -39,6 +39,7 @@ COMMANDS = {
     "fit": "find free-coasting windows in measured runs and fit their weave eigenvalues",
     "simulate": "simulate realistic measured runs (push, coast, catch, sensor noise) as run files",
     "diagnose": "find what the model gets wrong on measured runs and which cause explains it",
+    "evaluate": "score models on measured runs: weave eigenvalue error and samples' residual, per speed",
 }
 
 

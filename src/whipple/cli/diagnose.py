@@ -20,7 +20,7 @@ from pathlib import Path
 
 from whipple.atomic import write_text_atomic
 from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer
-from whipple.cli.measurement_arguments import add_measurement_arguments, measurement_options
+from whipple.cli.measurement_arguments import add_bundled_argument, add_measurement_arguments, measurement_options
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.cli.progress import ProgressBars
 from whipple.diagnosis.fitting import COMPARISONS
@@ -43,7 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Add the options of this command to `parser`."""
     add_rider_argument(parser)
     parser.add_argument("runs", nargs="*", type=Path, metavar="RUNS", help="run files")
-    parser.add_argument("--bundled", action="store_true", help="use the bundled steer-by-wire treadmill runs")
+    add_bundled_argument(parser, "use")
     parser.add_argument("--bicycle", required=True, metavar="PARAMS", help="bicycle file or built-in name")
     parser.add_argument("--layout", default=None, help="layout of the run files (name or TOML file)")
     parser.add_argument("--windows", type=Path, default=None, metavar="FILE",
@@ -79,7 +79,7 @@ def options_of(args: argparse.Namespace) -> DiagnosisOptions:
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     check_cluster_options(args.scheduler, args.workers)
-    sources: list = [*args.runs, *(bundled_runs() if args.bundled else [])]
+    sources: list = [*args.runs, *(bundled_runs(args.bundled) if args.bundled else [])]
     if not sources:
         raise InputError("no run files given (name files, or use --bundled)")
     inputs = [s for s in sources if isinstance(s, Path)] + bicycle_inputs(args)

@@ -16,11 +16,12 @@ windows that cannot be fitted and fits too poor to use (R^2 under 0.5, under 0.7
 all or above the noise, see --min-cycles-above-noise) are listed as skipped, with the reason.
 
 --bundled adds the measured runs shipped with whipple (a steer-by-wire bicycle on a treadmill;
-fit them with --bicycle sbw2024) and compares the automatic windows with the windows picked
-by hand for them. --windows FILE fits the file's windows instead and reports how the
-automatic windows compare with them; --compare FILE only compares. FILE may be the word
-"bundled" for the hand-picked windows of the bundled runs. --json, --csv and --plot write the
-results (JSON list of windows; CSV table; PNG figures like the seed paper's Figures 4, 5, 6).
+fit them with --bicycle sbw2024, or --bundled model-matching-on with sbw2024-mm) and compares
+the automatic windows with the windows picked by hand for them. --windows FILE fits the file's
+windows instead and reports how the automatic windows compare with them; --compare FILE only
+compares. FILE may be the word "bundled" for the hand-picked windows of the bundled runs.
+--json, --csv and --plot write the results (JSON list of windows; CSV table; PNG figures like
+the seed paper's Figures 4, 5, 6).
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ import numpy as np
 
 from whipple.atomic import refuse_input_overwrite, write_text_atomic
 from whipple.cli.arguments import add_rider_argument
-from whipple.cli.measurement_arguments import add_measurement_arguments, measurement_options
+from whipple.cli.measurement_arguments import add_bundled_argument, add_measurement_arguments, measurement_options
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.cli.progress import ProgressBars
 from whipple.errors import InputError
@@ -61,9 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_rider_argument(parser)
     parser.add_argument("runs", nargs="*", metavar="RUN",
                         help="run files (native CSV, a layout's format, or .gz of either)")
-    parser.add_argument("--bundled", action="store_true",
-                        help="also fit the measured runs shipped with whipple (steer-by-wire "
-                             "bicycle on a treadmill, 5 belt speeds; model: --bicycle sbw2024)")
+    add_bundled_argument(parser, "also fit")
     parser.add_argument("--layout", metavar="NAME-or-FILE",
                         help="layout of the RUN files: a built-in name (sbw-treadmill) or a "
                              "layout TOML file (default: native, or recognised by the header)")
@@ -97,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
 
     runs = [read_run(path, layout=args.layout) for path in args.runs]
     if args.bundled:
-        runs += [read_run(entry) for entry in bundled_runs()]
+        runs += [read_run(entry) for entry in bundled_runs(args.bundled)]
     check_distinct_names(runs)
 
     def windows_file(value: str | None) -> tuple[Window, ...] | None:

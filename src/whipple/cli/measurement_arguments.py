@@ -11,6 +11,7 @@ import argparse
 
 from whipple.cli.arguments import number
 from whipple.errors import InputError
+from whipple.measurement.bundled import BUNDLED_EXPERIMENTS, DEFAULT_EXPERIMENT
 from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE
 from whipple.measurement.measure import METHODS, MeasurementOptions
 
@@ -43,6 +44,17 @@ def add_measurement_arguments(parser: argparse.ArgumentParser) -> None:
                        help="use every window that passes the window checks, also those that no free response "
                             "of a linear model follows nearly as well as the others (by default set aside as "
                             "holding a catch or a push)")
+
+
+def add_bundled_argument(parser: argparse.ArgumentParser, verb: str) -> None:
+    """``--bundled [EXPERIMENT]``: the measured runs shipped with whipple, one of its two experiments."""
+    experiments = ", ".join(f"{name} (model: --bicycle {bicycle})"
+                            for name, (_, bicycle) in BUNDLED_EXPERIMENTS.items())
+    parser.add_argument("--bundled", nargs="?", const=DEFAULT_EXPERIMENT, default=None,
+                        choices=tuple(BUNDLED_EXPERIMENTS), metavar="EXPERIMENT",
+                        help=f"{verb} the measured runs shipped with whipple: a steer-by-wire bicycle on a treadmill "
+                             f"at 5 belt speeds, in one of two experiments: {experiments}; default "
+                             f"{DEFAULT_EXPERIMENT}. Name run files before it, not after")
 
 
 def signal_names(text: str) -> tuple[str, ...]:

@@ -18,6 +18,9 @@ starts
 families
     Families of causes that change the same physics (named when the data cannot tell their
     members apart), and pairs of causes fitted jointly.
+evaluation
+    Models scored on measured windows, per speed and overall: the weave eigenvalue's error and
+    the samples' residual (``whipple evaluate``; the held-out gain's per-speed figures).
 gain
     The extended model's error on speeds that its choice and fit never saw (the cause chosen
     by evidence or by prediction), and every candidate's error there without a choice.

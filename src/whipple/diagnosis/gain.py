@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.admissible import offer_of
 from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.consistency import refits_without, without
+from whipple.diagnosis.evaluation import Score, pooled, score_windows
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, general_forms
 from whipple.diagnosis.fitting import fit_cause, pinned_values
@@ -309,36 +310,35 @@ def _scored(bicycle: Model, observations: Sequence[Observation], groups: Sequenc
             series: Sequence[tuple[NDArray[np.float64], NDArray[np.float64], str]] | None,
             reselected: bool) -> Gain:
     """Compare each fold's extended model with the base model on the fold's left-out speed."""
-    errors: dict[str, list[float]] = {"base": [], "extended": [], "time_base": [], "time_extended": []}
+    scores: dict[str, list[Score]] = {"base": [], "extended": []}
+    times: dict[str, list[float]] = {"base": [], "extended": []}
     speeds = []
     for group, (extended, name, verdict, values) in zip(groups, models, strict=True):
         held = [observations[i] for i in group]
-        measured = np.array([o.eigenvalue for o in held])
-        fold: dict[str, NDArray[np.float64]] = {}
-        for key, model in (("base", bicycle), ("extended", extended)):
-            predicted = predicted_weave(model, held)
-            fold[key] = np.abs(measured - predicted)
-            errors[key].extend(fold[key].tolist())
+        # The figures `whipple evaluate` gives for these models on these windows (evaluation.score_windows).
+        fold = {key: score_windows(model, held, samples=False) for key, model in (("base", bicycle),
+                                                                                  ("extended", extended))}
+        for key, score in fold.items():
+            scores[key].append(score)
             if series is None:
                 continue
-            for index, eigenvalue in zip(group, predicted, strict=True):
+            for index, eigenvalue in zip(group, score.predicted, strict=True):
                 time, signal, baseline = series[index]
                 fitted = response_with_eigenvalue(time, signal, complex(eigenvalue), baseline)
                 signal = np.atleast_2d(signal)
                 scale = np.sqrt(np.mean((signal - signal.mean(axis=1, keepdims=True)) ** 2))
-                errors[f"time_{key}"].append(float(np.sqrt(np.mean((signal - fitted) ** 2)) / scale))
-        speeds.append(HeldOutSpeed(float(np.mean([o.speed for o in held])), len(held), name, verdict,
-                                   tuple(float(v) for v in values), _rms(fold["base"]), _rms(fold["extended"]),
-                                   float(np.median(fold["base"])), float(np.median(fold["extended"]))))
+                times[key].append(float(np.sqrt(np.mean((signal - fitted) ** 2)) / scale))
+        base, extended_score = fold["base"], fold["extended"]
+        speeds.append(HeldOutSpeed(base.speed, base.windows, name, verdict, tuple(float(v) for v in values),
+                                   base.rms, extended_score.rms, base.median, extended_score.median))
 
     def median(key: str) -> float | None:
-        return float(np.median(errors[key])) if errors[key] else None
+        return float(np.median(times[key])) if times[key] else None
 
+    base_all, extended_all = pooled(scores["base"]), pooled(scores["extended"])
     return Gain("|measured - predicted| weave eigenvalue on held-out speeds [1/s]",
-                float(median("base") or 0.0), float(median("extended") or 0.0), True, len(speeds),
-                median("time_base"), median("time_extended"),
-                _rms(np.array(errors["base"])), _rms(np.array(errors["extended"])),
-                tuple(sorted(speeds, key=lambda s: s.speed)), reselected)
+                base_all.median, extended_all.median, True, len(speeds), median("base"), median("extended"),
+                base_all.rms, extended_all.rms, tuple(sorted(speeds, key=lambda s: s.speed)), reselected)
 
 
 def held_out_candidates(causes: Sequence[Cause], pairs: bool = False) -> list[Cause]:

@@ -5,7 +5,9 @@ Modules
 runs, layouts
     Reading run files (native CSV, or any layout described by a small TOML file).
 bundled
-    The measured runs shipped with whipple.
+    The measured runs shipped with whipple (two experiments) and their experiment file.
+experiment_file
+    Experiment files: groups of runs, each with its bicycle and controller.
 speedometer
     Forward speed from a raw speedometer signal; its regression over a window.
 swings, windows

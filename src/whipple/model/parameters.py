@@ -71,7 +71,7 @@ __all__ = [
 ]
 
 #: Bicycles shipped with whipple, as files whipple/data/<name>.toml.
-_BUILTIN = ("benchmark", "kooijman2008", "sbw2024")
+_BUILTIN = ("benchmark", "kooijman2008", "sbw2024", "sbw2024-mm")
 
 
 def builtin_names() -> tuple[str, ...]:

@@ -35,6 +35,7 @@ from whipple.distributed import check_cluster_options
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import MIN_CYCLES, MIN_WINDOWS, SHORT_WINDOW_CYCLES
+from whipple.measurement.experiment_file import Experiment, group_model_file, read_experiment
 from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle, load_bicycle, write_bicycle_toml
 
@@ -44,14 +45,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_rider_argument(parser)
     parser.add_argument("runs", nargs="*", type=Path, metavar="RUNS", help="run files")
     add_bundled_argument(parser, "use")
-    parser.add_argument("--bicycle", required=True, metavar="PARAMS", help="bicycle file or built-in name")
+    parser.add_argument("--bicycle", metavar="PARAMS", help="bicycle file or built-in name")
+    parser.add_argument("--experiment", metavar="FILE",
+                        help="an experiment file of several groups (one bicycle under several controllers; "
+                             "'bundled': both bundled experiments), instead of RUNS and --bicycle")
     parser.add_argument("--layout", default=None, help="layout of the run files (name or TOML file)")
     parser.add_argument("--windows", type=Path, default=None, metavar="FILE",
                         help="windows file instead of automatic windows")
     parser.add_argument("--json", type=Path, default=None, metavar="OUT", help="write the diagnosis JSON")
     parser.add_argument("--report", type=Path, default=None, metavar="DIR", help="write report.md and figures")
     parser.add_argument("--save-model", type=Path, default=None, metavar="FILE",
-                        help="write the extended model as a bicycle file")
+                        help="write the extended model as a bicycle file (with --experiment: a folder, one "
+                             "<group>.toml per group)")
     parser.add_argument("--no-parameters", action="store_true",
                         help="do not consider a wrong benchmark parameter as a cause")
     add_measurement_arguments(parser)
@@ -79,22 +84,33 @@ def options_of(args: argparse.Namespace) -> DiagnosisOptions:
 def run(args: argparse.Namespace) -> int:
     """Run the command; return the exit status."""
     check_cluster_options(args.scheduler, args.workers)
+    experiment = _experiment(args)
     sources: list = [*args.runs, *(bundled_runs(args.bundled) if args.bundled else [])]
-    if not sources:
-        raise InputError("no run files given (name files, or use --bundled)")
+    if not sources and experiment is None:
+        raise InputError("no run files given (name files, use --bundled, or --experiment FILE)")
+    if experiment is None and args.bicycle is None:
+        raise InputError("--bicycle is needed (a bicycle file or a built-in name), or --experiment FILE")
     inputs = [s for s in sources if isinstance(s, Path)] + bicycle_inputs(args)
     inputs += [path for path in (args.windows, args.layout) if path is not None]
-    if args.save_model is not None and Path(args.save_model).suffix.lower() == ".txt":
+    inputs += list(experiment.inputs()) if experiment is not None else []
+    if experiment is None and args.save_model is not None and Path(args.save_model).suffix.lower() == ".txt":
         raise InputError("--save-model writes TOML; a .txt file would be read back as BicycleParameters text "
                          "(use .toml)", args.save_model)
     report_file = args.report / "report.md" if args.report is not None else None
-    check_outputs({"--json": args.json, "--save-model": args.save_model, "--report's report.md": report_file},
-                  inputs, {"--report": args.report})
+    models = ({"--save-model": args.save_model} if experiment is None else
+              {f"--save-model's {name}.toml": group_model_file(args.save_model, name)
+               for name in (group.name for group in experiment.groups)} if args.save_model is not None else {})
+    check_outputs({"--json": args.json, **models, "--report's report.md": report_file}, inputs,
+                  {"--report": args.report, **({"--save-model": args.save_model}
+                                               if experiment is not None and args.save_model is not None else {})})
     options = options_of(args)
-    bicycle = load_bicycle(args.bicycle, rider=args.rider)
     with ProgressBars() as progress:
-        report = diagnose(sources, bicycle, options, layout=args.layout, windows=args.windows, progress=progress,
-                          workers=args.workers, scheduler=args.scheduler)
+        if experiment is not None:
+            report = diagnose(experiment, options=options, progress=progress, workers=args.workers,
+                              scheduler=args.scheduler)
+        else:
+            report = diagnose(sources, load_bicycle(args.bicycle, rider=args.rider), options, layout=args.layout,
+                              windows=args.windows, progress=progress, workers=args.workers, scheduler=args.scheduler)
     data = report.to_dict()
     _print_report(report, data)
     if args.json is not None:
@@ -115,11 +131,24 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _experiment(args: argparse.Namespace) -> Experiment | None:
+    """Return the experiment of ``--experiment``, refusing the options it replaces."""
+    if args.experiment is None:
+        return None
+    given = [flag for flag, value in (("RUNS", args.runs), ("--bundled", args.bundled), ("--bicycle", args.bicycle),
+                                      ("--rider", args.rider), ("--layout", args.layout), ("--windows", args.windows))
+             if value]
+    if given:
+        raise InputError(f"--experiment names each group's runs, bicycle, layout and windows: {', '.join(given)} "
+                         "cannot be given beside it")
+    return read_experiment(args.experiment)
+
+
 def saved_models(model: Model, target: Path) -> list[tuple[Path, Bicycle]]:
     """Return where ``--save-model`` writes each bicycle: FILE for one bicycle, DIR/<group>.toml for an experiment's."""
     if isinstance(model, Bicycle):
         return [(target, model)]
-    return [(target / f"{name}.toml", bicycle) for name, bicycle in model.members]
+    return [(group_model_file(target, name), bicycle) for name, bicycle in model.members]
 
 
 def _print_report(report: DiagnosisReport, data: dict) -> None:

@@ -33,6 +33,7 @@ from whipple.errors import InputError
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.experiment_file import Experiment
 from whipple.measurement.measure import MeasuredRuns, MeasurementOptions, Progress
+from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 
 #: What the scores measure, for reports.
@@ -93,14 +94,14 @@ def _rms(values: NDArray[np.float64]) -> float:
     return float(np.sqrt(np.mean(np.square(values))))
 
 
-def score_windows(model: Bicycle, windows: Sequence[Observation], samples: bool | SampleComparison | None = True
+def score_windows(model: Model, windows: Sequence[Observation], samples: bool | SampleComparison | None = True
                   ) -> Score:
     """Score one model on a set of windows.
 
     Parameters
     ----------
-    model : Bicycle
-        The model (with its controller and extensions).
+    model : Bicycle or Fleet
+        The model (with its controller and extensions; a fleet: each window's group's bicycle).
     windows : sequence of Observation
         The windows, at least one.
     samples : bool or SampleComparison, optional

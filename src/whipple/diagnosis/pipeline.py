@@ -41,17 +41,27 @@ Layout = str | os.PathLike[str] | RunLayout | None
 class ExperimentGroup(Protocol):
     """One group of an experiment: runs of the bicycle under one controller."""
 
-    name: str
-    bicycle: Bicycle
-    runs: Sequence[RunSource]
-    layout: Layout
-    windows: str | os.PathLike[str] | Traversable | None
+    @property
+    def name(self) -> str: ...  # noqa: D102
+
+    @property
+    def bicycle(self) -> Bicycle: ...  # noqa: D102
+
+    @property
+    def runs(self) -> Sequence[RunSource]: ...  # noqa: D102
+
+    @property
+    def layout(self) -> Layout: ...  # noqa: D102
+
+    @property
+    def windows(self) -> str | os.PathLike[str] | Traversable | None: ...  # noqa: D102
 
 
 class ExperimentLike(Protocol):
-    """An experiment of several groups: one bicycle under several controllers."""
+    """An experiment of several groups (:func:`whipple.measurement.experiment_file.read_experiment`)."""
 
-    groups: Sequence[ExperimentGroup]
+    @property
+    def groups(self) -> Sequence[ExperimentGroup]: ...  # noqa: D102
 
 
 def diagnose(runs: Sequence[RunSource] | MeasuredRuns | Sequence[WindowMeasurement | RunMeasurement] | ExperimentLike,

@@ -29,6 +29,8 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
+import numpy as np
+
 from whipple.diagnosis.causes import (
     BLAMEABLE_PARAMETERS,
     DEFAULT_CAMBER_STIFFNESS,
@@ -389,11 +391,23 @@ def _calibration_forms(model: Model, choices: FormChoices) -> list[Cause]:
     def apply(bicycle: Model, values: Sequence[float]) -> Model:
         return bicycle.with_parameters(**{key: float(value) for key, value in zip(keys, values, strict=True)})
 
+    bounds = [_product_bounds(model, key) if key.endswith("xz") else single.bounds[0]
+              for key, single in zip(keys, singles, strict=True)]
     return [Cause(CALIBRATION, tuple(keys), tuple(unit for single in singles for unit in single.units),
-                  tuple(float(model.parameters[key]) for key in keys),
-                  tuple(bound for single in singles for bound in single.bounds), apply,
+                  tuple(float(model.parameters[key]) for key in keys), tuple(bounds), apply,
                   null=tuple(float(model.parameters[key]) for key in keys),
                   value_priors=tuple(parameter_prior(key, model.parameters, model.uncertainty) for key in keys))]
+
+
+def _product_bounds(model: Model, key: str) -> tuple[float, float]:
+    """Return the bounds of a product of inertia, either sign.
+
+    Its magnitude stays below the geometric mean of the two principal inertias beside it: the
+    inertia tensor of a body is positive definite.
+    """
+    frame = key[1]
+    limit = float(np.sqrt(abs(model.parameters[f"I{frame}xx"]) * abs(model.parameters[f"I{frame}zz"])))
+    return -limit, limit
 
 
 #: The package's candidate causes, in the order they are fitted and reported.

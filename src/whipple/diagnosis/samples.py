@@ -188,15 +188,23 @@ class SampleComparison:
         return result
 
     def _fleet_residuals(self, models: Sequence[Model], linear: Sequence[LinearModel | None]) -> NDArray[np.float64]:
-        """:meth:`residuals` of models some of which are fleets: each member on its group's windows."""
+        """:meth:`residuals` of models some of which are fleets: each member on its group's windows.
+
+        The members of every model that evaluate the same windows are solved together.
+        """
         result = np.zeros((len(models), self.samples))
         owner = self.window_of_residuals()
+        batches: dict[tuple[int, ...] | None, list[tuple[int, Bicycle, LinearModel | None]]] = {}
         for k, (model, given) in enumerate(zip(models, linear, strict=True)):
             for bicycle, index in members_of(model, self.groups):
-                if index is None:
-                    result[k] = self.residuals([bicycle], [given])[0]
-                    continue
-                result[k, np.isin(owner, index)] = self._subset(index).residuals([bicycle], [given])[0]
+                batches.setdefault(None if index is None else tuple(int(n) for n in index), []).append(
+                    (k, bicycle, given))
+        for key, members in batches.items():
+            comparison = self if key is None else self._subset(np.array(key, dtype=np.intp))
+            found = comparison.residuals([bicycle for _, bicycle, _ in members], [given for _, _, given in members])
+            where = slice(None) if key is None else np.isin(owner, key)
+            for row, (k, _, _) in enumerate(members):
+                result[k, where] = found[row]
         return result
 
     def _subset(self, index: NDArray[np.intp]) -> SampleComparison:

@@ -139,16 +139,24 @@ def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float6
 def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], targets: NDArray[np.complex128],
                        signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None
                        ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """:func:`nearest_modes_of_models` of models some of which are fleets: each member on its windows."""
+    """:func:`nearest_modes_of_models` of models some of which are fleets: each member on its windows.
+
+    The members of every model that evaluate the same windows are solved together, as plain
+    models are (a fit's finite-difference Jacobian evaluates many models at once).
+    """
     speeds, targets = np.asarray(speeds, dtype=float), np.asarray(targets, dtype=complex)
     chosen = np.full((len(models), len(speeds)), np.nan, dtype=complex)
     shapes = np.full((len(models), len(speeds)), np.nan, dtype=complex)
+    batches: dict[tuple[int, ...] | None, list[tuple[int, Bicycle]]] = {}
     for k, model in enumerate(models):
         for bicycle, index in members_of(model, groups):
-            where = slice(None) if index is None else index
-            picked = [signals[int(n)] for n in np.arange(len(speeds))[where]]
-            found, shape = nearest_modes_of_models([bicycle], speeds[where], targets[where], picked)
-            chosen[k, where], shapes[k, where] = found[0], shape[0]
+            batches.setdefault(None if index is None else tuple(int(n) for n in index), []).append((k, bicycle))
+    for key, members in batches.items():
+        rows = list(range(len(speeds))) if key is None else list(key)
+        found, shape = nearest_modes_of_models([bicycle for _, bicycle in members], speeds[rows], targets[rows],
+                                               [signals[n] for n in rows])
+        for row, (k, _) in enumerate(members):
+            chosen[k, rows], shapes[k, rows] = found[row], shape[row]
     return chosen, shapes
 
 

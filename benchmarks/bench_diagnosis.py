@@ -80,7 +80,7 @@ from hidden_effects import (  # noqa: E402
 
 from whipple.cli.measurement_arguments import signal_names  # noqa: E402
 from whipple.diagnosis.fitting import COMPARISONS  # noqa: E402
-from whipple.diagnosis.options import DiagnosisOptions, PairRules  # noqa: E402
+from whipple.diagnosis.options import OCCAM_CHARGES, DiagnosisOptions, PairRules  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
 from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
@@ -186,6 +186,17 @@ def _print_two_effects(rows: list) -> None:
                   f"(and any outside the candidates), named {r[4]}")
 
 
+def _asked_families(bicycle: str, asked: list[str] | None) -> list[str]:
+    """The families run on a bicycle: its own (:func:`families`), or those asked for that it supports.
+
+    A family outside the rates of record (``calibration``) runs only when asked for.
+    """
+    if asked is None:
+        return list(families(bicycle))
+    own = families(bicycle, two=TWO in asked)
+    return [family for family in asked if family in own or (family == "calibration" and bicycle in BICYCLES)]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=17, help="seeds per bicycle and family")
@@ -210,7 +221,7 @@ def main() -> None:
     parser.add_argument("--combine-dispersion", type=float, default=defaults.pairs.dispersion,
                         help="experiment: the dispersion of the best single cause above which pairs are tried "
                              f"(PairRules.dispersion, {defaults.pairs.dispersion:g}; 0: always)")
-    parser.add_argument("--occam", choices=("bic", "laplace"), default=defaults.occam,
+    parser.add_argument("--occam", choices=OCCAM_CHARGES, default=defaults.occam,
                         help="experiment: how the evidence charges fitted values (DiagnosisOptions.occam)")
     parser.add_argument("--rigid-loads", action=argparse.BooleanOptionalAction, default=defaults.rigid_loads,
                         help="the payloads' rigid-load form among the candidates (DiagnosisOptions.rigid_loads; "
@@ -259,8 +270,7 @@ def main() -> None:
         # Seed by seed across every case, so that a run cut short still covers every case.
         jobs = [(bicycle, family, seed) for seed in range(args.first_seed, args.first_seed + args.seeds)
                 for bicycle in args.bicycles
-                for family in families(bicycle, two=TWO in (args.families or ()))
-                if args.families is None or family in args.families]
+                for family in _asked_families(bicycle, args.families)]
         if args.trials is not None:
             listed = {tuple(json.loads(line)) for line in args.trials.read_text().splitlines() if line.strip()}
             jobs = [job for job in jobs if job in listed]

@@ -24,6 +24,7 @@ from whipple.diagnosis.families import (
 )
 from whipple.diagnosis.fitting import CauseFit, fit_cause, pinned_values
 from whipple.diagnosis.gain import cause_gains, held_out_gain
+from whipple.diagnosis.gain_text import gain_json, gain_sentences
 from whipple.diagnosis.observations import Observation, noise_free, speed_groups
 from whipple.diagnosis.options import DiagnosisOptions, PairRules, VerdictRules
 from whipple.diagnosis.registry import candidate_causes, cause_by_name, payload_causes
@@ -193,6 +194,21 @@ def test_held_out_gain_never_sees_the_held_out_speed():
     # On clean data the extended model helps at every held-out speed, and says so.
     assert honest.cut > 0.5 and not honest.not_helped()
     assert len(honest.speeds) == 5 and all(s.windows == 4 for s in honest.speeds)
+
+
+def test_held_out_gain_of_one_speed_says_it_is_over_windows():
+    # Windows of one speed only: each window is left out in turn, and the words must not claim
+    # a prediction of unseen speeds.
+    bicycle = load_bicycle("benchmark")
+    causes = [cause_by_name(bicycle, name) for name in ("steer_damping", "speed_scale")]
+    observations = _observations(bicycle.with_extensions(steer_damping=0.6), 5, speeds=np.full(6, 5.0))
+    gain = held_out_gain(bicycle, observations, causes)
+    assert gain.held_out_by == "window" and gain.folds == 6 and "held-out windows" in gain.metric
+    (sentence,) = gain_sentences(gain)
+    assert sentence.startswith("one speed only") and "not over speeds" in sentence
+    assert gain_json(gain)["held_out_by"] == "window"
+    several = held_out_gain(bicycle, _observations(bicycle.with_extensions(steer_damping=0.6), 5), causes)
+    assert several.held_out_by == "speed" and gain_sentences(several)[0].startswith("overall on 5 held-out speeds")
 
 
 def test_held_out_gain_reports_where_the_model_does_not_help():

@@ -26,7 +26,7 @@ from whipple.cli.progress import ProgressBars
 from whipple.diagnosis.fitting import COMPARISONS
 from whipple.diagnosis.gain_text import cause_gain_sentences, gain_sentences
 from whipple.diagnosis.markdown import report_markdown
-from whipple.diagnosis.options import DiagnosisOptions
+from whipple.diagnosis.options import OCCAM_CHARGES, DiagnosisOptions
 from whipple.diagnosis.pipeline import diagnose
 from whipple.diagnosis.plots import report_figures
 from whipple.diagnosis.priors import shift_sentence
@@ -68,6 +68,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--gain-by-cause", nargs="?", const="singles", choices=("singles", "pairs"), default=None,
                         help="also give every candidate's held-out gain, each refitted on every fold without a "
                              "choice (pairs: also every pair of physical causes; slow, see docs/diagnosis.md)")
+    parser.add_argument("--evidence", choices=OCCAM_CHARGES, default=DiagnosisOptions.occam,
+                        help="how the evidence charges a cause's fitted values: prior (default), the marginal "
+                             "likelihood under each value's physical or measured prior (calibration competes); "
+                             "bic, ln(n)/2 per value; laplace, the share of its bounds a fit leaves open")
     cluster = parser.add_mutually_exclusive_group()
     cluster.add_argument("--workers", type=integer, metavar="N",
                          help="diagnose the held-out speeds on a local Dask cluster of N processes")
@@ -78,7 +82,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def options_of(args: argparse.Namespace) -> DiagnosisOptions:
     """Return the diagnosis options of the command's flags."""
     return DiagnosisOptions(measurement=measurement_options(args), comparison=args.compare,
-                            parameters=not args.no_parameters, gain_by_cause=args.gain_by_cause)
+                            parameters=not args.no_parameters, gain_by_cause=args.gain_by_cause,
+                            occam=args.evidence)
 
 
 def run(args: argparse.Namespace) -> int:

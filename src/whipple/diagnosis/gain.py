@@ -94,7 +94,10 @@ class Gain:
     RMS roll-rate residual when the window is explained by the model's eigenvalue (amplitude,
     phase and baseline free), relative to the window's own RMS (dimensionless); None without
     the time series. ``reselected``: whether the cause was chosen again on each fold's
-    training speeds (True) or a given cause only refitted.
+    training speeds (True) or a given cause only refitted. ``held_out_by``: "speed" (each
+    speed group left out in turn) or "window" (the windows share one speed, so each window is
+    left out in turn: the gain then says how well the model fits that speed's other windows,
+    not how well it predicts a speed it never saw).
     """
 
     metric: str
@@ -108,6 +111,7 @@ class Gain:
     extended_rms: float = 0.0
     speeds: tuple[HeldOutSpeed, ...] = ()
     reselected: bool = True
+    held_out_by: str = "speed"
 
     @property
     def cut(self) -> float:
@@ -336,9 +340,10 @@ def _scored(bicycle: Model, observations: Sequence[Observation], groups: Sequenc
         return float(np.median(times[key])) if times[key] else None
 
     base_all, extended_all = pooled(scores["base"]), pooled(scores["extended"])
-    return Gain("|measured - predicted| weave eigenvalue on held-out speeds [1/s]",
+    by = "speed" if len(speed_groups(observations)) >= 2 else "window"
+    return Gain(f"|measured - predicted| weave eigenvalue on held-out {by}s [1/s]",
                 base_all.median, extended_all.median, True, len(speeds), median("base"), median("extended"),
-                base_all.rms, extended_all.rms, tuple(sorted(speeds, key=lambda s: s.speed)), reselected)
+                base_all.rms, extended_all.rms, tuple(sorted(speeds, key=lambda s: s.speed)), reselected, by)
 
 
 def held_out_candidates(causes: Sequence[Cause], pairs: bool = False) -> list[Cause]:

@@ -15,7 +15,8 @@ def gain_json(gain: Gain) -> dict[str, Any]:
         "metric": "median " + gain.metric, "base": gain.base, "extended": gain.extended,
         "rms": {"metric": "rms " + gain.metric, "base": gain.base_rms, "extended": gain.extended_rms,
                 "cut": gain.cut},
-        "held_out": gain.held_out, "folds": gain.folds, "cause_chosen_per_fold": gain.reselected,
+        "held_out": gain.held_out, "held_out_by": gain.held_out_by, "folds": gain.folds,
+        "cause_chosen_per_fold": gain.reselected,
         "per_speed": [{"speed": s.speed, "windows": s.windows, "cause": s.cause, "verdict": s.verdict,
                        "values": list(s.values), "base_rms": s.base_rms, "extended_rms": s.extended_rms,
                        "base_median": s.base_median, "extended_median": s.extended_median, "rms_cut": s.cut,
@@ -64,6 +65,11 @@ def cause_gain_sentences(gains: Sequence[CauseGain], chosen: Gain | None, predic
 
 def gain_sentences(gain: Gain) -> list[str]:
     """Say per held-out speed whether the extended model helps, and overall, in plain words."""
+    if gain.held_out_by == "window":
+        return [f"one speed only: the gain is over {gain.folds} windows left out in turn, not over speeds (it says "
+                f"how well the model fits this speed's other windows, not how it predicts another speed): RMS "
+                f"{gain.base_rms:.2f} -> {gain.extended_rms:.2f} 1/s ({100 * gain.cut:+.0f}% cut), median "
+                f"{gain.base:.2f} -> {gain.extended:.2f} 1/s"]
     lines = [f"overall on {gain.folds} held-out speeds: RMS {gain.base_rms:.2f} -> {gain.extended_rms:.2f} 1/s "
              f"({100 * gain.cut:+.0f}% cut), median {gain.base:.2f} -> {gain.extended:.2f} 1/s"]
     worse = [s for s in gain.speeds if s.cut < 0]

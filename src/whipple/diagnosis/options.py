@@ -149,10 +149,14 @@ class DiagnosisOptions:
         When a cause is named (:class:`VerdictRules`).
     pairs : PairRules
         When and which pairs of causes are fitted (:class:`PairRules`).
-    occam : {"bic", "laplace"}
-        How the evidence charges fitted values: ln(n)/2 each (``"bic"``, default), or the share
-        of a cause's bounds its fit leaves open (``"laplace"``, an experiment: it named a wrong
-        parameter right more often but a basket load less often).
+    occam : {"prior", "bic", "laplace"}
+        How the evidence charges fitted values. ``"prior"`` (default): the Laplace approximation
+        of the marginal likelihood under each value's prior, a measured parameter's uncertainty
+        or a cause's documented physical range (:mod:`whipple.diagnosis.priors`), so that a
+        value pressed against a bound pays what it should; the calibration candidate (every
+        measured parameter within its prior) competes only in this mode. ``"bic"``: ln(n)/2 per
+        fitted value (the default before priors). ``"laplace"``: the share of a cause's bounds
+        its fit leaves open.
     amplitude_charge : {"bic", "noise"}
         How a model with more states than the base model is charged for its extra modal
         amplitudes per window: ln(n_w)/2 each (``"bic"``, default) or 1/2 (``"noise"``).
@@ -188,7 +192,7 @@ class DiagnosisOptions:
     causes: tuple[CauseDeclaration, ...] = ()
     verdict: VerdictRules = field(default_factory=VerdictRules)
     pairs: PairRules = field(default_factory=PairRules)
-    occam: str = "bic"
+    occam: str = "prior"
     amplitude_charge: str = "bic"
     samples_screen: float = 50.0
     bias_screen: float = 100.0

@@ -49,10 +49,10 @@ def test_equivalent_damping_predicts_the_simulated_decay(name):
     damping is within 20% of the friction's change of it (measured minus the model's without
     friction) in the median over windows on the Browser (on the benchmark the friction moves the
     decay rate by less than the window fits' own scatter), and within 8% of the measured decay
-    rate in the median over windows, 15% in every window. (Measured: worst window 11% on the
-    Browser; median
-    error 3% on the benchmark, 5% on the Browser, and 12% of the friction's change on the Browser; larger friction, 0.2 N m on the Browser,
-    leaves windows off by up to 30%, where the weave no longer decays like one mode.)
+    rate in the median over windows, 15% in every window. (Measured: median error 3% on the
+    benchmark, 5% on the Browser, worst window 11%; 12% of the friction's change on the Browser.
+    Larger friction, 0.2 N m on the Browser, leaves windows off by up to 30%: the weave no longer
+    decays like one mode.)
     """
     bicycle = trial_bicycle(name)
     options = trial_options(bicycle)

@@ -127,9 +127,8 @@ class Extensions:
     linear_terms : LinearTerms or None
         Entries added to the linear model's matrices (:mod:`whipple.model.linear_terms`).
     steer_friction : float
-        Coulomb (dry) friction torque about the steer axis [N m] (:mod:`whipple.model.steer_friction`).
-        Nonlinear: the linear model leaves it out; the simulated runs apply its smooth law, the
-        diagnosis its equivalent damping at each window's amplitude.
+        Coulomb friction torque about the steer axis [N m] (:mod:`whipple.model.steer_friction`):
+        not in the linear model; simulations apply its law, the diagnosis its equivalent damping.
     """
 
     steer_damping: float = 0.0

@@ -1,8 +1,8 @@
 """Diagnose what the model gets wrong on measured runs, name the cause, extend, measure the gain.
 
 Every free-coasting window of the runs is fitted (the same measurement as ``whipple fit``); each
-candidate cause (steer damping, steer inertia rigid or reflected, speed scale, rear or front
-payload, tyre compliance, the controller's gain, delay or lag, a wrong parameter) is fitted to
+candidate cause (steer damping, Coulomb steer friction, steer inertia rigid or reflected, speed
+scale, rear or front payload, tyre compliance, the controller's gain, delay or lag, a wrong parameter) is fitted to
 all windows jointly and compared by its evidence; the chosen cause's extended model is tested on
 held-out speeds (with --gain-by-cause, every candidate too, and a choice by prediction). The
 bicycle file carries the controller, if any. --workers N runs the held-out speeds' diagnoses on a

@@ -116,7 +116,7 @@ def score_windows(model: Model, windows: Sequence[Observation], samples: bool | 
         raise InputError("no windows to score a model on")
     predicted = predicted_weave(model, windows)
     errors = np.abs(np.array([o.eigenvalue for o in windows], dtype=complex) - predicted)
-    comparison = SampleComparison.of(windows) if samples is True else samples or None
+    comparison = SampleComparison.of(windows, bicycle=model) if samples is True else samples or None
     chi2 = None if comparison is None else comparison.chi2_per_sample(model)
     speeds = [o.speed for o in windows]
     return Score(float(np.mean(speeds)), (float(min(speeds)), float(max(speeds))), len(windows), _rms(errors),

@@ -200,7 +200,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
     # fits still use them (a comparison with the samples costs several times as much).
     eigen = (whitening, base, fits)
     near = [True] * len(causes)
-    samples = SampleComparison.of(observations) if comparison == "samples" else None
+    samples = SampleComparison.of(observations, bicycle=bicycle) if comparison == "samples" else None
     if samples is not None:
         whitening = replace(whitening, samples=samples)
         counts = whitening.counts

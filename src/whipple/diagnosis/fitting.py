@@ -93,8 +93,8 @@ class Whitening:
     eigenvalue: NDArray[np.float64]
     shape_index: NDArray[np.int_]
     shape: NDArray[np.float64]
-    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str]] = field(
-        repr=False)
+    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str],
+                   NDArray[np.float64]] = field(repr=False)
     measured_shapes: NDArray[np.complex128] = field(repr=False)
     scales: tuple[float, float] = (1.0, 1.0)
     #: The fitting function's bias on the fitted model's own response, per window
@@ -207,8 +207,9 @@ def window_whitening(observations: Sequence[Observation], bicycle: Model,
     shape = np.array([_inverse_cholesky(observations[int(n)].shape_covariance, observations[int(n)], "mode shape")
                       for n in index]).reshape(-1, 2, 2)
     measured_shapes = np.array([complex(observations[int(n)].shape or 0.0) for n in index], dtype=complex)
-    samples = SampleComparison.of(observations) if comparison == "samples" else None
-    return Whitening(eigenvalue, index, shape, mode_targets(observations), measured_shapes, scales, samples=samples)
+    samples = SampleComparison.of(observations, bicycle=bicycle) if comparison == "samples" else None
+    return Whitening(eigenvalue, index, shape, mode_targets(observations, bicycle), measured_shapes, scales,
+                     samples=samples)
 
 
 def _residual_blocks(models: Sequence[Model], observations: Sequence[Observation], whitening: Whitening,

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.weavefit import WeaveFit
 from whipple.model.fleet import Model
+from whipple.model.steer_friction import describing_gain, representative_amplitude
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, near_oscillation, nearest_modes
 
 
@@ -96,6 +97,11 @@ class Observation:
     group : str
         The group of an experiment the window belongs to ("" outside experiments of several
         groups): a :class:`~whipple.model.fleet.Fleet` is evaluated with that group's bicycle.
+    amplitudes : tuple of (str, float)
+        Each fitted signal's representative amplitude over the window [signal unit]: the
+        amplitude-weighted mean of its fitted envelope
+        (:func:`~whipple.model.steer_friction.representative_amplitude`); what a Coulomb steer
+        friction's equivalent damping is taken at (:func:`friction_gains`). Empty where unknown.
     """
 
     run: str
@@ -110,6 +116,7 @@ class Observation:
     shape_signals: tuple[str, str] = ("steer_angle", "roll_rate")
     signals: WindowSignals | None = field(default=None, repr=False, compare=False)
     group: str = ""
+    amplitudes: tuple[tuple[str, float], ...] = ()
 
 
 
@@ -152,20 +159,61 @@ def predicted_modes(bicycle: Model, observations: Sequence[Observation]
     The eigenvalue is as in :func:`predicted_weave`; the mode shape is the eigenvector's ratio
     of the observation's ``shape_signals`` (NaN where the observation has no shape).
     """
-    return nearest_modes(bicycle, *mode_targets(observations))
+    return nearest_modes(bicycle, *mode_targets(observations, bicycle))
 
 
-def mode_targets(observations: Sequence[Observation]
-                 ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str]]:
+def mode_targets(observations: Sequence[Observation], bicycle: Model | None = None
+                 ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str],
+                            NDArray[np.float64]]:
     """Return what :func:`nearest_modes` compares with, per window.
 
     The measured speed [m/s], eigenvalue [1/s], shape signals (None where the window has no
-    shape) and group (for a model that is a :class:`~whipple.model.fleet.Fleet`).
+    shape), group (for a model that is a :class:`~whipple.model.fleet.Fleet`) and the Coulomb
+    steer friction's equivalent damping per unit friction [s/rad] (:func:`friction_gains`;
+    ``bicycle`` gives the mode shape of windows without a steer angle).
     """
     speeds = np.array([o.speed for o in observations], dtype=float)
     targets = np.array([o.eigenvalue for o in observations], dtype=complex)
     return (speeds, targets, [o.shape_signals if _has_shape(o) else None for o in observations],
-            [o.group for o in observations])
+            [o.group for o in observations], friction_gains(observations, bicycle))
+
+
+def steer_amplitudes(observations: Sequence[Observation], bicycle: Model | None = None) -> NDArray[np.float64]:
+    """Return each window's representative steer-angle amplitude [rad] (NaN where unknown).
+
+    The fitted steer angle's (:attr:`Observation.amplitudes`) where the window has one; else the
+    roll rate's times the steer angle per roll rate of ``bicycle``'s mode nearest the window's
+    eigenvalue (without any steer friction of its own: the friction's damping would depend on
+    the amplitude it is to give); NaN where neither is known.
+    """
+    result = np.full(len(observations), np.nan)
+    roll_only = []
+    for n, o in enumerate(observations):
+        amplitudes = dict(o.amplitudes)
+        if "steer_angle" in amplitudes:
+            result[n] = amplitudes["steer_angle"]
+        elif "roll_rate" in amplitudes:
+            roll_only.append(n)
+    if roll_only and bicycle is not None:
+        rows = np.array(roll_only)
+        speeds = np.array([observations[n].speed for n in rows], dtype=float)
+        targets = np.array([observations[n].eigenvalue for n in rows], dtype=complex)
+        _, ratio = nearest_modes(bicycle.with_extensions(steer_friction=0.0), speeds, targets,
+                                 [("steer_angle", "roll_rate")] * len(rows), [observations[n].group for n in rows])
+        result[rows] = [dict(observations[n].amplitudes)["roll_rate"] for n in rows] * np.abs(ratio)
+    return result
+
+
+def friction_gains(observations: Sequence[Observation], bicycle: Model | None = None) -> NDArray[np.float64]:
+    """Return each window's equivalent viscous steer damping per unit Coulomb friction [s/rad].
+
+    ``4 / (pi omega A)`` (:func:`~whipple.model.steer_friction.describing_gain`) with the
+    window's measured weave frequency omega and representative steer amplitude A
+    (:func:`steer_amplitudes`); 0 where the amplitude is unknown (the friction then does not
+    enter that window's model).
+    """
+    frequency = np.array([o.eigenvalue.imag for o in observations], dtype=float)
+    return describing_gain(frequency, steer_amplitudes(observations, bicycle))
 
 
 def _has_shape(observation: Observation) -> bool:
@@ -232,7 +280,14 @@ def observation(measurement: WindowMeasurement) -> Observation:
                        WindowSignals(measurement.fit.time, measurement.fit.measured, measurement.fit.signal_names,
                                      measurement.fit.baseline, _joint_weights(measurement.fit),
                                      residual_rms=np.asarray(measurement.fit.rms_residual, dtype=float)),
-                       measurement.group)
+                       measurement.group, _amplitudes(measurement.fit))
+
+
+def _amplitudes(fit: WeaveFit) -> tuple[tuple[str, float], ...]:
+    """Return each fitted signal's amplitude-weighted mean amplitude over the window [signal unit]."""
+    start = np.hypot(fit.coefficients[:, -2], fit.coefficients[:, -1])
+    amplitude = representative_amplitude(start, fit.damping, fit.stop - fit.start)
+    return tuple((name, float(value)) for name, value in zip(fit.signal_names, amplitude, strict=True))
 
 
 def _joint_weights(fit: WeaveFit) -> NDArray[np.float64] | None:

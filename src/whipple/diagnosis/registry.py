@@ -224,6 +224,10 @@ def _steer_damping(bicycle: Model, values: Sequence[float]) -> Model:
     return bicycle.with_extensions(steer_damping=bicycle.extensions.steer_damping + float(values[0]))
 
 
+def _steer_friction(bicycle: Model, values: Sequence[float]) -> Model:
+    return bicycle.with_extensions(steer_friction=bicycle.extensions.steer_friction + float(values[0]))
+
+
 def _steer_inertia(bicycle: Model, values: Sequence[float]) -> Model:
     return bicycle.with_extensions(steer_inertia=bicycle.extensions.steer_inertia + float(values[0]))
 
@@ -417,6 +421,15 @@ REGISTRY: tuple[CauseDeclaration, ...] = (
                                    prior=Prior("halfnormal", 0.0, 1.0, "bearings, cables, a motor's back-EMF")),
             _steer_damping,
             families=("steer_torque_dynamics",), terms=("D_steer_steer",)),
+    # Coulomb (dry) friction about the steer axis [N m]: headset seals and bearings, cables, a
+    # motor's gears. Each window's model has its equivalent viscous damping at the window's
+    # amplitude (whipple.model.steer_friction), so that only windows of different amplitudes
+    # tell it from a steer damping. Prior: a half-normal of scale 0.5 N m, an engineering
+    # estimate (tenths of a newton metre for sealed headsets), not a measured distribution.
+    declare("steer_friction", Value("steer_friction", "N m", (0.0, 5.0),
+                                    prior=Prior("halfnormal", 0.0, 0.5, "headset seals and bearings, cables, gears")),
+            _steer_friction,
+            families=("steer_torque_dynamics",)),
     # Rigid inertia about the steer axis not in the parameters: a motor's housing, a bag, a lamp.
     declare("steer_inertia", Value("steer_inertia", "kg m^2", (0.0, 2.0),
                                    prior=Prior("halfnormal", 0.0, 0.05, "a lamp, bag or motor housing")),

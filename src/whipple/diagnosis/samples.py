@@ -30,13 +30,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.observations import Observation, WindowSignals, noise_free
+from whipple.diagnosis.observations import Observation, WindowSignals, friction_gains, noise_free
 from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
 from whipple.model.fleet import Model, members_of
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
-from whipple.stability.nearest_modes import MODE_SHAPE_STATES
+from whipple.stability.nearest_modes import MODE_SHAPE_STATES, window_steer_damping, with_steer_damping
 
 #: Eigenvalues whose imaginary part is below this fraction of their magnitude are real modes.
 REAL_MODE = 1e-9
@@ -96,6 +96,12 @@ class SampleComparison:
         The signals' names.
     bins, steps : ndarray, shape (W,)
         Samples per bin and the sampling interval [s] of each window (None: one sample a bin).
+    groups : tuple of str or None
+        Each window's group (a model that is a fleet).
+    friction : ndarray, shape (W,), or None
+        Each window's equivalent steer damping per unit Coulomb steer friction [s/rad]
+        (:func:`~whipple.diagnosis.observations.friction_gains`): a model with a steer friction
+        has that damping times its friction added at the window.
     """
 
     speeds: NDArray[np.float64]
@@ -108,14 +114,18 @@ class SampleComparison:
     bins: NDArray[np.int_] | None = None
     steps: NDArray[np.float64] | None = None
     groups: tuple[str, ...] | None = None
+    friction: NDArray[np.float64] | None = None
 
     @classmethod
-    def of(cls, observations: Sequence[Observation], binned: bool = True) -> SampleComparison | None:
+    def of(cls, observations: Sequence[Observation], binned: bool = True,
+           bicycle: Model | None = None) -> SampleComparison | None:
         """Return the samples of the observations, or None where they cannot be compared so.
 
         None where a window's samples are unknown (windows read from a list of eigenvalues),
         where the windows fitted different signals, or where a signal is no state of the models.
         ``binned``: averaged in bins of about ``BIN_DURATION`` (else every sample on its own).
+        ``bicycle``: the model whose mode shape gives the steer amplitude of windows without a
+        steer angle (:func:`~whipple.diagnosis.observations.friction_gains`).
         """
         if not observations or any(o.signals is None for o in observations):
             return None
@@ -140,7 +150,7 @@ class SampleComparison:
             bins[row], steps[row] = size, step
         speeds = np.array([o.speed for o in observations], dtype=float)
         return cls(speeds, tau, mask, targets, noise, tuple(MODE_SHAPE_STATES[name] for name in names), names,
-                   bins, steps, tuple(o.group for o in observations))
+                   bins, steps, tuple(o.group for o in observations), friction_gains(observations, bicycle))
 
     @property
     def samples(self) -> int:
@@ -171,8 +181,7 @@ class SampleComparison:
         plain = [model for model in models if isinstance(model, Bicycle)]
         if len(plain) < len(models):
             return self._fleet_residuals(models, linear)
-        matrices = [(linear_model(bicycle) if model is None else model).state_matrix(bicycle.model_speed(self.speeds))
-                    for bicycle, model in zip(plain, linear, strict=True)]
+        matrices = [self._state_matrices(bicycle, model) for bicycle, model in zip(plain, linear, strict=True)]
         mask = self._residual_mask()
         result = np.zeros((len(models), self.samples))
         # Models with as many states are solved together: one evaluation of all their windows.
@@ -186,6 +195,14 @@ class SampleComparison:
                 residual = repeated._window_residuals(values, signal_rows)
             result[members] = residual.reshape(len(members), *self.targets.shape)[:, mask]
         return result
+
+    def _state_matrices(self, bicycle: Bicycle, model: LinearModel | None) -> NDArray[np.float64]:
+        """Return the model's state matrix at each window (W, n, n), with its steer friction's damping."""
+        model = linear_model(bicycle) if model is None else model
+        speeds = bicycle.model_speed(self.speeds)
+        damping = window_steer_damping(bicycle, self.friction)
+        A = model.state_matrix(speeds)
+        return A if damping is None else with_steer_damping(A, model.input_matrix(speeds), damping)
 
     def _fleet_residuals(self, models: Sequence[Model], linear: Sequence[LinearModel | None]) -> NDArray[np.float64]:
         """:meth:`residuals` of models some of which are fleets: each member on its group's windows.
@@ -214,7 +231,7 @@ class SampleComparison:
 
         return replace(self, speeds=self.speeds[index], tau=self.tau[index], mask=self.mask[index],
                        targets=self.targets[index], noise=self.noise[index], bins=pick(self.bins),
-                       steps=pick(self.steps),
+                       steps=pick(self.steps), friction=pick(self.friction),
                        groups=None if self.groups is None else tuple(self.groups[int(n)] for n in index))
 
     def _repeated(self, copies: int) -> SampleComparison:
@@ -228,7 +245,7 @@ class SampleComparison:
         return SampleComparison(np.concatenate([self.speeds] * copies), np.concatenate([self.tau] * copies),
                                 np.concatenate([self.mask] * copies), np.concatenate([self.targets] * copies),
                                 np.concatenate([self.noise] * copies), self.states, self.names, tile(self.bins),
-                                tile(self.steps))
+                                tile(self.steps), friction=tile(self.friction))
 
     def _bin_factors(self, values: NDArray[np.complex128]) -> NDArray[np.complex128]:
         """Return each mode's mean over a bin relative to its value at the bin's first sample (W, n)."""
@@ -332,7 +349,7 @@ def noise_free_samples(bicycle: Model, observations: Sequence[Observation],
     keep none.
     """
     twins = noise_free(bicycle, observations)
-    comparison = SampleComparison.of(observations, binned=False)
+    comparison = SampleComparison.of(observations, binned=False, bicycle=bicycle)
     if comparison is None:
         return twins
     curves = comparison.fitted(bicycle, model)

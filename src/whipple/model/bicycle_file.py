@@ -182,7 +182,7 @@ def _write_toml(document: Mapping[str, Any], path: str | os.PathLike[str], heade
 
 _REQUIRED = tuple(name for name in PARAMETER_NAMES if name not in OPTIONAL_PARAMETERS)
 _TOP_LEVEL = ("name", "description", "parameters", "uncertainty", "extensions", "controller")
-_EXTENSION_SCALARS = ("steer_damping", "steer_inertia", "speed_scale", "reflected_steer_inertia")
+_EXTENSION_SCALARS = ("steer_damping", "steer_inertia", "speed_scale", "reflected_steer_inertia", "steer_friction")
 _PAYLOADS = ("payload", "front_payload")
 _CONTROLLER_SCALARS = ("gain_scale", "delay", "lag")
 

@@ -126,6 +126,9 @@ class Extensions:
         ``N^2 J_rotor`` [kg m^2] (a steer motor); it enters the steer equation alone.
     linear_terms : LinearTerms or None
         Entries added to the linear model's matrices (:mod:`whipple.model.linear_terms`).
+    steer_friction : float
+        Coulomb friction torque about the steer axis [N m] (:mod:`whipple.model.steer_friction`):
+        not in the linear model; simulations apply its law, the diagnosis its equivalent damping.
     """
 
     steer_damping: float = 0.0
@@ -136,6 +139,7 @@ class Extensions:
     front_payload: Payload | None = None
     reflected_steer_inertia: float = 0.0
     linear_terms: LinearTerms | None = None
+    steer_friction: float = 0.0
 
     def is_base(self) -> bool:
         """Return True when the extensions change nothing in the Whipple model."""
@@ -532,6 +536,7 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
         ("steer_inertia", ext.steer_inertia, 0.0, True, LIMITS["kg m^2"]),
         ("reflected_steer_inertia", ext.reflected_steer_inertia, 0.0, True, LIMITS["kg m^2"]),
         ("speed_scale", ext.speed_scale, 0.0, False, 100.0),
+        ("steer_friction", ext.steer_friction, 0.0, True, 1e4),
     ]
     found.flag(ext.steer_damping < 0, f"extension steer_damping = {ext.steer_damping:.6g} is negative: it feeds "
                                       "energy into the steering (an active device, or a sign error?)", True)

@@ -44,6 +44,7 @@ from whipple.model.nonlinear import (
     upright_state,
 )
 from whipple.model.parameters import Bicycle
+from whipple.model.steer_friction import SMOOTHING_RATE
 
 #: Speed controls: the rear wheel rate held on the speed profile, or left free.
 SPEED_CONTROLS = ("driven", "free")
@@ -179,6 +180,9 @@ def _forced_functions(parameters: dict[str, float], bicycle: Bicycle,
     for k, gains in enumerate(bicycle.controller.feedback_coefficients()):
         own += speed**k * (casadi.DM(gains) @ lateral)
     own[1] -= float(bicycle.extensions.steer_damping) * x[8]
+    if bicycle.extensions.steer_friction:
+        # Coulomb steer friction, the smooth law of whipple.model.steer_friction.
+        own[1] -= float(bicycle.extensions.steer_friction) * casadi.tanh(x[8] / SMOOTHING_RATE)
     block, coupling = mass[:2, :2], mass[:2, 2]
 
     def outputs(a_rs, a_rear, tau_rs):

@@ -86,7 +86,8 @@ def nearest_oscillations(bicycle: Bicycle, speeds: ArrayLike, targets: ArrayLike
 
 
 def nearest_modes(bicycle: Model, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
-                  signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None = None
+                  signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None = None,
+                  friction: NDArray[np.float64] | None = None
                   ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Return the model's eigenvalue nearest each target, and its eigenvector's ratio of two signals.
 
@@ -94,14 +95,43 @@ def nearest_modes(bicycle: Model, speeds: NDArray[np.float64], targets: NDArray[
     nearest ``targets`` [1/s], and its eigenvector's ratio of two signals (MODE_SHAPE_STATES;
     NaN where ``signals`` is None). ``groups``: each window's group, where ``bicycle`` is a
     :class:`~whipple.model.fleet.Fleet` (each window is evaluated with its group's bicycle).
+    ``friction``: each window's equivalent steer damping per unit Coulomb steer friction
+    [s/rad] (:func:`~whipple.model.steer_friction.describing_gain`): a bicycle with a steer
+    friction F [N m] has the damping F times it added at that window (None: friction left out).
     """
-    chosen, shapes = nearest_modes_of_models([bicycle], speeds, targets, signals, groups)
+    chosen, shapes = nearest_modes_of_models([bicycle], speeds, targets, signals, groups, friction)
     return chosen[0], shapes[0]
+
+
+def window_steer_damping(bicycle: Bicycle, friction: NDArray[np.float64] | None) -> NDArray[np.float64] | None:
+    """Return the Coulomb steer friction's equivalent damping at each window [N m s/rad], or None where none.
+
+    ``friction``: each window's damping per unit friction [s/rad]; the bicycle's
+    ``extensions.steer_friction`` [N m] times it.
+    """
+    size = float(bicycle.extensions.steer_friction)
+    if friction is None or size == 0.0:
+        return None
+    return size * np.asarray(friction, dtype=float)
+
+
+def with_steer_damping(A: NDArray[np.float64], B: NDArray[np.float64], damping: NDArray[np.float64] | None
+                       ) -> NDArray[np.float64]:
+    """Return state matrices (W, n, n) with a steer torque ``-damping * steer_rate`` per window added.
+
+    ``B`` (W, n, 2) maps the roll and steer torque into the state derivative; the steer rate is
+    the fourth state of every model.
+    """
+    if damping is None:
+        return A
+    A = np.array(A, dtype=float)
+    A[..., :, 3] -= np.asarray(damping)[..., None] * B[..., :, 1]
+    return A
 
 
 def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float64],
                             targets: NDArray[np.complex128], signals: Sequence[tuple[str, str] | None],
-                            groups: Sequence[str] | None = None
+                            groups: Sequence[str] | None = None, friction: NDArray[np.float64] | None = None
                             ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """:func:`nearest_modes` of several models at the same windows; each result (models, windows).
 
@@ -109,22 +139,24 @@ def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float6
     their quartics costs little more than one model's, whose many small array operations are
     what an evaluation costs (a fit's finite-difference Jacobian evaluates several models at
     once). Other models are solved one by one, and a fleet group by group on its group's
-    windows (``groups``: each window's group).
+    windows (``groups``: each window's group). ``friction``: as :func:`nearest_modes` takes it.
     """
     plain = [bicycle for bicycle in bicycles if isinstance(bicycle, Bicycle)]
     if len(plain) < len(bicycles):
-        return _nearest_of_fleets(bicycles, speeds, targets, signals, groups)
+        return _nearest_of_fleets(bicycles, speeds, targets, signals, groups, friction)
     rows = np.array([n for n, pair in enumerate(signals) if pair is not None], dtype=int)
     true_speeds = [bicycle.model_speed(speeds) for bicycle in plain]
-    matrices = [second_order_matrices(bicycle, v) for bicycle, v in zip(plain, true_speeds, strict=True)]
+    dampings = [window_steer_damping(bicycle, friction) for bicycle in plain]
+    matrices = [_with_window_damping(second_order_matrices(bicycle, v), damping)
+                for bicycle, v, damping in zip(plain, true_speeds, dampings, strict=True)]
     if all(m is not None for m in matrices):
         M, C, K = (np.stack([m[k] for m in matrices if m is not None]) for k in range(3))
         chosen, vectors = _nearest_second_order(M[:, None], C, K, targets, rows)
     else:
         # Each model once, those with the states [q, q'] from the matrices already built.
         solved = [_nearest_second_order(*m, targets, rows) if m is not None
-                  else _nearest_by_eig(bicycle, v, targets, rows)
-                  for bicycle, v, m in zip(plain, true_speeds, matrices, strict=True)]
+                  else _nearest_by_eig(bicycle, v, targets, rows, damping)
+                  for bicycle, v, m, damping in zip(plain, true_speeds, matrices, dampings, strict=True)]
         chosen = np.stack([values for values, _ in solved])
         vectors = np.stack([vector[:, :4] for _, vector in solved])
     shapes = np.full(chosen.shape, np.nan, dtype=complex)
@@ -136,8 +168,21 @@ def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float6
     return chosen, shapes
 
 
+def _with_window_damping(matrices: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None,
+                         damping: NDArray[np.float64] | None
+                         ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None:
+    """Return M, C, K with each window's steer damping [N m s/rad] added to C's steer entry."""
+    if matrices is None or damping is None:
+        return matrices
+    M, C, K = matrices
+    C = np.array(np.broadcast_to(C, damping.shape + (2, 2)), dtype=float)
+    C[..., 1, 1] += damping
+    return M, C, K
+
+
 def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], targets: NDArray[np.complex128],
-                       signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None
+                       signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None,
+                       friction: NDArray[np.float64] | None = None
                        ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """:func:`nearest_modes_of_models` of models some of which are fleets: each member on its windows.
 
@@ -154,7 +199,8 @@ def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], tar
     for key, members in batches.items():
         rows = list(range(len(speeds))) if key is None else list(key)
         found, shape = nearest_modes_of_models([bicycle for _, bicycle in members], speeds[rows], targets[rows],
-                                               [signals[n] for n in rows])
+                                               [signals[n] for n in rows],
+                                               friction=None if friction is None else np.asarray(friction)[rows])
         for row, (k, _) in enumerate(members):
             chosen[k, rows], shapes[k, rows] = found[row], shape[row]
     return chosen, shapes
@@ -177,9 +223,17 @@ def nearest_eigen(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: A
 
 
 def _nearest_by_eig(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: ArrayLike,
-                    rows: NDArray[np.intp]) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """:func:`nearest_eigen` by ``numpy.linalg.eig`` of the state matrices (a model with more states)."""
-    values, vectors = np.linalg.eig(linear_model(bicycle).state_matrix(true_speeds))
+                    rows: NDArray[np.intp], damping: NDArray[np.float64] | None = None
+                    ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """:func:`nearest_eigen` by ``numpy.linalg.eig`` of the state matrices (a model with more states).
+
+    ``damping``: a steer damping [N m s/rad] per speed added (:func:`with_steer_damping`).
+    """
+    model = linear_model(bicycle)
+    A = model.state_matrix(true_speeds)
+    if damping is not None:
+        A = with_steer_damping(A, model.input_matrix(true_speeds), damping)
+    values, vectors = np.linalg.eig(A)
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)
     nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)

@@ -345,6 +345,11 @@ def evaluate_experiment(experiment: Experiment, models: Mapping[str, Mapping[str
         Also the samples' residual (as :func:`evaluate`).
     progress : callable, optional
         Called as ``progress("runs", done, total)`` as each group's runs are measured.
+
+    Returns
+    -------
+    Evaluation
+        As :func:`evaluate`: per group, per model, per speed and overall.
     """
     measured = {group.name: group.measure(options, progress=progress) for group in experiment.groups}
     return evaluate(measured, dict(models) if models is not None else {"experiment": experiment.bicycles()},

@@ -245,6 +245,17 @@ def _joint_weights(fit: WeaveFit) -> NDArray[np.float64] | None:
 
 
 def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]:
-    """Observations of all usable windows."""
+    """Observations of all usable windows.
+
+    Parameters
+    ----------
+    measurements : sequence of WindowMeasurement
+        Measured windows (:func:`whipple.measurement.measure.measure_runs`).
+
+    Returns
+    -------
+    list of Observation
+        One per window with a fitted eigenvalue and a speed, in order.
+    """
     return [observation(m) for m in measurements if m.usable]
 

@@ -456,7 +456,18 @@ def _pair(value: complex) -> list[float]:
 
 
 def report_json(report: DiagnosisReport) -> dict[str, Any]:
-    """Return the JSON object of the shared spec diagnosis-report.md (and more)."""
+    """Return the JSON object of the shared spec diagnosis-report.md (and more).
+
+    Parameters
+    ----------
+    report : DiagnosisReport
+        The report (:func:`assemble`, or :func:`whipple.diagnose`).
+
+    Returns
+    -------
+    dict
+        JSON-ready data: what ``whipple diagnose --json`` writes.
+    """
     diagnosis = report.diagnosis
     best = diagnosis.best
     estimate = {}

@@ -171,6 +171,12 @@ def fit_weave(
         The non-oscillating part: the seed paper's constant c1, or a polynomial in time that
         also follows the slow capsize mode's exponential (it would otherwise bias d and w).
 
+    Returns
+    -------
+    WeaveFit
+        The eigenvalue ``d + i w`` [1/s] with its covariance, the coefficients, the fitted curve
+        and the residual's statistics.
+
     Raises
     ------
     NoOscillationError
@@ -233,6 +239,11 @@ def fit_window(
         Signals to fit jointly (e.g. ``("roll_rate", "yaw_rate")``).
     noise, baseline : str
         Covariance estimate and non-oscillating part, as in :func:`fit_weave`.
+
+    Returns
+    -------
+    WeaveFit
+        As :func:`fit_weave`.
 
     Raises
     ------

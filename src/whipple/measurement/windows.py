@@ -153,6 +153,11 @@ def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] |
         record; then every window is cut at the gaps, so that none spans one, and each gap is
         listed as a rejected stretch.
 
+    Returns
+    -------
+    WindowSearch
+        The windows found and the stretches rejected, each with its reason.
+
     Raises
     ------
     RunFileError

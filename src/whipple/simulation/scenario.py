@@ -218,7 +218,7 @@ class RunScenario:
         and hold act like a stiff critically damped spring on roll and steer, natural
         frequency ``7.5 / catch_duration`` [rad/s].
     roll_limit, roll_rate_limit : float
-        The catch comes as soon as |roll| [rad] or |roll rate| [rad/s] exceeds these (keeps
+        The catch comes as soon as ``|roll|`` [rad] or ``|roll rate|`` [rad/s] exceeds these (keeps
         runs at unstable speeds in the linear range).
     hold_std : float
         Standard deviation of roll and steer [rad] while held (the hand is not perfectly

@@ -229,6 +229,13 @@ def eigen_analysis(model: LinearModel, speeds: ArrayLike, *, vectors: bool = Tru
 def weave_eigenvalue(model: LinearModel, speeds: ArrayLike) -> NDArray[np.complex128]:
     """Return the weave eigenvalue [1/s] (positive imaginary part) at forward speeds [m/s].
 
+    Parameters
+    ----------
+    model : LinearModel
+        The model (one parameter set or a batch).
+    speeds : array_like, shape (S,)
+        Forward speeds [m/s].
+
     Returns
     -------
     ndarray, shape ``model.batch_shape + (S,)``, complex

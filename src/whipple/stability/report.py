@@ -100,7 +100,21 @@ def _uncertainty(bicycle: Bicycle, critical: CriticalSpeeds) -> tuple[dict[str, 
 
 
 def analyse_bicycle(bicycle: Bicycle, speed_range: tuple[float, float] = (0.0, 10.0)) -> BicycleReport:
-    """Validate a bicycle and analyse its stability between ``speed_range`` [m/s]."""
+    """Validate a bicycle and analyse its stability between ``speed_range`` [m/s].
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The bicycle.
+    speed_range : tuple of float
+        Lowest and highest forward speed [m/s] searched for critical speeds.
+
+    Returns
+    -------
+    BicycleReport
+        Validation warnings, matrices, critical speeds with their standard deviations (from the
+        bicycle's ``[uncertainty]``) and eigenvalues over the range: what ``whipple check`` prints.
+    """
     report = check_physical(bicycle)
     low, high = speed_range
     matrices = extended_matrices(bicycle.parameters, bicycle.extensions)

@@ -99,3 +99,21 @@ def test_api_reference_lists_every_public_name():
     missing = [name for name in whipple.__all__ if name != "__version__"
                and f"{whipple._HOME[name]}.{name}" not in listed]
     assert not missing, f"docs/reference/api.md misses: {missing}"
+
+
+def test_exporting_modules_declare_all():
+    import importlib
+
+    import whipple
+
+    problems = []
+    for module_name, exported in whipple._EXPORTS.items():
+        module = importlib.import_module(module_name)
+        declared = getattr(module, "__all__", None)
+        if declared is None:
+            problems.append(f"{module_name} has no __all__")
+            continue
+        problems += [f"{module_name}.__all__ lacks {name}" for name in exported if name not in declared]
+        problems += [f"{module_name}.__all__ names {name}, which it lacks" for name in declared
+                     if not hasattr(module, name)]
+    assert not problems, "\n".join(problems)

@@ -36,6 +36,9 @@ from whipple.measurement.measure import MeasuredRuns, MeasurementOptions, Progre
 from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 
+__all__ = ["METRICS", "Windows", "Score", "score_windows", "pooled", "ModelScores", "GroupEvaluation", "Evaluation",
+           "evaluate", "evaluate_experiment"]
+
 #: What the scores measure, for reports.
 METRICS = {
     "rms": "RMS over the windows of |measured - predicted| weave eigenvalue [1/s] (the model's mode nearest "

@@ -64,6 +64,8 @@ from whipple.measurement.experiment import MIN_WINDOWS
 from whipple.measurement.measure import Progress
 from whipple.model.fleet import Model
 
+__all__ = ["Diagnosis", "diagnose_observations", "typical_dispersion", "separation", "occam_factor"]
+
 
 @dataclass(frozen=True)
 class Diagnosis:

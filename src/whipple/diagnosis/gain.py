@@ -38,6 +38,9 @@ from whipple.measurement.measure import Progress
 from whipple.measurement.weavefit import response_with_eigenvalue
 from whipple.model.fleet import Model
 
+__all__ = ["Result", "HELPS", "HeldOutSpeed", "Gain", "held_out_gain", "CauseGain", "cause_gains",
+           "held_out_candidates"]
+
 Result = TypeVar("Result")
 
 #: A held-out speed where the extended model cuts the RMS eigenvalue error by less than this

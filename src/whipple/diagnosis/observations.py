@@ -19,6 +19,9 @@ from whipple.measurement.weavefit import WeaveFit
 from whipple.model.fleet import Model
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, near_oscillation, nearest_modes
 
+__all__ = ["WindowSignals", "Observation", "Prediction", "predicted_weave", "predicted_modes", "mode_targets",
+           "compared_shapes", "noise_free", "speed_groups", "observation", "observations"]
+
 
 @dataclass(frozen=True)
 class WindowSignals:

@@ -42,6 +42,10 @@ from whipple.model.fleet import Fleet, Model, first_bicycle
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
 from whipple.stability.nearest_modes import near_oscillation
 
+__all__ = ["evidence_definition", "ShapeComparison", "DiagnosisReport", "describe_residuals", "compare_shapes",
+           "describe_mode_shapes", "assemble", "DISPERSION_WARNING", "shapes_flipped", "caveats", "report_json",
+           "calibration_shifts"]
+
 #: What chi2 sums, per comparison (:data:`~whipple.diagnosis.fitting.COMPARISONS`).
 _CHI2_OF = {
     "samples": ("the samples' residuals, each window's samples averaged in bins of "

@@ -14,6 +14,9 @@ from pathlib import Path
 
 from whipple.errors import InputError
 
+__all__ = ["BUNDLED_EXPERIMENTS", "DEFAULT_EXPERIMENT", "bundled_folder", "bundled_runs", "bundled_experiment_bicycle",
+           "bundled_reference_windows", "bundled_experiment"]
+
 _FOLDER = "sbw_treadmill"
 
 #: The bundled experiments: name -> (file-name prefix of its runs, built-in bicycle with its controller).

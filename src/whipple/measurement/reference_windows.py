@@ -22,6 +22,8 @@ from whipple.measurement.runs import Readable, Run, run_name
 from whipple.measurement.windows import Window
 from whipple.number_text import parse_integer, parse_number
 
+__all__ = ["read_windows", "write_windows", "WindowMatch", "WindowComparison", "compare_windows"]
+
 
 def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None) -> tuple[Window, ...]:
     """Read a windows file (CSV).

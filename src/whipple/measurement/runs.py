@@ -26,6 +26,9 @@ from whipple.number_text import parse_number
 from whipple.simulation.run_limits import MAX_SPEED, MIN_DURATION, MIN_SAMPLE_RATE
 from whipple.simulation.simulator import SimulatedRun
 
+__all__ = ["Readable", "Run", "contiguous", "run_from_simulation", "check_distinct_names", "check_same_bicycle",
+           "read_run", "RATE_TOLERANCE", "run_name"]
+
 
 class Readable(Protocol):
     """A file-like location: a Path or an importlib.resources Traversable."""

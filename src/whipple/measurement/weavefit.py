@@ -32,6 +32,9 @@ from whipple.measurement.runs import Run
 from whipple.measurement.weave_starts import starting_values
 from whipple.measurement.windows import Window
 
+__all__ = ["MIN_SAMPLES", "BASELINES", "NoOscillationError", "WeaveFit", "fit_weave", "fit_window", "window_bounds",
+           "response_with_eigenvalue"]
+
 #: Fewer samples than this cannot constrain five parameters with any honesty.
 MIN_SAMPLES = 12
 

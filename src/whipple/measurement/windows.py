@@ -54,6 +54,9 @@ from whipple.measurement.rejections import no_oscillation
 from whipple.measurement.runs import Run, contiguous
 from whipple.measurement.swings import Swings, swings_of
 
+__all__ = ["PUSH_RATIO", "TREND_TOLERANCE", "GROWTH", "STIR", "QUICK_PUSH", "SLOW_SWING_BACK", "ALIKE", "EARLY",
+           "FIRST_GROWTH", "Window", "WindowSearch", "find_windows"]
+
 #: Largest ratio of a free swing to the swing before it when starting from rest.
 PUSH_RATIO = 2.0
 #: A swing outgrowing the window's decay trend by more than this factor is forced.

@@ -24,6 +24,10 @@ from whipple.model.linear_terms import TERM_MATRICES
 from whipple.model.parameters import Bicycle, Controller, Extensions
 from whipple.model.tyre import tyre_linear_model
 
+__all__ = ["MODEL_PARAMETERS", "EXTENDED_PARAMETERS", "Matrices", "whipple_matrices", "extension_values",
+           "extended_matrices", "EXTENSION_EFFECTS", "model_matrices", "whipple_form_matrices", "build_linear_model",
+           "second_order_matrices", "linear_model"]
+
 _NO_EXTENSIONS = Extensions()
 
 #: Parameters of the base model, in the order of the generated code.

@@ -18,6 +18,8 @@ import numpy as np
 from whipple.model.assembly import MODEL_PARAMETERS, whipple_matrices
 from whipple.model.casadi_model import casadi_matrices
 
+__all__ = ["MATRIX_NAMES", "ReferenceSet", "EntryCheck", "VerificationResult", "reference_sets", "verify"]
+
 MATRIX_NAMES = ("M", "C1", "K0", "K2")
 
 

@@ -21,6 +21,8 @@ from whipple.stability.critical import CriticalSpeeds, critical_speeds
 from whipple.stability.eigen import EigenResult, eigen_analysis
 from whipple.stability.uncertainty import critical_speed_uncertainty
 
+__all__ = ["REPORT_SPEEDS", "BicycleReport", "analyse_bicycle"]
+
 #: Speeds [m/s] at which the report lists eigenvalues (those inside the searched range).
 REPORT_SPEEDS = (0.0, 2.0, 4.0, 6.0, 8.0, 10.0)
 

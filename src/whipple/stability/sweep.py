@@ -44,6 +44,10 @@ from whipple.stability.critical import (
     whipple_speed_table,
 )
 
+__all__ = ["CHUNK_ROWS", "RESULT_COLUMNS", "ParameterTable", "TableChunk", "MAX_TABLE_ROWS", "MAX_CHUNK_ROWS",
+           "table_chunks", "read_parameter_table", "ChunkResult", "SweepTask", "analyse_sets", "float_cells",
+           "analyse_chunk", "header_line", "SweepResult", "sweep"]
+
 #: Rows of a parameter table read and analysed together.
 CHUNK_ROWS = 10_000
 #: Columns the results table adds to the input columns.

@@ -1,4 +1,4 @@
-"""Print the held-out numbers of docs/diagnosis.md's real-data section.
+"""Print the held-out numbers of docs/explanation/real-data.md (research log: benchmarks/results/diagnosis-log.md).
 
 Run from anywhere:  python docs/figures/real_data_held_out.py [--no-parameters] [--cycles-above-noise C]
 [--fixed-point-start model] [--signals roll_rate]

@@ -6,7 +6,7 @@ baseline), and the two eigenvalues are compared through their combined standard 
 bundled treadmill runs and, as the yardstick, for effect-free simulated runs of the
 hidden-effect trials' bicycles (``tests/hidden_effects.py``, family ``none``): the model's own
 response holds other modes besides the weave, so that even there the two fits differ by more
-than their stated noise. Quoted in docs/diagnosis.md ("The real data").
+than their stated noise. Quoted in benchmarks/results/diagnosis-log.md ("The real data").
 
 Run: ``python docs/figures/signal_agreement.py [--seeds 3]`` (about two minutes on one core).
 """

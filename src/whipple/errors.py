@@ -9,6 +9,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+__all__ = ["WhippleError", "InputError", "ParameterError", "BicycleFileError", "RunFileError", "ExperimentFileError",
+           "OutputError", "AnalysisError"]
+
 
 class WhippleError(Exception):
     """Base class of all whipple errors."""

@@ -1,5 +1,8 @@
 """The ``whipple`` command line: a thin layer over the library.
 
+``whipple --help`` prints :data:`DESCRIPTION`; ``whipple --version`` the installed version (from
+the package's metadata).
+
 Each subcommand lives in its own module ``whipple.cli.<name>`` exposing ``add_arguments(parser)``
 and ``run(args) -> int``; its one-line help is in :data:`COMMANDS`. Only the module of the
 command being run is imported, so that a quick command (``whipple sweep`` on a table, say)
@@ -42,6 +45,21 @@ COMMANDS = {
     "evaluate": "score models on measured runs: weave eigenvalue error and samples' residual, per speed",
 }
 
+
+#: What ``whipple --help`` says the tool does, above the list of commands.
+DESCRIPTION = """\
+The linearized Whipple bicycle, derived from first principles and confronted with measured data.
+
+  check a bicycle      whipple check benchmark            (matrices, weave and capsize speeds)
+  stability            whipple stability sbw2024 --plot eig.png
+  many bicycles        whipple sweep table.csv --output speeds.csv --workers 2
+  measured runs        whipple fit --bundled --bicycle sbw2024
+  what is wrong, why   whipple diagnose --bundled --bicycle sbw2024 --report out/
+  score models         whipple evaluate runs/*.csv --bicycle a.toml --bicycle b.toml
+
+A bicycle is a TOML file, a BicycleParameters <Name>Benchmark.txt, or a built-in name
+(benchmark, kooijman2008, sbw2024, sbw2024-mm). `whipple COMMAND --help` lists a command's options.
+"""
 
 #: Options whose value may be ``-`` for standard output.
 OUTPUT_OPTIONS = ("csv", "json", "output", "save_model", "plot")
@@ -93,6 +111,16 @@ def _ending_signals_raise() -> Iterator[None]:
             signal.signal(number, handler)
 
 
+def _version() -> str:
+    """Return the installed package's version (its metadata, as pip installed it)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("whipple")
+    except PackageNotFoundError:  # run from a source tree that was never installed
+        return "unknown (not installed)"
+
+
 def _requested(argv: Sequence[str]) -> str | None:
     """Return the subcommand named in `argv` (its first word that is one), if any."""
     return next((word for word in argv if word in COMMANDS), None)
@@ -100,7 +128,9 @@ def _requested(argv: Sequence[str]) -> str | None:
 
 def build_parser(argv: Sequence[str] = ()) -> argparse.ArgumentParser:
     """Return the parser; the arguments of the subcommand named in `argv` are filled in."""
-    parser = _Parser(prog="whipple", description=(__doc__ or "").splitlines()[0])
+    parser = _Parser(prog="whipple", description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter,
+                     epilog="Documentation: the docs/ folder of the source (build it with docs/build).")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     subparsers = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     chosen = _requested(argv)
     for name, text in COMMANDS.items():

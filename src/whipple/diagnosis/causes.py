@@ -21,6 +21,10 @@ from whipple.model.fleet import Model
 from whipple.model.parameter_set import PARAMETER_UNITS
 from whipple.model.parameters import Payload
 
+__all__ = ["DEFAULT_CAMBER_STIFFNESS", "Cause", "PAYLOAD_FRAMES", "payload_bounds", "MAX_GYRATION", "LOAD_MASS_SCALE",
+           "GYRATION_SCALE", "payload_priors", "payload_form", "BLAMEABLE_PARAMETERS", "POSITIVE_PARAMETERS",
+           "parameter_cause", "with_cause"]
+
 # Reported bicycle tyre values (shared spec tyre-model.md): the camber stiffness is not fitted
 # (eigenvalues barely constrain it); cornering stiffness and relaxation length are.
 DEFAULT_CAMBER_STIFFNESS = 0.57  # 1/rad

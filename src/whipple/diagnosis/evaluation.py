@@ -36,6 +36,9 @@ from whipple.measurement.measure import MeasuredRuns, MeasurementOptions, Progre
 from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 
+__all__ = ["METRICS", "Windows", "Score", "score_windows", "pooled", "ModelScores", "GroupEvaluation", "Evaluation",
+           "evaluate", "evaluate_experiment"]
+
 #: What the scores measure, for reports.
 METRICS = {
     "rms": "RMS over the windows of |measured - predicted| weave eigenvalue [1/s] (the model's mode nearest "
@@ -345,6 +348,11 @@ def evaluate_experiment(experiment: Experiment, models: Mapping[str, Mapping[str
         Also the samples' residual (as :func:`evaluate`).
     progress : callable, optional
         Called as ``progress("runs", done, total)`` as each group's runs are measured.
+
+    Returns
+    -------
+    Evaluation
+        As :func:`evaluate`: per group, per model, per speed and overall.
     """
     measured = {group.name: group.measure(options, progress=progress) for group in experiment.groups}
     return evaluate(measured, dict(models) if models is not None else {"experiment": experiment.bicycles()},

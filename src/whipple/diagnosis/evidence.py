@@ -66,6 +66,8 @@ from whipple.measurement.experiment import MIN_WINDOWS
 from whipple.measurement.measure import Progress
 from whipple.model.fleet import Model
 
+__all__ = ["Diagnosis", "diagnose_observations", "typical_dispersion", "separation", "occam_factor"]
+
 
 @dataclass(frozen=True)
 class Diagnosis:
@@ -179,6 +181,29 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
     behind the best at those values); ``"eigenvalues"`` compares each window's eigenvalue with
     the model's own. Windows without samples (read from a list of eigenvalues) are compared
     directly whatever ``comparison`` says.
+
+    Parameters
+    ----------
+    bicycle : Bicycle or Fleet
+        The base model.
+    observations : sequence of Observation
+        The windows (:func:`whipple.diagnosis.observations.observations`).
+    causes : sequence of Cause, optional
+        The candidates (above).
+    options : DiagnosisOptions, optional
+        The comparison and the rules (above).
+    estimate_spread : bool
+        Also compute the jackknife spread of the leading cause's values (above).
+    quick : bool
+        Faster fits, for the held-out gain's folds (above).
+    progress : callable, optional
+        Called as ``progress("candidates", done, total)``.
+
+    Returns
+    -------
+    Diagnosis
+        The verdict, the leading cause and its fit, the ranking, the reasons and the fits of
+        every cause.
     """
     options = options or DiagnosisOptions()
     rules, comparison = options.verdict, options.comparison

@@ -18,7 +18,8 @@ function reports as the measured eigenvalue (a fixed point, ``FIXED_POINT_STEPS`
 and the model's response is those amplitudes with the model's weave eigenvalue.
 
 Used by :func:`whipple.diagnosis.evidence.diagnose_observations` (by default; ``bias=False``
-compares the eigenvalues directly): see docs/diagnosis.md, "The fitting function's bias".
+compares the eigenvalues directly): see the research log
+benchmarks/results/diagnosis-log.md, "The fitting function's bias".
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ def fitting_bias(bicycle: Model, observations: Sequence[Observation],
     absorb any other model's error; benchmarks use it on the true model of a simulated trial
     to see how much of the bias the fixed point misses (``benchmarks/bench_fit_bias.py``).
     ``start``: where the fixed point starts, the window's measured eigenvalue (``"measured"``,
-    the default) or the model's weave (``"model"``, an experiment: docs/diagnosis.md, "What the
+    the default) or the model's weave (``"model"``, an experiment: benchmarks/results/diagnosis-log.md, "What the
     fixed point misses").
     """
     if start not in ("measured", "model"):

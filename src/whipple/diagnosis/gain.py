@@ -3,7 +3,7 @@
 Each speed group is left out in turn. On the other speeds alone the diagnosis is redone: the
 cause is chosen again among all candidates and fitted; the model so extended predicts the
 left-out speed, and its error is compared with the base model's there. Per left-out speed the
-report gives the RMS and the median of |measured - predicted| weave eigenvalue, and the
+report gives the RMS and the median of ``|measured - predicted|`` weave eigenvalue, and the
 overall RMS and median over all left-out windows.
 
 An earlier form of this figure chose the cause once on all speeds and refitted only its value
@@ -38,6 +38,9 @@ from whipple.measurement.measure import Progress
 from whipple.measurement.weavefit import response_with_eigenvalue
 from whipple.model.fleet import Model
 
+__all__ = ["Result", "HELPS", "HeldOutSpeed", "Gain", "held_out_gain", "CauseGain", "cause_gains",
+           "held_out_candidates"]
+
 Result = TypeVar("Result")
 
 #: A held-out speed where the extended model cuts the RMS eigenvalue error by less than this
@@ -60,7 +63,7 @@ class HeldOutSpeed:
     values : tuple of float
         The cause's values fitted on the other speeds alone.
     base_rms, extended_rms, base_median, extended_median : float
-        RMS and median over the group's windows of |measured - predicted| weave eigenvalue [1/s].
+        RMS and median over the group's windows of ``|measured - predicted|`` weave eigenvalue [1/s].
     """
 
     speed: float
@@ -88,7 +91,7 @@ class HeldOutSpeed:
 class Gain:
     """Held-out errors of the base and the extended model.
 
-    ``base``/``extended``: median of |measured - predicted| weave eigenvalue [1/s] over all
+    ``base``/``extended``: median of ``|measured - predicted|`` weave eigenvalue [1/s] over all
     held-out windows; ``base_rms``/``extended_rms`` their RMS [1/s]; ``speeds`` the same per
     held-out speed group. ``time_base``/``time_extended``: median over held-out windows of the
     RMS roll-rate residual when the window is explained by the model's eigenvalue (amplitude,
@@ -235,6 +238,12 @@ def held_out_gain(bicycle: Model, observations: Sequence[Observation], causes: S
         Called as ``progress("folds", done, total)`` as each fold is done.
 
     With a single speed group, falls back to leave-one-window-out.
+
+    Returns
+    -------
+    Gain
+        Per left-out speed and over all: the cause chosen without it, the RMS and the median of
+        ``|measured - predicted|`` weave eigenvalue [1/s] for the base and the extended model.
     """
     if choose not in ("evidence", "prediction"):
         raise ValueError(f"choose must be 'evidence' or 'prediction', got {choose!r}")
@@ -294,6 +303,24 @@ def cause_gains(bicycle: Model, observations: Sequence[Observation], causes: Seq
     could reach. Choosing by these figures has seen every speed; the report gives them beside
     the gain of the diagnosis' own choice, never in its place. One result per cause, in order;
     ``scheduler``/``workers`` as in :func:`held_out_gain` (one task per cause and speed).
+
+    Parameters
+    ----------
+    bicycle : Bicycle or Fleet
+        The base model.
+    observations : sequence of Observation
+        All windows.
+    causes : sequence of Cause
+        The candidates, each refitted on every fold.
+    scheduler, workers : optional
+        A Dask cluster, as in :func:`held_out_gain`.
+    progress : callable, optional
+        Called as ``progress("candidates", done, total)``.
+
+    Returns
+    -------
+    tuple of CauseGain
+        One per cause, in the order given: its held-out errors per speed and overall.
     """
     observations = tuple(observations)
     groups = _speed_folds(observations)

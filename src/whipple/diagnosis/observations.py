@@ -20,6 +20,9 @@ from whipple.model.fleet import Model
 from whipple.model.steer_friction import describing_gain, representative_amplitude
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, near_oscillation, nearest_modes
 
+__all__ = ["WindowSignals", "Observation", "Prediction", "predicted_weave", "predicted_modes", "mode_targets",
+           "compared_shapes", "noise_free", "speed_groups", "observation", "observations"]
+
 
 @dataclass(frozen=True)
 class WindowSignals:
@@ -300,6 +303,17 @@ def _joint_weights(fit: WeaveFit) -> NDArray[np.float64] | None:
 
 
 def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]:
-    """Observations of all usable windows."""
+    """Observations of all usable windows.
+
+    Parameters
+    ----------
+    measurements : sequence of WindowMeasurement
+        Measured windows (:func:`whipple.measurement.measure.measure_runs`).
+
+    Returns
+    -------
+    list of Observation
+        One per window with a fitted eigenvalue and a speed, in order.
+    """
     return [observation(m) for m in measurements if m.usable]
 

@@ -21,6 +21,9 @@ from whipple.errors import InputError
 from whipple.measurement.measure import MeasurementOptions
 from whipple.model.fleet import Model
 
+__all__ = ["OCCAM_CHARGES", "AMPLITUDE_CHARGES", "FIXED_POINT_STARTS", "GAIN_BY_CAUSE", "VerdictRules", "PairRules",
+           "DiagnosisOptions"]
+
 #: How the evidence charges a cause's fitted values (:attr:`DiagnosisOptions.occam`).
 OCCAM_CHARGES = ("bic", "laplace", "prior")
 #: How the evidence charges a model's extra modal amplitudes (:attr:`DiagnosisOptions.amplitude_charge`).

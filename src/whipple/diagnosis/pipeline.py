@@ -32,6 +32,8 @@ from whipple.measurement.windows import Window
 from whipple.model.fleet import Fleet
 from whipple.model.parameters import Bicycle, load_bicycle
 
+__all__ = ["RunSource", "Layout", "ExperimentGroup", "ExperimentLike", "diagnose"]
+
 #: What :func:`diagnose` takes as one run: a file (path or package resource) or a read run.
 RunSource = str | os.PathLike[str] | Traversable | Run
 #: A layout as :func:`~whipple.measurement.runs.read_run` takes it.

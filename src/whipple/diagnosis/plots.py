@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.patches import Patch
 
 from whipple.diagnosis.report import DiagnosisReport
 from whipple.measurement.weavefit import response_with_eigenvalue
@@ -12,6 +13,10 @@ from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 from whipple.stability.eigen import weave_eigenvalue
 from whipple.stability.nearest_modes import nearest_modes
+
+#: Units of the signals a mode shape compares (for the axis label of their amplitude ratio).
+SIGNAL_UNITS = {"roll_rate": "rad/s", "steer_angle": "rad", "steer_rate": "rad/s", "yaw_rate": "rad/s",
+                "roll_angle": "rad"}
 
 
 def _weave_curve(bicycle: Bicycle, speeds: np.ndarray) -> np.ndarray:
@@ -37,7 +42,7 @@ def plot_eigenvalues(report: DiagnosisReport) -> Figure:
     axes = figure.subplots(2, 1, sharex=True)
     models = _curves("base model", report.bicycle, "C0")
     if report.diagnosis.best is not None:
-        models += _curves(f"extended ({report.diagnosis.cause})", report.extended, "C3")
+        models += _curves(f"extended model ({report.diagnosis.cause})", report.extended, "C3")
     for axis, part, label in ((axes[0], np.real, "real part d [1/s]"), (axes[1], np.imag, "imaginary part w [rad/s]")):
         for name, bicycle, colour, style in models:
             axis.plot(grid, part(_weave_curve(bicycle, grid)), color=colour, ls=style, label=name)
@@ -66,19 +71,22 @@ def plot_residuals(report: DiagnosisReport) -> Figure:
     std = np.array([np.sqrt(np.diag(o.covariance)) for o in observations])
     figure = Figure(figsize=(10, 3.8))
     axes = figure.subplots(1, 2)
-    models = [("base", report.base_prediction, "C0", -0.03)]
+    models = [("base model", report.base_prediction, "C0", -0.03)]
     if report.diagnosis.best is not None:
-        models.append(("extended", report.extended_prediction, "C3", 0.03))
+        models.append((f"extended model ({report.diagnosis.cause})", report.extended_prediction, "C3", 0.03))
     for name, prediction, colour, shift in models:
         residual = measured - prediction.eigenvalues
         axes[0].errorbar(speeds + shift, residual.real, yerr=std[:, 0], fmt="o", ms=3, color=colour, label=name)
         axes[1].errorbar(speeds + shift, residual.imag, yerr=std[:, 1], fmt="o", ms=3, color=colour, label=name)
-    for axis, title in zip(axes, ("damping residual d [1/s]", "frequency residual w [rad/s]"), strict=True):
+    for axis, title, unit in zip(axes, ("real part (damping)", "imaginary part (frequency)"), ("d [1/s]", "w [rad/s]"),
+                                 strict=True):
         axis.axhline(0.0, color="0.5", lw=0.8)
         axis.set_xlabel("measured speed [m/s]")
+        axis.set_ylabel(f"measured - model {unit}")
         axis.set_title(title, fontsize=10)
         axis.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
+    axes[0].legend(fontsize=8, title="each window (bars: 1 std of the fit)", title_fontsize=7)
+    figure.suptitle("Weave eigenvalue residuals: measured minus model, per window")
     figure.tight_layout()
     return figure
 
@@ -111,7 +119,7 @@ def plot_mode_shapes(report: DiagnosisReport) -> Figure:
     grid = np.linspace(max(0.0, speeds.min() - 0.5), speeds.max() + 0.5, 300)
     models = _curves("base model", report.bicycle, "C0")
     if report.diagnosis.best is not None:
-        models += _curves(f"extended ({report.diagnosis.cause})", report.extended, "C3")
+        models += _curves(f"extended model ({report.diagnosis.cause})", report.extended, "C3")
     for name, bicycle, colour, style in models:
         curve = _shape_curve(bicycle, grid, signals)
         axes[0].plot(grid, np.abs(curve), color=colour, ls=style, label=name)
@@ -128,7 +136,8 @@ def plot_mode_shapes(report: DiagnosisReport) -> Figure:
                          yerr=np.degrees(np.sqrt(across @ covariance @ across) / abs(ratio)), fmt="o", ms=3,
                          color="k", lw=0.8, capsize=2)
     axes[0].plot([], [], "o", color="k", ms=3, label="measured (1 std)")
-    axes[0].set_ylabel(f"|{signals[0]} / {signals[1]}|")
+    units = [SIGNAL_UNITS.get(signal, "?") for signal in signals]
+    axes[0].set_ylabel(f"|{signals[0]} / {signals[1]}| [{units[0]} per {units[1]}]")
     axes[1].set_ylabel("phase [deg], in (-360, 0]")
     axes[1].set_xlabel("measured speed [m/s]")
     for axis in axes:
@@ -151,7 +160,7 @@ def plot_time_overlay(report: DiagnosisReport, count: int = 4) -> Figure:
         assert fit is not None
         index = report.used.index(m)
         o = report.observations[index]
-        axis.plot(fit.time, fit.measured[0], color="k", lw=1, label="measured roll rate")
+        axis.plot(fit.time, fit.measured[0], color="k", lw=1, label="measured")
         for name, prediction, colour in (("base", report.base_prediction, "C0"),
                                          ("extended", report.extended_prediction, "C3")):
             if name == "extended" and report.diagnosis.best is None:
@@ -161,9 +170,11 @@ def plot_time_overlay(report: DiagnosisReport, count: int = 4) -> Figure:
             axis.plot(fit.time, curve, color=colour, lw=1.2, label=f"{name} model ({eigenvalue.real:.2f}"
                       f"{eigenvalue.imag:+.2f}i)")
         axis.set_title(f"{m.run.name}, {o.speed:.2f} m/s", fontsize=9)
-        axis.set_ylabel("rad/s")
+        axis.set_ylabel("roll rate [rad/s]")
         axis.legend(fontsize=7, loc="upper right")
     axes[-1, 0].set_xlabel("time [s]")
+    figure.suptitle("Roll rate of windows across speed, explained by each model's weave eigenvalue [1/s]",
+                    fontsize=10)
     figure.tight_layout()
     return figure
 
@@ -172,14 +183,19 @@ def plot_ranking(report: DiagnosisReport, count: int = 10) -> Figure:
     """Evidence of the best-supported causes (and none at 0)."""
     ranking = report.diagnosis.ranking()[:count]
     width = max([len(cause) for cause, _ in ranking] + [20])
-    figure = Figure(figsize=(5 + 0.07 * width, 0.35 * len(ranking) + 1.2))
+    figure = Figure(figsize=(5 + 0.07 * width, 0.35 * len(ranking) + 1.7))
     axis = figure.subplots()
     names = [cause for cause, _ in ranking][::-1]
     values = [evidence for _, evidence in ranking][::-1]
-    axis.barh(names, values, color=["C3" if n == report.diagnosis.cause else "0.6" for n in names])
+    leading = report.diagnosis.cause
+    axis.barh(names, values, color=["C3" if n == leading else "0.6" for n in names])
     axis.axvline(0.0, color="k", lw=0.8)
-    axis.set_xlabel("evidence (log Bayes factor against the base model)")
-    figure.tight_layout()
+    axis.set_xlabel("evidence (natural-log Bayes factor against the base model)")
+    figure.legend(handles=[Patch(color="C3", label=f"leading cause (verdict: {report.diagnosis.verdict})"),
+                           Patch(color="0.6", label="other candidates; none: the base model, at 0")],
+                  loc="lower center", ncols=2, fontsize=7, frameon=False)
+    axis.set_title("Candidate causes ranked by evidence", fontsize=10)
+    figure.tight_layout(rect=(0.0, 0.3 / figure.get_figheight(), 1.0, 1.0))
     return figure
 
 
@@ -203,6 +219,7 @@ def plot_gain(report: DiagnosisReport) -> Figure:
         axis.set_title(f"{title} |measured - predicted|", fontsize=9)
     axes[0].set_ylabel("weave eigenvalue error [1/s]")
     axes[0].legend(fontsize=7)
+    figure.suptitle("Held-out gain: each speed predicted by a model fitted without it", fontsize=10)
     figure.tight_layout()
     return figure
 

@@ -43,6 +43,10 @@ from whipple.model.fleet import Fleet, Model
 from whipple.model.linear_terms import TERM_NAMES, LinearTerms
 from whipple.model.parameters import Bicycle, TyreCompliance
 
+__all__ = ["KINDS", "Family", "FormChoices", "CauseDeclaration", "Value", "declare", "add_terms", "FAMILIES",
+           "GROUP_SUFFIX", "ungrouped", "TYRE_PRIORS", "payload_causes", "PARAMETER_FAMILIES", "CALIBRATION",
+           "REGISTRY", "declarations", "candidate_causes", "cause_by_name", "claimed_terms"]
+
 #: Kinds of declaration: ``physical`` causes, ``controller`` causes (a bicycle with a controller
 #: only; each group of an experiment has its own), ``parameter`` (one wrong benchmark parameter),
 #: ``calibration`` (every measured parameter off within its uncertainty; only with priors).

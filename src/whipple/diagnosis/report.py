@@ -42,6 +42,10 @@ from whipple.model.fleet import Fleet, Model, first_bicycle
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
 from whipple.stability.nearest_modes import near_oscillation
 
+__all__ = ["evidence_definition", "ShapeComparison", "DiagnosisReport", "describe_residuals", "compare_shapes",
+           "describe_mode_shapes", "assemble", "DISPERSION_WARNING", "shapes_flipped", "caveats", "report_json",
+           "calibration_shifts"]
+
 #: What chi2 sums, per comparison (:data:`~whipple.diagnosis.fitting.COMPARISONS`).
 _CHI2_OF = {
     "samples": ("the samples' residuals, each window's samples averaged in bins of "
@@ -456,7 +460,18 @@ def _pair(value: complex) -> list[float]:
 
 
 def report_json(report: DiagnosisReport) -> dict[str, Any]:
-    """Return the JSON object of the shared spec diagnosis-report.md (and more)."""
+    """Return the JSON object of the shared spec diagnosis-report.md (and more).
+
+    Parameters
+    ----------
+    report : DiagnosisReport
+        The report (:func:`assemble`, or :func:`whipple.diagnose`).
+
+    Returns
+    -------
+    dict
+        JSON-ready data: what ``whipple diagnose --json`` writes.
+    """
     diagnosis = report.diagnosis
     best = diagnosis.best
     estimate = {}

@@ -14,6 +14,9 @@ from pathlib import Path
 
 from whipple.errors import InputError
 
+__all__ = ["BUNDLED_EXPERIMENTS", "DEFAULT_EXPERIMENT", "bundled_folder", "bundled_runs", "bundled_experiment_bicycle",
+           "bundled_reference_windows", "bundled_experiment"]
+
 _FOLDER = "sbw_treadmill"
 
 #: The bundled experiments: name -> (file-name prefix of its runs, built-in bicycle with its controller).
@@ -78,6 +81,11 @@ def bundled_reference_windows() -> Traversable:
     One file for both experiments. Read them with
     :func:`whipple.measurement.reference_windows.read_windows`, which keeps the windows of the
     runs it is given.
+
+    Returns
+    -------
+    Traversable
+        The CSV file, a package resource.
     """
     return bundled_folder().joinpath("reference_windows.csv")
 
@@ -87,6 +95,11 @@ def bundled_experiment() -> Path:
 
     Read it with :func:`whipple.measurement.experiment_file.read_experiment`; its runs are the
     files beside it.
+
+    Returns
+    -------
+    Path
+        The experiment file (TOML).
     """
     # An installed package is files on disk, and the experiment file names its runs by paths
     # relative to itself.

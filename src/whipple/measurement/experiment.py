@@ -24,6 +24,11 @@ from whipple.measurement.speedometer import SpeedRange, speed_regression
 from whipple.measurement.weavefit import BASELINES, NoOscillationError, WeaveFit, fit_window
 from whipple.measurement.windows import Window, WindowSearch, find_windows
 
+__all__ = ["MIN_R_SQUARED", "MIN_CYCLES", "MIN_CYCLES_ABOVE_NOISE", "CATCH_PASSES", "AUTO_QUADRATIC_CYCLES",
+           "CSV_COLUMNS", "FitOptions", "WindowMeasurement", "RunMeasurement", "JOINT_SIGNALS", "diagnosis_signals",
+           "measure_run", "measure_window", "MIN_WINDOWS", "SHORT_WINDOW_CYCLES", "SHORT_WINDOW_NOTE",
+           "with_short_windows"]
+
 #: Fits explaining less of the window's variance than this are not used as observations.
 MIN_R_SQUARED = 0.5
 #: Nor fits covering less of a weave period than this (cycles = w * length / 2 pi).

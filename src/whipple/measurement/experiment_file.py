@@ -52,6 +52,9 @@ from whipple.measurement.runs import Run, read_run, run_name
 from whipple.measurement.windows import Window
 from whipple.model.parameters import Bicycle, builtin_names, load_bicycle
 
+__all__ = ["BUNDLED", "TOP_LEVEL_KEYS", "GROUP_KEYS", "Failure", "Group", "Experiment", "group_model_file",
+           "read_group_models", "read_experiment"]
+
 #: The word that names the experiment file of the bundled runs (:func:`.bundled.bundled_experiment`).
 BUNDLED = "bundled"
 #: Keys of the file's top level and of a ``[[group]]`` table.

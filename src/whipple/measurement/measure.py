@@ -47,6 +47,8 @@ from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import nearest_oscillations
 
+__all__ = ["Progress", "METHODS", "MeasurementOptions", "MeasuredRuns", "model_modes", "measure_runs"]
+
 #: A progress report: ``progress(stage, done, total)``, e.g. ``("runs", 3, 40)``; total may be None.
 Progress = Callable[[str, int, "int | None"], None]
 

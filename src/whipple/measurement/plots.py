@@ -212,7 +212,7 @@ def plot_weave_fit(
     residual = fit.measured[0] - fit.fitted[0]
     lower.plot(fit.time, residual, color="k", linewidth=0.6)
     lower.axhline(0.0, color="tab:red", linewidth=0.8)
-    lower.set_ylabel("residual", fontsize=8)
+    lower.set_ylabel(f"residual, {RUN_SIGNALS.get(name, name)}", fontsize=8)
     lower.set_xlabel("time [s]")
     lower.set_title(f"residual: RMS {fit.rms_residual[0]:.3g}, lag-1 autocorrelation "
                     f"{fit.residual_correlation:.2f}, covariance {fit.noise_model}", fontsize=8, y=1.0)
@@ -302,8 +302,7 @@ def plot_measured_eigenvalues(
         axis.legend(handles=[Line2D([], [], color="black", linewidth=2.5, label="measured real part"),
                              Line2D([], [], color="black", linewidth=2.5, linestyle=":",
                                     label="measured imaginary part")], fontsize=8)
-        if title:
-            axis.set_title(title)
+        axis.set_title(title or "Measured weave eigenvalues against forward speed")
     means = np.array([s.mean for s in speeds])
     if means.size:
         axis.errorbar(means, values.real, yerr=stds[:, 0], fmt="none", ecolor="black",

@@ -22,6 +22,8 @@ from whipple.measurement.runs import Readable, Run, run_name
 from whipple.measurement.windows import Window
 from whipple.number_text import parse_integer, parse_number
 
+__all__ = ["read_windows", "write_windows", "WindowMatch", "WindowComparison", "compare_windows"]
+
 
 def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None) -> tuple[Window, ...]:
     """Read a windows file (CSV).
@@ -30,6 +32,18 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
     and either ``start,stop`` (times [s]) or ``start_row,stop_row`` (0-based data rows, stop
     row included). Row-based windows need the `runs` to know their sample times; with `runs`
     given, windows of other runs are left out.
+
+    Parameters
+    ----------
+    path : str, Path or Traversable
+        The windows file.
+    runs : sequence of Run, optional
+        The runs the windows belong to.
+
+    Returns
+    -------
+    tuple of Window
+        The windows, in the file's order.
 
     Raises
     ------
@@ -119,7 +133,20 @@ def _row_number(text: str | None) -> int:
 
 
 def write_windows(path: str | Path, windows: Sequence[Window]) -> None:
-    """Write windows as CSV (run, start, stop [s], start_row, stop_row, reason), atomically."""
+    """Write windows as CSV (run, start, stop [s], start_row, stop_row, reason), atomically.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file to write (which :func:`read_windows` reads back).
+    windows : sequence of Window
+        The windows.
+
+    Returns
+    -------
+    None
+        The file is written.
+    """
     lines = ["run,start,stop,start_row,stop_row,reason"]
     for w in windows:
         reason = w.reason.replace('"', "'")
@@ -197,6 +224,11 @@ def compare_windows(
         The two sets (any runs; only windows of the same run are compared).
     min_agreement : float
         Smallest overlap, as a fraction of the shorter window.
+
+    Returns
+    -------
+    WindowComparison
+        Each reference window's match (or none) and the found windows that match no reference.
     """
     matches = []
     used: set[int] = set()

@@ -26,6 +26,9 @@ from whipple.number_text import parse_number
 from whipple.simulation.run_limits import MAX_SPEED, MIN_DURATION, MIN_SAMPLE_RATE
 from whipple.simulation.simulator import SimulatedRun
 
+__all__ = ["Readable", "Run", "contiguous", "run_from_simulation", "check_distinct_names", "check_same_bicycle",
+           "read_run", "RATE_TOLERANCE", "run_name"]
+
 
 class Readable(Protocol):
     """A file-like location: a Path or an importlib.resources Traversable."""
@@ -116,6 +119,11 @@ def run_from_simulation(simulated: SimulatedRun) -> Run:
     ----------
     simulated : SimulatedRun
         A run from :func:`whipple.simulation.simulator.simulate_run`.
+
+    Returns
+    -------
+    Run
+        The run as :func:`read_run` would read it from its file.
     """
     return Run(name=simulated.name, source=f"<simulated {simulated.name}>", time=simulated.time,
                signals=dict(simulated.signals), metadata=dict(simulated.metadata),
@@ -123,7 +131,23 @@ def run_from_simulation(simulated: SimulatedRun) -> Run:
 
 
 def check_distinct_names(runs: Sequence[Run]) -> None:
-    """Refuse runs sharing a name: windows files, tables and figures name a run by it."""
+    """Refuse runs sharing a name: windows files, tables and figures name a run by it.
+
+    Parameters
+    ----------
+    runs : sequence of Run
+        The runs.
+
+    Returns
+    -------
+    None
+        Returns quietly when the names are distinct.
+
+    Raises
+    ------
+    InputError
+        Two runs share a name, naming both.
+    """
     names = [run.name for run in runs]
     twice = sorted({name for name in names if names.count(name) > 1})
     if twice:
@@ -171,6 +195,11 @@ def read_run(
         Isolated wild samples of the run-file signals (not the time, not a speedometer's pulses)
         found by this rule are left out as gaps, each named in the warnings
         (:mod:`whipple.measurement.glitches`); None keeps every sample.
+
+    Returns
+    -------
+    Run
+        The run's signals in SI units, its speed, metadata and warnings.
 
     Raises
     ------

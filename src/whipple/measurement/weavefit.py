@@ -32,6 +32,9 @@ from whipple.measurement.runs import Run
 from whipple.measurement.weave_starts import starting_values
 from whipple.measurement.windows import Window
 
+__all__ = ["MIN_SAMPLES", "BASELINES", "NoOscillationError", "WeaveFit", "fit_weave", "fit_window", "window_bounds",
+           "response_with_eigenvalue"]
+
 #: Fewer samples than this cannot constrain five parameters with any honesty.
 MIN_SAMPLES = 12
 
@@ -171,6 +174,12 @@ def fit_weave(
         The non-oscillating part: the seed paper's constant c1, or a polynomial in time that
         also follows the slow capsize mode's exponential (it would otherwise bias d and w).
 
+    Returns
+    -------
+    WeaveFit
+        The eigenvalue ``d + i w`` [1/s] with its covariance, the coefficients, the fitted curve
+        and the residual's statistics.
+
     Raises
     ------
     NoOscillationError
@@ -233,6 +242,11 @@ def fit_window(
         Signals to fit jointly (e.g. ``("roll_rate", "yaw_rate")``).
     noise, baseline : str
         Covariance estimate and non-oscillating part, as in :func:`fit_weave`.
+
+    Returns
+    -------
+    WeaveFit
+        As :func:`fit_weave`.
 
     Raises
     ------

@@ -54,6 +54,9 @@ from whipple.measurement.rejections import no_oscillation
 from whipple.measurement.runs import Run, contiguous
 from whipple.measurement.swings import Swings, swings_of
 
+__all__ = ["PUSH_RATIO", "TREND_TOLERANCE", "GROWTH", "STIR", "QUICK_PUSH", "SLOW_SWING_BACK", "ALIKE", "EARLY",
+           "FIRST_GROWTH", "Window", "WindowSearch", "find_windows"]
+
 #: Largest ratio of a free swing to the swing before it when starting from rest.
 PUSH_RATIO = 2.0
 #: A swing outgrowing the window's decay trend by more than this factor is forced.
@@ -152,6 +155,11 @@ def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] |
         that its noise and levels, and the windows away from a gap, are those of the whole
         record; then every window is cut at the gaps, so that none spans one, and each gap is
         listed as a rejected stretch.
+
+    Returns
+    -------
+    WindowSearch
+        The windows found and the stretches rejected, each with its reason.
 
     Raises
     ------

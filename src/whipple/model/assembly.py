@@ -24,6 +24,10 @@ from whipple.model.linear_terms import TERM_MATRICES
 from whipple.model.parameters import Bicycle, Controller, Extensions
 from whipple.model.tyre import tyre_linear_model
 
+__all__ = ["MODEL_PARAMETERS", "EXTENDED_PARAMETERS", "Matrices", "whipple_matrices", "extension_values",
+           "extended_matrices", "EXTENSION_EFFECTS", "model_matrices", "whipple_form_matrices", "build_linear_model",
+           "second_order_matrices", "linear_model"]
+
 _NO_EXTENSIONS = Extensions()
 
 #: Parameters of the base model, in the order of the generated code.
@@ -112,6 +116,19 @@ def extended_matrices(
     same prefixed ``front_`` for the front payload, ``steer_inertia`` and
     ``reflected_steer_inertia`` [kg m^2], ``steer_damping`` [N m s/rad]); those override
     ``extensions``.
+
+    Parameters
+    ----------
+    parameters : mapping of str to array_like
+        Benchmark parameters by name (SI units), and optionally extension values (above).
+    extensions : Extensions, optional
+        The payloads, steer inertias and steer damping (default none).
+
+    Returns
+    -------
+    Matrices
+        M [kg m^2], C1 [kg m], K0 with gravity [N m/rad], K2 [kg] and D [N m s/rad], each of shape
+        (..., 2, 2); q = [roll, steer].
     """
     merged: dict[str, ArrayLike] = dict(extension_values(extensions))
     merged.update(parameters)
@@ -186,6 +203,14 @@ def build_linear_model(
     controller : Controller, optional
         State feedback whose gains are polynomials in the speed; with a delay or lag the
         model gains actuator states (:mod:`whipple.model.actuator`).
+    description : str
+        A name for the model, carried along (e.g. the bicycle's).
+
+    Returns
+    -------
+    LinearModel
+        States roll, steer, roll rate and steer rate (and actuator or tyre states where needed);
+        inputs roll and steer torque [N m].
     """
     if controller is not None and controller.has_dynamics():
         return with_actuator(build_linear_model(parameters, extensions, None, description), controller)
@@ -232,6 +257,18 @@ def second_order_matrices(bicycle: Bicycle, speeds: ArrayLike
 
 
 def linear_model(bicycle: Bicycle) -> LinearModel:
-    """Return the linear model of a bicycle, with its extensions and controller."""
+    """Return the linear model of a bicycle, with its extensions and controller.
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The bicycle (its parameters, extensions such as tyre compliance, and controller).
+
+    Returns
+    -------
+    LinearModel
+        The first-order model ``x' = A(v) x + B u``: states roll [rad], steer [rad], roll rate and
+        steer rate [rad/s] (and actuator or tyre states where the bicycle has them).
+    """
     return build_linear_model(bicycle.parameters, bicycle.extensions, bicycle.controller,
                               description=bicycle.name)

@@ -61,6 +61,16 @@ def read_benchmark_txt(path: str | os.PathLike[str]) -> Bicycle:
     is the file name without ``Benchmark.txt``; disagreements worth a warning are in its
     ``notes``.
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``<Name>Benchmark.txt`` file.
+
+    Returns
+    -------
+    Bicycle
+        The bicycle, with the file's uncertainties as its ``[uncertainty]`` table.
+
     Raises
     ------
     BicycleFileError

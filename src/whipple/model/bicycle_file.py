@@ -190,6 +190,16 @@ _CONTROLLER_SCALARS = ("gain_scale", "delay", "lag")
 def read_bicycle_toml(path: str | os.PathLike[str]) -> Bicycle:
     """Read a bicycle TOML file (the name defaults to the file's stem).
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The TOML bicycle file.
+
+    Returns
+    -------
+    Bicycle
+        The bicycle, with its uncertainty, extensions and controller.
+
     Raises
     ------
     BicycleFileError
@@ -275,6 +285,18 @@ def write_bicycle_toml(bicycle: Bicycle, path: str | os.PathLike[str]) -> None:
 
     Uncertainty, extensions and controller tables are written only when not empty or default.
     The file the bicycle was read from (its ``source``) is never overwritten.
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The bicycle to write.
+    path : str or os.PathLike
+        The file to write.
+
+    Returns
+    -------
+    None
+        The file is written (atomically: a failed write leaves an existing file as it was).
     """
     if bicycle.source:
         refuse_input_overwrite(Path(path), [bicycle.source])

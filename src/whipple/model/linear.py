@@ -22,6 +22,9 @@ from numpy.typing import ArrayLike, NDArray
 from whipple.errors import InputError
 from whipple.model.first_order import second_order_coefficients
 
+__all__ = ["WHIPPLE_STATES", "WHIPPLE_STATE_UNITS", "WHIPPLE_INPUTS", "WHIPPLE_INPUT_UNITS", "LinearModel",
+           "check_model", "second_order_model"]
+
 #: States of the Whipple model, in order, with their units.
 WHIPPLE_STATES = ("roll", "steer", "roll_rate", "steer_rate")
 WHIPPLE_STATE_UNITS = ("rad", "rad", "rad/s", "rad/s")

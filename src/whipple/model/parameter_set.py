@@ -148,10 +148,9 @@ class Extensions:
     def model_values(self) -> dict[str, float]:
         """Values of the derived models' extension parameters (zero when absent).
 
-        Keys: ``payload_mass`` [kg], ``payload_x``, ``payload_z`` [m], the same with prefix
-        ``front_`` for the front payload, ``steer_inertia`` and ``reflected_steer_inertia``
-        [kg m^2], ``steer_damping`` [N m s/rad], ``pneumatic_trail`` [m], and with tyre
-        compliance ``cornering_stiffness``, ``camber_stiffness`` [1/rad],
+        Keys: ``payload_mass`` [kg], ``payload_x``, ``payload_z`` [m], the same with prefix ``front_`` for the front
+        payload, ``steer_inertia`` and ``reflected_steer_inertia`` [kg m^2], ``steer_damping`` [N m s/rad],
+        ``pneumatic_trail`` [m], and with tyre compliance ``cornering_stiffness``, ``camber_stiffness`` [1/rad],
         ``relaxation_length`` [m].
         """
         values = {"payload_mass": 0.0, "payload_x": 0.0, "payload_z": 0.0,
@@ -176,10 +175,9 @@ class Controller:
     Attributes
     ----------
     steer, roll : dict of str to tuple of float
-        For the steer torque and the roll torque: state name (``roll`` [rad], ``steer`` [rad],
-        ``roll_rate`` [rad/s], ``steer_rate`` [rad/s]) to the gain's polynomial coefficients
-        in v [m/s], constant first; e.g. ``{"roll_rate": (13.0, -2.0)}`` is
-        ``T_steer = (13 - 2 v) * roll_rate`` [N m].
+        For the steer torque and the roll torque: state name (``roll`` [rad], ``steer`` [rad], ``roll_rate`` [rad/s],
+        ``steer_rate`` [rad/s]) to the gain's polynomial coefficients in v [m/s], constant first; e.g. ``{"roll_rate":
+        (13.0, -2.0)}`` is ``T_steer = (13 - 2 v) * roll_rate`` [N m].
     gain_scale : float
         Factor on every torque the controller commands [-] (an actuator's gain error; 1: none).
     delay : float
@@ -216,9 +214,8 @@ class Controller:
     def feedback_coefficients(self) -> list[NDArray[np.float64]]:
         """Gain matrices F_k, shape (2, 4), with ``f = sum_k v^k F_k x``, ``gain_scale`` included.
 
-        ``x = [roll, steer, roll_rate, steer_rate]`` and the rows of f are the roll torque and
-        the steer torque [N m]: the commanded torque, before any delay or lag. An empty
-        controller gives ``[]``.
+        ``x = [roll, steer, roll_rate, steer_rate]`` and the rows of f are the roll torque and the steer torque [N m]:
+        the commanded torque, before any delay or lag. An empty controller gives ``[]``.
         """
         rows = ((0, self.roll), (1, self.steer))
         order = max((len(c) for _, gains in rows for c in gains.values()), default=0)
@@ -393,9 +390,8 @@ def validate(bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike]) -> Valida
 def validate_rows(parameters: Mapping[str, ArrayLike]) -> tuple[str, ...]:
     """Return the problems of every set of a batch, as :func:`validate` states them one by one.
 
-    Equal to ``"; ".join(validate(set).problems)`` for each set, but vectorised: the checks run
-    once over the batch to find the sets with problems, and only those are checked again one
-    by one for their messages.
+    Equal to ``"; ".join(validate(set).problems)`` for each set, but vectorised: the checks run once over the batch to
+    find the sets with problems, and only those are checked again one by one for their messages.
 
     Parameters
     ----------
@@ -585,12 +581,21 @@ def _check_additions(bicycle: Bicycle, found: _Findings) -> None:
                    f"controller {name} = {value:.6g} is beyond {limit:g}: not a bicycle's controller")
 
 
-def check_physical(
-    bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike], source: str | None = None
-) -> ValidationReport:
+def check_physical(bicycle_or_parameters: Bicycle | Mapping[str, ArrayLike], source: str | None = None
+                   ) -> ValidationReport:
     """Like :func:`validate`, but raise ParameterError (one line, every problem) on problems.
 
-    `source` names the file in the message; it defaults to a bicycle's own source.
+    Parameters
+    ----------
+    bicycle_or_parameters : Bicycle or mapping of str to array_like
+        The bicycle, or its benchmark parameters by name (SI units; arrays checked element-wise).
+    source : str, optional
+        The file named in the message (default: a bicycle's own source).
+
+    Returns
+    -------
+    ValidationReport
+        The checks' findings: no problems, possibly warnings.
     """
     report = validate(bicycle_or_parameters)
     if source is None and isinstance(bicycle_or_parameters, Bicycle):

@@ -75,7 +75,13 @@ _BUILTIN = ("benchmark", "kooijman2008", "sbw2024", "sbw2024-mm")
 
 
 def builtin_names() -> tuple[str, ...]:
-    """Names of the bicycles shipped with whipple."""
+    """Names of the bicycles shipped with whipple.
+
+    Returns
+    -------
+    tuple of str
+        The names :func:`load_bicycle` accepts in place of a file (``benchmark``, ...).
+    """
     return _BUILTIN
 
 

@@ -55,6 +55,17 @@ class Rider:
 def read_rider_txt(path: str | os.PathLike[str]) -> Rider:
     """Read a BicycleParameters rider file (``<Rider><Bicycle>Benchmark.txt``).
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The rider file.
+
+    Returns
+    -------
+    Rider
+        The rider's mass [kg], mass centre [m] and inertia [kg m^2] in the benchmark frame, with
+        their standard deviations.
+
     Raises
     ------
     BicycleFileError
@@ -108,6 +119,18 @@ def add_rider(bicycle: Bicycle, rider: Rider) -> Bicycle:
     The rear frame's ``mB, xB, zB, IBxx, IBzz, IBxz`` (and ``IByy`` where both bodies give it)
     become the joined body's, with standard deviations propagated from both; extensions,
     controller and the other parameters are kept. The name becomes ``"<bicycle> + <rider>"``.
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The bicycle without its rider.
+    rider : Rider
+        The rider (:func:`read_rider_txt`).
+
+    Returns
+    -------
+    Bicycle
+        A new bicycle; `bicycle` is not changed.
 
     Raises
     ------

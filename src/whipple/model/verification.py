@@ -18,6 +18,8 @@ import numpy as np
 from whipple.model.assembly import MODEL_PARAMETERS, whipple_matrices
 from whipple.model.casadi_model import casadi_matrices
 
+__all__ = ["MATRIX_NAMES", "ReferenceSet", "EntryCheck", "VerificationResult", "reference_sets", "verify"]
+
 MATRIX_NAMES = ("M", "C1", "K0", "K2")
 
 
@@ -89,7 +91,14 @@ def _load(file_name: str) -> dict:
 
 
 def reference_sets() -> tuple[ReferenceSet, ...]:
-    """Return the published sets shipped with the package."""
+    """Return the published sets shipped with the package.
+
+    Returns
+    -------
+    tuple of ReferenceSet
+        The benchmark of Meijaard et al. (2007) and the bicycle of Kooijman & Schwab (2009), each
+        with its parameters and published matrices.
+    """
     benchmark = _load("meijaard2007-benchmark.toml")
     g = benchmark["parameters"]["g"]
     # The benchmark prints K0 without gravity; the package's K0 includes it.
@@ -112,7 +121,19 @@ def reference_sets() -> tuple[ReferenceSet, ...]:
 
 
 def verify(reference: ReferenceSet) -> VerificationResult:
-    """Evaluate the generated CasADi and NumPy code at a reference set and compare."""
+    """Evaluate the generated CasADi and NumPy code at a reference set and compare.
+
+    Parameters
+    ----------
+    reference : ReferenceSet
+        A published set (:func:`reference_sets`).
+
+    Returns
+    -------
+    VerificationResult
+        Every published entry compared with the generated CasADi code, and the largest
+        difference between the NumPy and CasADi code; ``passed`` says whether all agree.
+    """
     vector = np.array([reference.parameters[name] for name in MODEL_PARAMETERS])
     computed = {name: np.array(value, dtype=float)
                 for name, value in zip(MATRIX_NAMES, casadi_matrices(vector), strict=True)}

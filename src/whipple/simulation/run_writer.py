@@ -40,6 +40,13 @@ def write_run_csv(run: Writable, path: str | Path) -> Path:
     not know, such as ``true_windows``), the header ``time,<signals>`` and one line per sample
     (10 significant digits for time, 9 for signals). It is written atomically.
 
+    Parameters
+    ----------
+    run : SimulatedRun or Run
+        The run to write.
+    path : str or Path
+        The file to write.
+
     Returns
     -------
     Path

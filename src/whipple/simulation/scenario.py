@@ -20,6 +20,10 @@ from whipple.errors import InputError
 from whipple.simulation.coasting import coasting_distance, coasting_speed, stopping_time
 from whipple.simulation.run_limits import MAX_SPEED, MAX_SPEED_NOISE_SHARE, MIN_DURATION, MIN_SAMPLE_RATE
 
+__all__ = ["SIGNALS", "SETTINGS", "PUSH_SIGNS", "MAX_SAMPLES", "MAX_SAMPLES_MEMORY", "ScenarioError", "Push", "Sensor",
+           "Sensors", "PERFECT_SENSORS", "MAX_MISALIGNMENT", "MAX_GYRO_SCALE_ERROR", "MAX_STEER_OFFSET",
+           "MAX_BIAS_DRIFT", "MAX_BIAS_WALK", "SensorFaults", "NO_FAULTS", "RunScenario"]
+
 #: Signals a simulated run can hold, in the order they are drawn and written.
 SIGNALS = ("roll_rate", "yaw_rate", "steer_angle", "steer_rate", "roll_angle", "speed",
            "speedometer")
@@ -218,7 +222,7 @@ class RunScenario:
         and hold act like a stiff critically damped spring on roll and steer, natural
         frequency ``7.5 / catch_duration`` [rad/s].
     roll_limit, roll_rate_limit : float
-        The catch comes as soon as |roll| [rad] or |roll rate| [rad/s] exceeds these (keeps
+        The catch comes as soon as ``|roll|`` [rad] or ``|roll rate|`` [rad/s] exceeds these (keeps
         runs at unstable speeds in the linear range).
     hold_std : float
         Standard deviation of roll and steer [rad] while held (the hand is not perfectly

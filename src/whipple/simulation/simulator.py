@@ -89,6 +89,11 @@ def simulate_run(
         (:func:`whipple.simulation.speed_change.acceleration_stiffness`, from the bicycle's
         Whipple parameters and payloads); False: ``x' = A(v(t)) x`` alone. No effect on a treadmill.
 
+    Returns
+    -------
+    SimulatedRun
+        The measured signals, the true states and speed, and the true windows of free coasting.
+
     Raises
     ------
     ScenarioError

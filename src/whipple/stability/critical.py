@@ -55,6 +55,9 @@ from whipple.stability.whipple_form import (
     whipple_form_table_of_matrices,
 )
 
+__all__ = ["CHUNK_SIZE", "KINDS", "Crossing", "CriticalSpeeds", "critical_speeds", "critical_speeds_batch",
+           "crossing_arrays", "CriticalSpeedTable", "critical_speed_table", "whipple_speed_table"]
+
 #: Parameter sets of a 4-state model solved together (scaled by 16 / n^2 for n states).
 CHUNK_SIZE = 8192
 KINDS = ("hopf", "real")

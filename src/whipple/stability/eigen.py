@@ -22,6 +22,9 @@ from whipple.model.linear import LinearModel, check_model
 from whipple.model.physical_checks import MAX_SPEED
 from whipple.stability import modes
 
+__all__ = ["TRACKING_STEP", "TRACKING_SPAN", "GEOMETRIC_FROM", "RELATIVE_STEP", "EigenResult", "tracking_grid",
+           "check_speeds", "tracked_eigenvalues", "eigen_analysis", "weave_eigenvalue", "eigenvalue_table"]
+
 #: Largest speed step [m/s] of the grid on which eigenvalues are tracked.
 TRACKING_STEP = 0.01
 #: Speed span [m/s] always covered by the tracking grid, so labels are the same for any query.
@@ -228,6 +231,13 @@ def eigen_analysis(model: LinearModel, speeds: ArrayLike, *, vectors: bool = Tru
 
 def weave_eigenvalue(model: LinearModel, speeds: ArrayLike) -> NDArray[np.complex128]:
     """Return the weave eigenvalue [1/s] (positive imaginary part) at forward speeds [m/s].
+
+    Parameters
+    ----------
+    model : LinearModel
+        The model (one parameter set or a batch).
+    speeds : array_like, shape (S,)
+        Forward speeds [m/s].
 
     Returns
     -------

@@ -116,12 +116,15 @@ def plot_eigenvalues(
     if critical is not None:
         _mark_critical(axes, critical)
         if critical.stable_speed_ranges:
-            legend.append(Patch(color="tab:green", alpha=0.15, label="stable"))
+            legend.append(Patch(color="tab:green", alpha=0.15, label="stable speed range"))
+        if critical.crossings:
+            legend.append(Line2D([], [], color="0.3", lw=0.9, ls="-.", label="critical speed"))
     if measured:
         for low, high, value in measured:
-            axes.plot([low, high], [value.real] * 2, color="black", lw=2.5)
-            axes.plot([low, high], [abs(value.imag)] * 2, color="black", lw=2.5, ls=":")
-        legend.append(Line2D([], [], color="black", lw=2.5, label="measured (re, im dotted)"))
+            axes.plot([low, high], [value.real] * 2, color="black", lw=1.8, alpha=0.8)
+            axes.plot([low, high], [abs(value.imag)] * 2, color="black", lw=1.8, ls=":", alpha=0.8)
+        legend.append(Line2D([], [], color="black", lw=1.8,
+                             label="measured weave, a window's\nspeed range (re; im dotted)"))
 
     if ylim is None:
         main = np.isin(labels, [modes.WEAVE, modes.WEAVE_UPPER, modes.WEAVE_LOWER,
@@ -134,8 +137,7 @@ def plot_eigenvalues(
     axes.axhline(0.0, color="black", lw=0.6)
     axes.set_xlabel("forward speed v [m/s]")
     axes.set_ylabel("eigenvalue λ [1/s]")
-    if title:
-        axes.set_title(title)
+    axes.set_title(title or "Eigenvalues of the linear model against forward speed")
     axes.legend(handles=legend, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     axes.grid(alpha=0.3)
     figure.tight_layout()
@@ -154,4 +156,4 @@ def _mark_critical(axes: Axes, critical: CriticalSpeeds) -> None:
             axes.annotate(
                 f"{text} = {speed:.3f} m/s", xy=(speed, 1.0), xycoords=("data", "axes fraction"),
                 xytext=(3, -12), textcoords="offset points", fontsize=8, rotation=90,
-                va="top")
+                va="top", bbox={"boxstyle": "round,pad=0.15", "facecolor": "white", "edgecolor": "none", "alpha": 0.8})

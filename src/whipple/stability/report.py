@@ -21,6 +21,8 @@ from whipple.stability.critical import CriticalSpeeds, critical_speeds
 from whipple.stability.eigen import EigenResult, eigen_analysis
 from whipple.stability.uncertainty import critical_speed_uncertainty
 
+__all__ = ["REPORT_SPEEDS", "BicycleReport", "analyse_bicycle"]
+
 #: Speeds [m/s] at which the report lists eigenvalues (those inside the searched range).
 REPORT_SPEEDS = (0.0, 2.0, 4.0, 6.0, 8.0, 10.0)
 
@@ -100,7 +102,21 @@ def _uncertainty(bicycle: Bicycle, critical: CriticalSpeeds) -> tuple[dict[str, 
 
 
 def analyse_bicycle(bicycle: Bicycle, speed_range: tuple[float, float] = (0.0, 10.0)) -> BicycleReport:
-    """Validate a bicycle and analyse its stability between ``speed_range`` [m/s]."""
+    """Validate a bicycle and analyse its stability between ``speed_range`` [m/s].
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The bicycle.
+    speed_range : tuple of float
+        Lowest and highest forward speed [m/s] searched for critical speeds.
+
+    Returns
+    -------
+    BicycleReport
+        Validation warnings, matrices, critical speeds with their standard deviations (from the
+        bicycle's ``[uncertainty]``) and eigenvalues over the range: what ``whipple check`` prints.
+    """
     report = check_physical(bicycle)
     low, high = speed_range
     matrices = extended_matrices(bicycle.parameters, bicycle.extensions)

@@ -44,6 +44,10 @@ from whipple.stability.critical import (
     whipple_speed_table,
 )
 
+__all__ = ["CHUNK_ROWS", "RESULT_COLUMNS", "ParameterTable", "TableChunk", "MAX_TABLE_ROWS", "MAX_CHUNK_ROWS",
+           "table_chunks", "read_parameter_table", "ChunkResult", "SweepTask", "analyse_sets", "float_cells",
+           "analyse_chunk", "header_line", "SweepResult", "sweep"]
+
 #: Rows of a parameter table read and analysed together.
 CHUNK_ROWS = 10_000
 #: Columns the results table adds to the input columns.
@@ -267,6 +271,16 @@ def table_chunks(path: str | Path, rows: int = CHUNK_ROWS, max_lines: int = MAX_
 
 def read_parameter_table(path: str | Path) -> ParameterTable:
     """Read a whole CSV of parameter sets; every cell must be a finite number.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file: a header of benchmark parameter names, one parameter set per row.
+
+    Returns
+    -------
+    ParameterTable
+        The columns by name, as arrays of floats.
 
     Raises
     ------
@@ -492,6 +506,12 @@ def sweep(table: ParameterTable, base: Bicycle, speed_range: tuple[float, float]
         Speed interval searched [m/s].
     progress : callable, optional
         Called with the number of valid sets analysed so far.
+
+    Returns
+    -------
+    SweepResult
+        Per row: whether it was analysed, the problem if not, and its critical speeds
+        (:class:`~whipple.stability.critical.CriticalSpeeds`).
     """
     names = tuple(table.columns)
     values = np.stack([table.columns[name] for name in names], axis=-1).reshape(table.rows, len(names))

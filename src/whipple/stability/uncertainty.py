@@ -21,6 +21,8 @@ from numpy.typing import ArrayLike, NDArray
 from whipple.errors import AnalysisError, InputError
 from whipple.stability.characteristic import NEWTON_OPTIONS, casadi_conditions
 
+__all__ = ["GUESS_TOLERANCE", "KINDS", "SpeedUncertainty", "critical_speed_uncertainty"]
+
 #: Largest relative distance between the given speed and the root Newton's method finds;
 #: farther means the guess belonged to no crossing of this kind (or to another one).
 GUESS_TOLERANCE = 0.01

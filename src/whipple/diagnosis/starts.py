@@ -47,9 +47,16 @@ def default_starts(cause: Cause) -> list[NDArray[np.float64]]:
 
 
 def quick_starts(cause: Cause) -> list[list[float]]:
-    """Return the no-effect values and 5% of the bounds away (a fit started on a bound can stall)."""
+    """Return the no-effect values and 5% of the bounds away (a fit started on a bound can stall).
+
+    A cause with more values than :data:`LOCAL_VALUES` (the calibration) starts at its no-effect
+    values only, as in :func:`default_starts`: they are its priors' centres, inside its bounds, and
+    a second start costs another fit of every parameter.
+    """
     lower, upper = cause.limits
     start = np.array(cause.start, dtype=float)
+    if len(cause.parameters) > LOCAL_VALUES:
+        return [list(start)]
     return [list(start), [float(v) for v in np.clip(start + 0.05 * (upper - lower), lower, upper)]]
 
 

@@ -93,7 +93,8 @@ class Whitening:
     eigenvalue: NDArray[np.float64]
     shape_index: NDArray[np.int_]
     shape: NDArray[np.float64]
-    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str]] = field(
+    targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str],
+                   NDArray[np.float64] | None] = field(
         repr=False)
     measured_shapes: NDArray[np.complex128] = field(repr=False)
     scales: tuple[float, float] = (1.0, 1.0)

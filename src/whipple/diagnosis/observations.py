@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.window_speed import window_speeds
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.weavefit import WeaveFit
 from whipple.model.fleet import Model
@@ -96,6 +97,11 @@ class Observation:
     group : str
         The group of an experiment the window belongs to ("" outside experiments of several
         groups): a :class:`~whipple.model.fleet.Fleet` is evaluated with that group's bicycle.
+    acceleration : float
+        The forward acceleration over the window [m/s^2] (the slope of the measured speed's
+        regression; negative while slowing down): the model follows the window's speed profile
+        (:mod:`whipple.diagnosis.window_speed`). 0 for a run on a treadmill (its metadata
+        ``setting = treadmill``) and for windows read from a list of eigenvalues.
     """
 
     run: str
@@ -110,6 +116,7 @@ class Observation:
     shape_signals: tuple[str, str] = ("steer_angle", "roll_rate")
     signals: WindowSignals | None = field(default=None, repr=False, compare=False)
     group: str = ""
+    acceleration: float = 0.0
 
 
 
@@ -156,16 +163,20 @@ def predicted_modes(bicycle: Model, observations: Sequence[Observation]
 
 
 def mode_targets(observations: Sequence[Observation]
-                 ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str]]:
+                 ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str],
+                            NDArray[np.float64] | None]:
     """Return what :func:`nearest_modes` compares with, per window.
 
-    The measured speed [m/s], eigenvalue [1/s], shape signals (None where the window has no
-    shape) and group (for a model that is a :class:`~whipple.model.fleet.Fleet`).
+    The measured speed the model is evaluated at [m/s] (the mean, or where a changing speed is
+    read: :func:`~whipple.diagnosis.window_speed.window_speeds`), eigenvalue [1/s], shape
+    signals (None where the window has no shape), group (for a model that is a
+    :class:`~whipple.model.fleet.Fleet`) and the measured accelerations [m/s^2] (None where
+    every window's speed is constant).
     """
-    speeds = np.array([o.speed for o in observations], dtype=float)
+    speeds, accelerations = window_speeds(observations)
     targets = np.array([o.eigenvalue for o in observations], dtype=complex)
     return (speeds, targets, [o.shape_signals if _has_shape(o) else None for o in observations],
-            [o.group for o in observations])
+            [o.group for o in observations], accelerations)
 
 
 def _has_shape(observation: Observation) -> bool:
@@ -232,7 +243,18 @@ def observation(measurement: WindowMeasurement) -> Observation:
                        WindowSignals(measurement.fit.time, measurement.fit.measured, measurement.fit.signal_names,
                                      measurement.fit.baseline, _joint_weights(measurement.fit),
                                      residual_rms=np.asarray(measurement.fit.rms_residual, dtype=float)),
-                       measurement.group)
+                       measurement.group, window_acceleration(measurement))
+
+
+def window_acceleration(measurement: WindowMeasurement) -> float:
+    """Return the forward acceleration over a window [m/s^2]: its speed regression's slope.
+
+    0 on a treadmill (run metadata ``setting = treadmill``): the belt's speed fluctuations are
+    not the bicycle's acceleration over the ground, and treadmill windows stay at constant speed.
+    """
+    if measurement.speed is None or measurement.run.metadata.get("setting", "").strip().lower() == "treadmill":
+        return 0.0
+    return float(measurement.speed.slope)
 
 
 def _joint_weights(fit: WeaveFit) -> NDArray[np.float64] | None:

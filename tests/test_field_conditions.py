@@ -24,12 +24,12 @@ from whipple.cli import main
 from whipple.measurement.runs import read_run
 from whipple.model.assembly import linear_model, model_matrices
 from whipple.model.parameters import Payload, load_bicycle
+from whipple.model.speed_change import acceleration_stiffness
 from whipple.simulation.coasting import coasting_distance, coasting_speed, stopping_time
 from whipple.simulation.nonlinear_run import simulate_nonlinear_run
 from whipple.simulation.scenario import PERFECT_SENSORS, RunScenario, ScenarioError, SensorFaults
 from whipple.simulation.sensor_faults import BIAS_WALK_STREAM
 from whipple.simulation.simulator import simulate_run, write_run_csv
-from whipple.simulation.speed_change import acceleration_stiffness
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from hidden_effects import CONDITIONS, FieldConditions, trial_bicycle, trial_runs  # noqa: E402

@@ -94,7 +94,7 @@ class Whitening:
     shape_index: NDArray[np.int_]
     shape: NDArray[np.float64]
     targets: tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str],
-                   NDArray[np.float64]] = field(repr=False)
+                   NDArray[np.float64], NDArray[np.float64] | None] = field(repr=False)
     measured_shapes: NDArray[np.complex128] = field(repr=False)
     scales: tuple[float, float] = (1.0, 1.0)
     #: The fitting function's bias on the fitted model's own response, per window

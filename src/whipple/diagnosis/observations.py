@@ -14,6 +14,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.window_speed import window_speeds
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.weavefit import WeaveFit
 from whipple.model.fleet import Model
@@ -105,6 +106,11 @@ class Observation:
         amplitude-weighted mean of its fitted envelope
         (:func:`~whipple.model.steer_friction.representative_amplitude`); what a Coulomb steer
         friction's equivalent damping is taken at (:func:`friction_gains`). Empty where unknown.
+    acceleration : float
+        The forward acceleration over the window [m/s^2] (the slope of the measured speed's
+        regression; negative while slowing down): the model follows the window's speed profile
+        (:mod:`whipple.diagnosis.window_speed`). 0 for a run on a treadmill (its metadata
+        ``setting = treadmill``) and for windows read from a list of eigenvalues.
     """
 
     run: str
@@ -120,6 +126,7 @@ class Observation:
     signals: WindowSignals | None = field(default=None, repr=False, compare=False)
     group: str = ""
     amplitudes: tuple[tuple[str, float], ...] = ()
+    acceleration: float = 0.0
 
 
 
@@ -167,18 +174,21 @@ def predicted_modes(bicycle: Model, observations: Sequence[Observation]
 
 def mode_targets(observations: Sequence[Observation], bicycle: Model | None = None
                  ) -> tuple[NDArray[np.float64], NDArray[np.complex128], list[tuple[str, str] | None], list[str],
-                            NDArray[np.float64]]:
+                            NDArray[np.float64], NDArray[np.float64] | None]:
     """Return what :func:`nearest_modes` compares with, per window.
 
-    The measured speed [m/s], eigenvalue [1/s], shape signals (None where the window has no
-    shape), group (for a model that is a :class:`~whipple.model.fleet.Fleet`) and the Coulomb
-    steer friction's equivalent damping per unit friction [s/rad] (:func:`friction_gains`;
-    ``bicycle`` gives the mode shape of windows without a steer angle).
+    The measured speed the model is evaluated at [m/s] (the mean, or where a changing speed is
+    read: :func:`~whipple.diagnosis.window_speed.window_speeds`), eigenvalue [1/s], shape
+    signals (None where the window has no shape), group (for a model that is a
+    :class:`~whipple.model.fleet.Fleet`), the Coulomb steer friction's equivalent damping per
+    unit friction [s/rad] (:func:`friction_gains`; ``bicycle`` gives the mode shape of windows
+    without a steer angle) and the measured accelerations [m/s^2] (None where every window's
+    speed is constant).
     """
-    speeds = np.array([o.speed for o in observations], dtype=float)
+    speeds, accelerations = window_speeds(observations)
     targets = np.array([o.eigenvalue for o in observations], dtype=complex)
     return (speeds, targets, [o.shape_signals if _has_shape(o) else None for o in observations],
-            [o.group for o in observations], friction_gains(observations, bicycle))
+            [o.group for o in observations], friction_gains(observations, bicycle), accelerations)
 
 
 def steer_amplitudes(observations: Sequence[Observation], bicycle: Model | None = None) -> NDArray[np.float64]:
@@ -283,7 +293,7 @@ def observation(measurement: WindowMeasurement) -> Observation:
                        WindowSignals(measurement.fit.time, measurement.fit.measured, measurement.fit.signal_names,
                                      measurement.fit.baseline, _joint_weights(measurement.fit),
                                      residual_rms=np.asarray(measurement.fit.rms_residual, dtype=float)),
-                       measurement.group, _amplitudes(measurement.fit))
+                       measurement.group, _amplitudes(measurement.fit), window_acceleration(measurement))
 
 
 def _amplitudes(fit: WeaveFit) -> tuple[tuple[str, float], ...]:
@@ -291,6 +301,17 @@ def _amplitudes(fit: WeaveFit) -> tuple[tuple[str, float], ...]:
     start = np.hypot(fit.coefficients[:, -2], fit.coefficients[:, -1])
     amplitude = representative_amplitude(start, fit.damping, fit.stop - fit.start)
     return tuple((name, float(value)) for name, value in zip(fit.signal_names, amplitude, strict=True))
+
+
+def window_acceleration(measurement: WindowMeasurement) -> float:
+    """Return the forward acceleration over a window [m/s^2]: its speed regression's slope.
+
+    0 on a treadmill (run metadata ``setting = treadmill``): the belt's speed fluctuations are
+    not the bicycle's acceleration over the ground, and treadmill windows stay at constant speed.
+    """
+    if measurement.speed is None or measurement.run.metadata.get("setting", "").strip().lower() == "treadmill":
+        return 0.0
+    return float(measurement.speed.slope)
 
 
 def _joint_weights(fit: WeaveFit) -> NDArray[np.float64] | None:

@@ -31,12 +31,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.observations import Observation, WindowSignals, friction_gains, noise_free
+from whipple.diagnosis.window_speed import window_speeds
 from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
 from whipple.model.fleet import Model, members_of
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
-from whipple.stability.nearest_modes import MODE_SHAPE_STATES, window_steer_damping, with_steer_damping
+from whipple.stability.nearest_modes import (
+    MODE_SHAPE_STATES,
+    window_steer_damping,
+    with_speed_change,
+    with_steer_damping,
+)
 
 #: Eigenvalues whose imaginary part is below this fraction of their magnitude are real modes.
 REAL_MODE = 1e-9
@@ -79,7 +85,8 @@ class SampleComparison:
     Attributes
     ----------
     speeds : ndarray, shape (W,)
-        Each window's measured mean speed [m/s].
+        The measured speed each window's model is evaluated at [m/s]: its mean, or where its
+        speed changes the speed a fit reads (:func:`~whipple.diagnosis.window_speed.window_speeds`).
     tau : ndarray, shape (W, L)
         Each bin's first sample time from the window's first sample [s] (0 where padded).
     mask : ndarray of bool, shape (W, L)
@@ -102,6 +109,10 @@ class SampleComparison:
         Each window's equivalent steer damping per unit Coulomb steer friction [s/rad]
         (:func:`~whipple.diagnosis.observations.friction_gains`): a model with a steer friction
         has that damping times its friction added at the window.
+        Each window's group (for a model that is a :class:`~whipple.model.fleet.Fleet`).
+    accelerations : ndarray, shape (W,), or None
+        Each window's measured forward acceleration [m/s^2], which adds ``v' Ka q`` to the
+        model's equations; None where every window's speed is constant.
     """
 
     speeds: NDArray[np.float64]
@@ -115,6 +126,7 @@ class SampleComparison:
     steps: NDArray[np.float64] | None = None
     groups: tuple[str, ...] | None = None
     friction: NDArray[np.float64] | None = None
+    accelerations: NDArray[np.float64] | None = None
 
     @classmethod
     def of(cls, observations: Sequence[Observation], binned: bool = True,
@@ -148,9 +160,10 @@ class SampleComparison:
             noise[row] = window_noise
             targets[row, :, :times.size] = means / window_noise[:, None]
             bins[row], steps[row] = size, step
-        speeds = np.array([o.speed for o in observations], dtype=float)
+        speeds, accelerations = window_speeds(observations)
         return cls(speeds, tau, mask, targets, noise, tuple(MODE_SHAPE_STATES[name] for name in names), names,
-                   bins, steps, tuple(o.group for o in observations), friction_gains(observations, bicycle))
+                   bins, steps, tuple(o.group for o in observations), friction_gains(observations, bicycle),
+                   accelerations)
 
     @property
     def samples(self) -> int:
@@ -170,8 +183,9 @@ class SampleComparison:
                   ) -> NDArray[np.float64]:
         """Return each model's residual on every sample, in units of the noise; shape (models, samples).
 
-        Per window, the model's free response at the window's speed (``speed_scale`` applied)
-        with its modal amplitudes and each signal's offset fitted by least squares.
+        Per window, the model's free response at the window's speed (``speed_scale`` applied;
+        with ``v' Ka q`` where the speed changes) with its modal amplitudes and each signal's
+        offset fitted by least squares.
         ``linear``: the models' linear models where they are not the bicycles' own (a
         hidden-effect trial's true model); None entries are the bicycles'. A window where the
         model's response overflows (a mode growing beyond the arithmetic) gets residuals of
@@ -181,7 +195,8 @@ class SampleComparison:
         plain = [model for model in models if isinstance(model, Bicycle)]
         if len(plain) < len(models):
             return self._fleet_residuals(models, linear)
-        matrices = [self._state_matrices(bicycle, model) for bicycle, model in zip(plain, linear, strict=True)]
+        matrices = [self._state_matrices(bicycle, linear_model(bicycle) if model is None else model)
+                    for bicycle, model in zip(plain, linear, strict=True)]
         mask = self._residual_mask()
         result = np.zeros((len(models), self.samples))
         # Models with as many states are solved together: one evaluation of all their windows.
@@ -196,13 +211,19 @@ class SampleComparison:
             result[members] = residual.reshape(len(members), *self.targets.shape)[:, mask]
         return result
 
-    def _state_matrices(self, bicycle: Bicycle, model: LinearModel | None) -> NDArray[np.float64]:
-        """Return the model's state matrix at each window (W, n, n), with its steer friction's damping."""
-        model = linear_model(bicycle) if model is None else model
+    def _state_matrices(self, bicycle: Bicycle, model: LinearModel) -> NDArray[np.float64]:
+        """Return the model's state matrix at each window's speed (W, n, n).
+
+        With its steer friction's damping per window, and ``-v' Ka q`` where the speed changes.
+        """
         speeds = bicycle.model_speed(self.speeds)
         damping = window_steer_damping(bicycle, self.friction)
-        A = model.state_matrix(speeds)
-        return A if damping is None else with_steer_damping(A, model.input_matrix(speeds), damping)
+        A, B = model.state_matrix(speeds), model.input_matrix(speeds)
+        if damping is not None:
+            A = with_steer_damping(A, B, damping)
+        if self.accelerations is None:
+            return A
+        return with_speed_change(bicycle, A, B, self.accelerations)
 
     def _fleet_residuals(self, models: Sequence[Model], linear: Sequence[LinearModel | None]) -> NDArray[np.float64]:
         """:meth:`residuals` of models some of which are fleets: each member on its group's windows.
@@ -231,7 +252,7 @@ class SampleComparison:
 
         return replace(self, speeds=self.speeds[index], tau=self.tau[index], mask=self.mask[index],
                        targets=self.targets[index], noise=self.noise[index], bins=pick(self.bins),
-                       steps=pick(self.steps), friction=pick(self.friction),
+                       steps=pick(self.steps), friction=pick(self.friction), accelerations=pick(self.accelerations),
                        groups=None if self.groups is None else tuple(self.groups[int(n)] for n in index))
 
     def _repeated(self, copies: int) -> SampleComparison:
@@ -245,7 +266,8 @@ class SampleComparison:
         return SampleComparison(np.concatenate([self.speeds] * copies), np.concatenate([self.tau] * copies),
                                 np.concatenate([self.mask] * copies), np.concatenate([self.targets] * copies),
                                 np.concatenate([self.noise] * copies), self.states, self.names, tile(self.bins),
-                                tile(self.steps), friction=tile(self.friction))
+                                tile(self.steps), friction=tile(self.friction),
+                                accelerations=tile(self.accelerations))
 
     def _bin_factors(self, values: NDArray[np.complex128]) -> NDArray[np.complex128]:
         """Return each mode's mean over a bin relative to its value at the bin's first sample (W, n)."""

@@ -447,3 +447,23 @@ def parameter_vector(parameters: Mapping[str, ArrayLike]) -> NDArray[np.float64]
     if any(array.ndim for array in arrays):
         raise InputError("parameter_vector takes one parameter set (scalar values)")
     return np.array([array.item() for array in arrays], dtype=float)
+
+
+#: Parameters the linear model does not need, estimated when absent: name -> (Ixx, Izz).
+PLANAR_ESTIMATES = {"IByy": ("IBxx", "IBzz"), "IHyy": ("IHxx", "IHzz")}
+
+
+def with_planar_estimates(parameters: Mapping[str, float]) -> tuple[dict[str, float], tuple[str, ...]]:
+    """Return the parameters with IByy and IHyy estimated where absent, and which were.
+
+    A frame lying in its plane of symmetry has ``Iyy = Ixx + Izz`` [kg m^2] (perpendicular-axis
+    theorem); the linear model does not need these inertias, the nonlinear one only through the
+    pitch motion (second order in the lateral motion).
+    """
+    completed = dict(parameters)
+    estimated = []
+    for name, (xx, zz) in PLANAR_ESTIMATES.items():
+        if name not in completed:
+            completed[name] = float(completed[xx]) + float(completed[zz])
+            estimated.append(name)
+    return completed, tuple(estimated)

@@ -42,14 +42,13 @@ from whipple.model.nonlinear import (
     casadi_reduced_equations,
     parameter_vector,
     upright_state,
+    with_planar_estimates,
 )
 from whipple.model.parameters import Bicycle
 from whipple.model.steer_friction import SMOOTHING_RATE
 
 #: Speed controls: the rear wheel rate held on the speed profile, or left free.
 SPEED_CONTROLS = ("driven", "free")
-#: Parameters the linear model does not need, estimated when absent: name -> (Ixx, Izz).
-_PLANAR_ESTIMATES = {"IByy": ("IBxx", "IBzz"), "IHyy": ("IHxx", "IHzz")}
 
 
 def nonlinear_parameters(bicycle: Bicycle) -> tuple[dict[str, float], tuple[str, ...]]:
@@ -79,13 +78,7 @@ def nonlinear_parameters(bicycle: Bicycle) -> tuple[dict[str, float], tuple[str,
         raise InputError("the nonlinear model's controller acts without delay or lag (controller delay "
                          f"{controller.delay:g} s, lag {controller.lag:g} s): simulate this bicycle with the "
                          "linear model", source)
-    parameters = dict(bicycle.parameters)
-    estimated = []
-    for name, (xx, zz) in _PLANAR_ESTIMATES.items():
-        if name not in parameters:
-            parameters[name] = float(parameters[xx]) + float(parameters[zz])
-            estimated.append(name)
-    return parameters, tuple(estimated)
+    return with_planar_estimates(bicycle.parameters)
 
 
 class ForcedBicycle:

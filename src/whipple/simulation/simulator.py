@@ -9,7 +9,7 @@ On the ground the speed falls (:mod:`whipple.simulation.coasting`) and the model
 time-varying system along v(t): each interval takes A at the speed of its midpoint (the
 exponential midpoint rule, second order in the interval; at 100 Hz a coast differs from a
 dense ``solve_ivp`` of the same system by about 1e-6 of its amplitude), and the terms a
-changing speed adds, ``-v' B Ka q`` (:mod:`whipple.simulation.speed_change`; without them a
+changing speed adds, ``-v' B Ka q`` (:mod:`whipple.model.speed_change`; without them a
 ground run differs from the nonlinear model's by a few per cent at 0.05-0.1 m/s^2).
 
 The catch and the upright hold are a hand acting on roll and steer: a torque that cancels the
@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 from whipple.model.assembly import linear_model
 from whipple.model.linear import WHIPPLE_STATES, LinearModel
 from whipple.model.parameters import Bicycle
+from whipple.model.speed_change import acceleration_stiffness
 from whipple.model.steer_friction import SMOOTHING_RATE, friction_torque
 from whipple.simulation.coasting import coasting_deceleration
 from whipple.simulation.discretization import zero_order_hold
@@ -56,7 +57,6 @@ from whipple.simulation.procedure import (
 )
 from whipple.simulation.run_writer import format_true_windows, parse_true_windows, write_run_csv
 from whipple.simulation.scenario import Push, RunScenario, ScenarioError
-from whipple.simulation.speed_change import acceleration_stiffness
 
 #: The most a sub-step of the free motion lets the steer friction's steepest slope decay the
 #: steer rate, as a fraction of it (explicit steps are stable below 2; 0.5 keeps them accurate).
@@ -86,7 +86,7 @@ def simulate_run(
         Name of the run (default: from the bicycle, setting and speed).
     acceleration_terms : bool
         On the ground, add the terms a changing speed brings, ``-v'(t) B Ka q``
-        (:func:`whipple.simulation.speed_change.acceleration_stiffness`, from the bicycle's
+        (:func:`whipple.model.speed_change.acceleration_stiffness`, from the bicycle's
         Whipple parameters and payloads); False: ``x' = A(v(t)) x`` alone. No effect on a treadmill.
 
     Returns

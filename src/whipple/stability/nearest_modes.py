@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 from whipple.model.assembly import linear_model, second_order_matrices
 from whipple.model.fleet import Model, members_of
 from whipple.model.parameters import Bicycle
+from whipple.model.speed_change import acceleration_stiffness
 from whipple.stability.quartic import second_order_eigenvalues, second_order_eigenvectors
 
 #: Model states a mode shape can relate: the first four states of every model.
@@ -87,7 +88,8 @@ def nearest_oscillations(bicycle: Bicycle, speeds: ArrayLike, targets: ArrayLike
 
 def nearest_modes(bicycle: Model, speeds: NDArray[np.float64], targets: NDArray[np.complex128],
                   signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None = None,
-                  friction: NDArray[np.float64] | None = None
+                  friction: NDArray[np.float64] | None = None,
+                  accelerations: NDArray[np.float64] | None = None
                   ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """Return the model's eigenvalue nearest each target, and its eigenvector's ratio of two signals.
 
@@ -98,8 +100,10 @@ def nearest_modes(bicycle: Model, speeds: NDArray[np.float64], targets: NDArray[
     ``friction``: each window's equivalent steer damping per unit Coulomb steer friction
     [s/rad] (:func:`~whipple.model.steer_friction.describing_gain`): a bicycle with a steer
     friction F [N m] has the damping F times it added at that window (None: friction left out).
+    ``accelerations``: each window's measured forward acceleration [m/s^2] (None: constant
+    speed), which adds ``v' Ka q`` to the equations (:func:`with_speed_change`).
     """
-    chosen, shapes = nearest_modes_of_models([bicycle], speeds, targets, signals, groups, friction)
+    chosen, shapes = nearest_modes_of_models([bicycle], speeds, targets, signals, groups, friction, accelerations)
     return chosen[0], shapes[0]
 
 
@@ -131,7 +135,8 @@ def with_steer_damping(A: NDArray[np.float64], B: NDArray[np.float64], damping: 
 
 def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float64],
                             targets: NDArray[np.complex128], signals: Sequence[tuple[str, str] | None],
-                            groups: Sequence[str] | None = None, friction: NDArray[np.float64] | None = None
+                            groups: Sequence[str] | None = None, friction: NDArray[np.float64] | None = None,
+                            accelerations: NDArray[np.float64] | None = None
                             ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """:func:`nearest_modes` of several models at the same windows; each result (models, windows).
 
@@ -143,19 +148,22 @@ def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float6
     """
     plain = [bicycle for bicycle in bicycles if isinstance(bicycle, Bicycle)]
     if len(plain) < len(bicycles):
-        return _nearest_of_fleets(bicycles, speeds, targets, signals, groups, friction)
+        return _nearest_of_fleets(bicycles, speeds, targets, signals, groups, friction, accelerations)
     rows = np.array([n for n, pair in enumerate(signals) if pair is not None], dtype=int)
     true_speeds = [bicycle.model_speed(speeds) for bicycle in plain]
     dampings = [window_steer_damping(bicycle, friction) for bicycle in plain]
     matrices = [_with_window_damping(second_order_matrices(bicycle, v), damping)
                 for bicycle, v, damping in zip(plain, true_speeds, dampings, strict=True)]
+    if accelerations is not None:
+        matrices = [None if m is None else (m[0], m[1], m[2] + speed_change_stiffness(bicycle, accelerations))
+                    for bicycle, m in zip(plain, matrices, strict=True)]
     if all(m is not None for m in matrices):
         M, C, K = (np.stack([m[k] for m in matrices if m is not None]) for k in range(3))
         chosen, vectors = _nearest_second_order(M[:, None], C, K, targets, rows)
     else:
         # Each model once, those with the states [q, q'] from the matrices already built.
         solved = [_nearest_second_order(*m, targets, rows) if m is not None
-                  else _nearest_by_eig(bicycle, v, targets, rows, damping)
+                  else _nearest_by_eig(bicycle, v, targets, rows, damping, accelerations)
                   for bicycle, v, m, damping in zip(plain, true_speeds, matrices, dampings, strict=True)]
         chosen = np.stack([values for values, _ in solved])
         vectors = np.stack([vector[:, :4] for _, vector in solved])
@@ -182,7 +190,8 @@ def _with_window_damping(matrices: tuple[NDArray[np.float64], NDArray[np.float64
 
 def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], targets: NDArray[np.complex128],
                        signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None,
-                       friction: NDArray[np.float64] | None = None
+                       friction: NDArray[np.float64] | None = None,
+                       accelerations: NDArray[np.float64] | None = None
                        ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """:func:`nearest_modes_of_models` of models some of which are fleets: each member on its windows.
 
@@ -199,8 +208,9 @@ def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], tar
     for key, members in batches.items():
         rows = list(range(len(speeds))) if key is None else list(key)
         found, shape = nearest_modes_of_models([bicycle for _, bicycle in members], speeds[rows], targets[rows],
-                                               [signals[n] for n in rows],
-                                               friction=None if friction is None else np.asarray(friction)[rows])
+                                               [signals[n] for n in rows], None,
+                                               None if friction is None else np.asarray(friction)[rows],
+                                               None if accelerations is None else np.asarray(accelerations)[rows])
         for row, (k, _) in enumerate(members):
             chosen[k, rows], shapes[k, rows] = found[row], shape[row]
     return chosen, shapes
@@ -223,17 +233,19 @@ def nearest_eigen(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: A
 
 
 def _nearest_by_eig(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: ArrayLike,
-                    rows: NDArray[np.intp], damping: NDArray[np.float64] | None = None
+                    rows: NDArray[np.intp], damping: NDArray[np.float64] | None = None,
+                    accelerations: NDArray[np.float64] | None = None
                     ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """:func:`nearest_eigen` by ``numpy.linalg.eig`` of the state matrices (a model with more states).
 
-    ``damping``: a steer damping [N m s/rad] per speed added (:func:`with_steer_damping`).
+    ``damping``: a steer damping [N m s/rad] per speed added (:func:`with_steer_damping`);
+    ``accelerations``: the measured forward accelerations [m/s^2] (None: constant speed).
     """
     model = linear_model(bicycle)
-    A = model.state_matrix(true_speeds)
+    A, B = model.state_matrix(true_speeds), model.input_matrix(true_speeds)
     if damping is not None:
-        A = with_steer_damping(A, model.input_matrix(true_speeds), damping)
-    values, vectors = np.linalg.eig(A)
+        A = with_steer_damping(A, B, damping)
+    values, vectors = np.linalg.eig(with_speed_change(bicycle, A, B, accelerations))
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)
     nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
@@ -259,3 +271,27 @@ def _nearest_second_order(M: NDArray[np.float64], C: NDArray[np.float64], K: NDA
     if not len(rows):
         return chosen, np.zeros(chosen.shape[:-1] + (0, 4), dtype=complex)
     return chosen, second_order_eigenvectors(M, C[..., rows, :, :], K[..., rows, :, :], chosen[..., rows])
+
+
+def speed_change_stiffness(bicycle: Bicycle, accelerations: ArrayLike) -> NDArray[np.float64]:
+    """Return ``v' Ka`` [N m/rad], shape (windows, 2, 2): the stiffness a changing speed adds.
+
+    ``accelerations``: measured forward accelerations [m/s^2], divided by the bicycle's
+    ``speed_scale`` as its speeds are (:func:`whipple.model.speed_change.acceleration_stiffness`).
+    """
+    true = bicycle.model_speed(accelerations)
+    return true[:, None, None] * acceleration_stiffness(bicycle)
+
+
+def with_speed_change(bicycle: Bicycle, A: NDArray[np.float64], B: NDArray[np.float64],
+                      accelerations: ArrayLike | None) -> NDArray[np.float64]:
+    """Return the state matrices (windows, n, n) with the torques ``-v' Ka q`` of a changing speed.
+
+    ``B`` (windows, n, 2): the roll and steer torques' input matrices; ``accelerations``
+    [m/s^2] measured (None: ``A`` itself, constant speed).
+    """
+    if accelerations is None:
+        return A
+    changed = np.array(A, dtype=float, copy=True)
+    changed[:, :, 0:2] -= B[:, :, 0:2] @ speed_change_stiffness(bicycle, accelerations)
+    return changed

@@ -20,8 +20,7 @@ their part is left out (the extended models do not describe a changing speed).
 
 from __future__ import annotations
 
-import dataclasses
-from functools import cache
+from functools import cache, lru_cache
 
 import casadi
 import numpy as np
@@ -29,9 +28,15 @@ from numpy.typing import NDArray
 
 from whipple.errors import InputError
 from whipple.model.bodies import Body, combine, fold_point_wheels, frame_body
-from whipple.model.nonlinear import PARAMETERS, STATES, casadi_reduced_equations, parameter_vector, upright_state
-from whipple.model.parameters import Bicycle, Controller, Extensions
-from whipple.simulation.nonlinear_bicycle import nonlinear_parameters
+from whipple.model.nonlinear import (
+    PARAMETERS,
+    STATES,
+    casadi_reduced_equations,
+    parameter_vector,
+    upright_state,
+    with_planar_estimates,
+)
+from whipple.model.parameters import Bicycle
 
 
 def acceleration_stiffness(bicycle: Bicycle) -> NDArray[np.float64]:
@@ -46,20 +51,26 @@ def acceleration_stiffness(bicycle: Bicycle) -> NDArray[np.float64]:
         If the nonlinear equations cannot be evaluated upright for the bicycle.
     """
     parameters = _folded_parameters(bicycle)
-    state = upright_state(parameters, 1.0)
-    derivative = np.asarray(_coupling_jacobian()(parameter_vector(parameters), state), dtype=float)
-    stiffness = -derivative / float(parameters["rR"])
+    stiffness = _stiffness_of(tuple(sorted(parameters.items())))
     if not np.all(np.isfinite(stiffness)):
         raise InputError("the nonlinear equations give no acceleration terms for this bicycle (no upright "
                          "contact configuration): simulate it with acceleration_terms=False",
                          bicycle.source or bicycle.name or None)
-    return stiffness
+    return stiffness.copy()
+
+
+@lru_cache(maxsize=4096)
+def _stiffness_of(parameters: tuple[tuple[str, float], ...]) -> NDArray[np.float64]:
+    """``Ka`` [kg m] of the folded parameters: a diagnosis evaluates the same bicycles many times."""
+    values = dict(parameters)
+    state = upright_state(values, 1.0)
+    derivative = np.asarray(_coupling_jacobian()(parameter_vector(values), state), dtype=float)
+    return -derivative / float(values["rR"])
 
 
 def _folded_parameters(bicycle: Bicycle) -> dict[str, float]:
     """Return the bicycle's parameters for the nonlinear model, its payloads folded into their frames."""
-    plain = dataclasses.replace(bicycle, extensions=Extensions(), controller=Controller())
-    parameters, _ = nonlinear_parameters(plain)
+    parameters, _ = with_planar_estimates(bicycle.parameters)
     parameters = fold_point_wheels(parameters)  # a point wheel: massless, of unit radius, as in the linear model
     for frame, payload in (("B", bicycle.extensions.payload), ("H", bicycle.extensions.front_payload)):
         if payload is None:

@@ -103,7 +103,7 @@ def test_constant_speed_windows_are_unchanged():
     window = Observation("run", 1.0, 4.0, 5.0, (5.0, 5.0), complex(-0.8, 4.5), np.eye(2) * 1e-4)
     speeds, accelerations = window_speeds([window, replace(window, speed=4.0)])
     assert accelerations is None and speeds.tolist() == [5.0, 4.0]
-    assert mode_targets([window])[4] is None
+    assert mode_targets([window])[5] is None
     bicycle = load_bicycle("benchmark")
     # The same solve as before windows carried a speed profile: the mean speed, nothing added.
     plain = nearest_modes(bicycle, np.array([5.0]), np.array([window.eigenvalue]), [None])[0]

@@ -71,8 +71,7 @@ class Payload:
     mass : float
         Mass [kg].
     x, z : float
-        Position in the benchmark frame [m]: forward of the rear contact, and down (negative
-        above the ground); on the front frame, at steer angle zero.
+        Position [m]: forward of the rear contact, and down (negative above the ground); at steer angle zero.
     """
 
     mass: float
@@ -111,24 +110,19 @@ class Extensions:
     steer_damping : float
         Viscous damping about the steer axis [N m s/rad].
     steer_inertia : float
-        Extra moment of inertia of the front frame about the steer axis [kg m^2] (a rigid
-        body turning with the front frame).
+        Extra moment of inertia of the front frame about the steer axis [kg m^2] (turning with it).
     speed_scale : float
         Measured speed / true speed [-].
-    payload : Payload or None
-        A point mass on the rear frame.
+    payload, front_payload : Payload or None
+        A point mass on the rear frame; on the front frame (a basket, a lamp), turning with it.
     tyre_compliance : TyreCompliance or None
         Tyre slip instead of knife-edge wheels.
-    front_payload : Payload or None
-        A point mass on the front frame (a basket, a lamp), turning with it.
     reflected_steer_inertia : float
-        Inertia of a rotor geared to the steer angle, reflected to the steer axis,
-        ``N^2 J_rotor`` [kg m^2] (a steer motor); it enters the steer equation alone.
+        A steer motor's rotor inertia reflected to the steer axis, ``N^2 J_rotor`` [kg m^2] (steer equation alone).
     linear_terms : LinearTerms or None
         Entries added to the linear model's matrices (:mod:`whipple.model.linear_terms`).
     steer_friction : float
-        Coulomb friction torque about the steer axis [N m] (:mod:`whipple.model.steer_friction`):
-        not in the linear model; simulations apply its law, the diagnosis its equivalent damping.
+        Coulomb steer friction torque [N m] (:mod:`whipple.model.steer_friction`; not in the linear model).
     """
 
     steer_damping: float = 0.0

@@ -69,9 +69,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="also give every candidate's held-out gain, each refitted on every fold without a "
                              "choice (pairs: also every pair of physical causes; slow, see docs/diagnosis.md)")
     parser.add_argument("--evidence", choices=OCCAM_CHARGES, default=DiagnosisOptions.occam,
-                        help="how the evidence charges a cause's fitted values: prior (default), the marginal "
-                             "likelihood under each value's physical or measured prior (calibration competes); "
-                             "bic, ln(n)/2 per value; laplace, the share of its bounds a fit leaves open")
+                        help="how the evidence charges a cause's fitted values: bic (default), ln(n)/2 per value; "
+                             "prior, the marginal likelihood under each value's physical or measured prior, with "
+                             "the calibration of every measured parameter as a candidate (for a bicycle whose "
+                             "measurement uncertainty is stated; slower); laplace, the share of its bounds a fit "
+                             "leaves open")
     cluster = parser.add_mutually_exclusive_group()
     cluster.add_argument("--workers", type=integer, metavar="N",
                          help="diagnose the held-out speeds on a local Dask cluster of N processes")

@@ -18,9 +18,9 @@ them apart. Causes are compared by an approximate log Bayes factor against the b
 
 with n the eigenvalue and mode-shape residuals (also where the samples are compared:
 :attr:`~whipple.diagnosis.fitting.Whitening.charged`), k fitted values, when the evidence charges
-the BIC's ln(n)/2 per value (``DiagnosisOptions(occam="bic")``); by default (``occam="prior"``) a
-cause with priors is charged the Laplace approximation of its marginal likelihood instead
-(:func:`occam_factor`), and each kind of residual
+the BIC's ln(n)/2 per value (``DiagnosisOptions(occam="bic")``, the default); with
+``occam="prior"`` a cause with priors is charged the Laplace approximation of its marginal
+likelihood instead (:func:`occam_factor`), and each kind of residual
 (eigenvalue, shape; or the samples) divided by its own s^2 >= 1, the reduced chi-square of the
 best model on that kind (window uncertainties that are too small inflate every chi-square
 alike). ``none`` has evidence 0. The verdict:
@@ -508,8 +508,8 @@ def occam_factor(cause: Cause, fit: CauseFit, n: int, occam: str = "bic") -> flo
     within its physical range. Where the data barely inform a direction (a fit at a bound: a
     tyre relaxation length at its shortest) the likelihood is far from Gaussian and the
     approximation fails (it would charge nothing); each direction is therefore charged at least
-    ln(n) / 2, the BIC's charge (n residuals). With ``occam="bic"``, that charge
-    alone: -k ln(n) / 2. With ``occam="prior"`` (the diagnosis' default), the Laplace approximation with the cause's
+    ln(n) / 2, the BIC's charge (n residuals). With ``occam="bic"`` (the diagnosis' default), that
+    charge alone: -k ln(n) / 2. With ``occam="prior"``, the Laplace approximation with the cause's
     physical priors (:func:`~whipple.diagnosis.priors.laplace_evidence`: the prior density at
     the values and the share of the prior the data leave open); a cause without priors is
     charged the BIC's.

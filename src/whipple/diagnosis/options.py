@@ -152,14 +152,16 @@ class DiagnosisOptions:
         When a cause is named (:class:`VerdictRules`).
     pairs : PairRules
         When and which pairs of causes are fitted (:class:`PairRules`).
-    occam : {"prior", "bic", "laplace"}
-        How the evidence charges fitted values. ``"prior"`` (default): the Laplace approximation
-        of the marginal likelihood under each value's prior, a measured parameter's uncertainty
-        or a cause's documented physical range (:mod:`whipple.diagnosis.priors`), so that a
-        value pressed against a bound pays what it should; the calibration candidate (every
-        measured parameter within its prior) competes only in this mode. ``"bic"``: ln(n)/2 per
-        fitted value (the default before priors). ``"laplace"``: the share of a cause's bounds
-        its fit leaves open.
+    occam : {"bic", "prior", "laplace"}
+        How the evidence charges fitted values. ``"bic"`` (default): ln(n)/2 per fitted value.
+        ``"prior"``: the Laplace approximation of the marginal likelihood under each value's
+        prior, a measured parameter's uncertainty or a cause's documented physical range
+        (:mod:`whipple.diagnosis.priors`), so that a value pressed against a bound pays what it
+        should; the calibration candidate (every measured parameter within its prior) competes
+        only in this mode. Not the default yet: on the benchmark bicycle the calibration took the
+        name from a hidden tyre compliance in 4 of 6 trials (the tyre model pays for its extra
+        modal amplitudes, the calibration does not). ``"laplace"``: the share of a cause's
+        bounds its fit leaves open.
     amplitude_charge : {"bic", "noise"}
         How a model with more states than the base model is charged for its extra modal
         amplitudes per window: ln(n_w)/2 each (``"bic"``, default) or 1/2 (``"noise"``).
@@ -195,7 +197,7 @@ class DiagnosisOptions:
     causes: tuple[CauseDeclaration, ...] = ()
     verdict: VerdictRules = field(default_factory=VerdictRules)
     pairs: PairRules = field(default_factory=PairRules)
-    occam: str = "prior"
+    occam: str = "bic"
     amplitude_charge: str = "bic"
     samples_screen: float = 50.0
     bias_screen: float = 100.0

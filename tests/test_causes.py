@@ -115,6 +115,9 @@ def test_every_cause_null_changes_nothing_and_values_round_trip(bicycle_name, tm
         assert validate(changed).ok, (cause.name, validate(changed).problems)
         if cause.name == "speed_scale":  # changes the speed the model sees, not the model
             assert changed.model_speed(4.0) != 4.0
+        elif cause.name == "steer_friction":  # nonlinear: each window's damping, not the linear model
+            assert changed.extensions.steer_friction > 0.0
+            assert np.array_equal(linear_model(changed).state_matrix(4.0), base.state_matrix(4.0))
         else:
             assert not np.array_equal(linear_model(changed).state_matrix(4.0)[:4, :4], base.state_matrix(4.0))
         path = tmp_path / f"{cause.name}_{len(cause.parameters)}.toml"

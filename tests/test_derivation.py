@@ -108,6 +108,8 @@ def test_one_parameter_set_gives_exactly_its_row_of_a_batch():
                 np.testing.assert_array_equal(one, many[index], err_msg=f"{module.__name__} {name}")
 
 
+# Slow (the whole derivation; CI runs `whipple regenerate --check` itself): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_generated_folder_is_reproduced_by_a_fresh_derivation():
     folder = whipple.generated.__file__.rsplit("/", 1)[0]
     from pathlib import Path

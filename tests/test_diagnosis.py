@@ -206,6 +206,8 @@ def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
     assert load_bicycle(str(model)).extensions.steer_damping == pytest.approx(estimate["value"])
 
 
+# Slow (two diagnoses of simulated runs by the command): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_a_flipped_steer_sign_is_reported(damped_runs, tmp_path, capsys):
     flipped = []
     for path in damped_runs:
@@ -241,6 +243,8 @@ def test_diagnose_without_runs_is_an_error(capsys):
     assert "no run files" in capsys.readouterr().err
 
 
+# Slow (every candidate refitted on every fold): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_diagnose_gives_every_candidates_held_out_gain_when_asked(damped_runs, tmp_path, capsys):
     out, report = tmp_path / "d.json", tmp_path / "report"
     # All four runs: three held-out speeds (on two, a steer-roll damping term ties with the

@@ -185,6 +185,8 @@ def test_a_refit_of_several_signals_with_the_fits_weights_reaches_the_fits_optim
     assert abs(refit_weave(time, signals, start) - fit.eigenvalue) > 1e-3
 
 
+# Slow (many diagnoses of simulated runs): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_diagnosis_through_the_fitting_function_estimates_the_truth_better():
     # Realistic sensors: compared through the fitting function, the true cause's value is
     # nearer the truth (the windows' bias is predicted, not fitted by the cause's value); compared
@@ -202,6 +204,8 @@ def test_diagnosis_through_the_fitting_function_estimates_the_truth_better():
     assert error["samples"] < error["fitting-function"] < error["eigenvalues"]
 
 
+# Slow (a whole diagnosis of the bundled runs by the command (over 1 minute)): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_diagnose_cli_compares_with_the_samples_by_default(tmp_path, capsys):
     truth = load_bicycle("benchmark").with_extensions(steer_damping=0.8)
     paths = []

@@ -166,6 +166,8 @@ def test_hidden_effect_rates():
         assert sum(right) >= 0.9 * len(right), f"{family}: right in {sum(right)} of {len(right)}"
 
 
+# Slow (trials diagnosed twice, with and without noise): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_the_noise_free_twin_tells_forced_ambiguity_from_caution():
     """Compared with the eigenvalues, the benchmark's steer inertia (seed 0) is left open against
     IFxx, and so are the same windows without noise: an ambiguous verdict is all they allow,

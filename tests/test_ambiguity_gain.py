@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+import pytest
 from synthetic_windows import STD, synthetic_observations
 
 from whipple.diagnosis import evidence
@@ -112,6 +113,8 @@ def test_two_hidden_effects_are_found_as_a_pair():
         assert abs(value - true) < 3 * std
 
 
+# Slow (every pair of a controlled bicycle fitted): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_a_payload_off_the_frame_with_a_controller_delay_is_found_as_a_pair():
     # A rear load 10 kg well ahead of and below the rear frame's mass centre, with a 30 ms
     # controller delay, on the controlled sbw2024: the payload's position does nothing at zero

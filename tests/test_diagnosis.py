@@ -175,6 +175,9 @@ def damped_runs(tmp_path_factory):
     return paths
 
 
+# Slow (a whole diagnosis by the command; tests/test_pipeline.py checks the command against the
+# library): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
     out, report, model = tmp_path / "d.json", tmp_path / "report", tmp_path / "extended.toml"
     args = ["diagnose", *map(str, damped_runs), "--bicycle", "benchmark", "--json", str(out),

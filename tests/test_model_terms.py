@@ -57,6 +57,8 @@ def test_the_terms_share_one_prior_have_symmetric_bounds_and_words():
         assert describe_cause(cause.name) != cause.name
 
 
+# Slow (a whole diagnosis by the command): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_the_command_reports_the_form_and_saves_it(tmp_path, capsys):
     # Simulated runs of the benchmark with a steer spring (as state feedback), diagnosed blind.
     truth = load_bicycle("benchmark").with_controller(Controller(steer={"steer": (-1.5,)}))

@@ -79,6 +79,8 @@ def test_the_seed_papers_fit_is_an_explicit_choice_named_in_the_output(tmp_path,
     assert "seed-paper" in capsys.readouterr().err
 
 
+# Slow (a whole diagnosis of the bundled runs): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_measured_runs_given_to_diagnose_skip_the_measurement():
     runs = [read_run(entry) for entry in SUBSET]
     options = DiagnosisOptions(comparison="eigenvalues", held_out_gain=False, amplitude_check=False)

@@ -156,6 +156,8 @@ def test_a_cause_stretched_to_the_edge_of_its_physical_range_is_not_named():
     assert len(diagnosis.reasons) == 1 and "edge of its physical range" in diagnosis.reasons[0]
 
 
+# Slow (pairs fitted on five speeds): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_a_payload_free_to_stand_in_for_two_effects_is_checked_against_pairs():
     # The same two effects: a front payload with a fitted position fits them within the noise,
     # so pairs are tried although the dispersion is low, and the true pair leads (never named).

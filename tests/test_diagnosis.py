@@ -121,6 +121,8 @@ def test_a_load_ahead_of_the_steer_axis_is_found():
     assert fit_cause(bicycle, cause, observations, grid=False).chi2 > 100 * fit.chi2
 
 
+# Slow (a diagnosis with pairs): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_a_named_payload_with_a_fitted_position_carries_the_two_effects_caveat():
     """A payload whose position is fitted can mimic two effects together (docs/diagnosis.md)."""
     bicycle = load_bicycle(str(BROWSER))

@@ -91,6 +91,8 @@ def test_set_aside_marks_only_the_window_with_the_catch():
 
 
 
+# Slow (a whole hidden-effect trial): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_a_hidden_effect_trial_whose_window_spans_a_catch():
     # Browser with a hidden steer damping, seed 29: at 4 m/s (weave barely unstable, period
     # 4.6 s) the finder reads a catch, the hold and the next push as one 8.7 s swing. That

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 
 from whipple.diagnosis.consistency import jackknife_std, speed_dependence, speed_group_sums
 from whipple.diagnosis.evidence import diagnose_observations
@@ -63,6 +64,8 @@ def test_values_that_drift_with_speed_are_found():
     assert abs(dependence.low[0] - 0.3) < 0.15 and abs(dependence.high[0] - 1.3) < 0.15
 
 
+# Slow (a diagnosis refitted per speed range): run with `pytest -m slow`.
+@pytest.mark.slow
 def test_a_drifting_cause_is_not_named():
     bicycle, observations = _observations(lambda v: 0.3 if v < 5.5 else 1.3)
     diagnosis = diagnose_observations(bicycle, observations)

@@ -37,12 +37,7 @@ from whipple.model.assembly import linear_model
 from whipple.model.fleet import Model, members_of
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
-from whipple.stability.nearest_modes import (
-    MODE_SHAPE_STATES,
-    window_steer_damping,
-    with_speed_change,
-    with_steer_damping,
-)
+from whipple.stability.nearest_modes import MODE_SHAPE_STATES, window_state_matrices, window_steer_damping
 
 #: Eigenvalues whose imaginary part is below this fraction of their magnitude are real modes.
 REAL_MODE = 1e-9
@@ -109,7 +104,6 @@ class SampleComparison:
         Each window's equivalent steer damping per unit Coulomb steer friction [s/rad]
         (:func:`~whipple.diagnosis.observations.friction_gains`): a model with a steer friction
         has that damping times its friction added at the window.
-        Each window's group (for a model that is a :class:`~whipple.model.fleet.Fleet`).
     accelerations : ndarray, shape (W,), or None
         Each window's measured forward acceleration [m/s^2], which adds ``v' Ka q`` to the
         model's equations; None where every window's speed is constant.
@@ -216,14 +210,8 @@ class SampleComparison:
 
         With its steer friction's damping per window, and ``-v' Ka q`` where the speed changes.
         """
-        speeds = bicycle.model_speed(self.speeds)
-        damping = window_steer_damping(bicycle, self.friction)
-        A, B = model.state_matrix(speeds), model.input_matrix(speeds)
-        if damping is not None:
-            A = with_steer_damping(A, B, damping)
-        if self.accelerations is None:
-            return A
-        return with_speed_change(bicycle, A, B, self.accelerations)
+        return window_state_matrices(bicycle, model, bicycle.model_speed(self.speeds),
+                                     window_steer_damping(bicycle, self.friction), self.accelerations)
 
     def _fleet_residuals(self, models: Sequence[Model], linear: Sequence[LinearModel | None]) -> NDArray[np.float64]:
         """:meth:`residuals` of models some of which are fleets: each member on its group's windows.

@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.model.assembly import linear_model, second_order_matrices
 from whipple.model.fleet import Model, members_of
+from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.model.speed_change import acceleration_stiffness
 from whipple.stability.quartic import second_order_eigenvalues, second_order_eigenvectors
@@ -241,11 +242,8 @@ def _nearest_by_eig(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets:
     ``damping``: a steer damping [N m s/rad] per speed added (:func:`with_steer_damping`);
     ``accelerations``: the measured forward accelerations [m/s^2] (None: constant speed).
     """
-    model = linear_model(bicycle)
-    A, B = model.state_matrix(true_speeds), model.input_matrix(true_speeds)
-    if damping is not None:
-        A = with_steer_damping(A, B, damping)
-    values, vectors = np.linalg.eig(with_speed_change(bicycle, A, B, accelerations))
+    values, vectors = np.linalg.eig(window_state_matrices(bicycle, linear_model(bicycle), true_speeds, damping,
+                                                          accelerations))
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)
     nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
@@ -281,6 +279,19 @@ def speed_change_stiffness(bicycle: Bicycle, accelerations: ArrayLike) -> NDArra
     """
     true = bicycle.model_speed(accelerations)
     return true[:, None, None] * acceleration_stiffness(bicycle)
+
+
+def window_state_matrices(bicycle: Bicycle, model: LinearModel, true_speeds: NDArray[np.float64],
+                          damping: NDArray[np.float64] | None, accelerations: ArrayLike | None
+                          ) -> NDArray[np.float64]:
+    """Return a model's state matrix at each window (windows, n, n), with what each window adds.
+
+    ``model`` at the true speeds [m/s], with a steer damping [N m s/rad] per window
+    (:func:`with_steer_damping`; None: none) and the torques ``-v' Ka q`` of the measured
+    accelerations [m/s^2] (:func:`with_speed_change`; None: constant speed).
+    """
+    A, B = model.state_matrix(true_speeds), model.input_matrix(true_speeds)
+    return with_speed_change(bicycle, with_steer_damping(A, B, damping), B, accelerations)
 
 
 def with_speed_change(bicycle: Bicycle, A: NDArray[np.float64], B: NDArray[np.float64],

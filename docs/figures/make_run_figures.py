@@ -8,9 +8,10 @@ Figures (the bundled treadmill runs of the steer-by-wire bicycle, model ``sbw202
   coasting windows found automatically (whipple.measurement.plots.plot_run).
 - runs_fit.png: seed Figure 5, the fit of the first window of that run, with the speed and its
   regression (plot_weave_fit).
-- runs_eigenvalues.png: seed Figure 6, every automatically found and fitted window of the five
-  runs as a bar over its speed range, on the eigenvalues of the sbw2024 model
-  (plot_measured_eigenvalues), as ``whipple fit --bundled --bicycle sbw2024 --plot`` draws it.
+- runs_eigenvalues.png: seed Figure 6, every usable window of the five runs, found
+  automatically and measured as ``whipple fit --bundled --bicycle sbw2024`` and ``whipple
+  diagnose`` measure them (:func:`whipple.measurement.measure.measure_runs`), as a bar over its
+  speed range on the eigenvalues of the sbw2024 model (plot_measured_eigenvalues).
 - runs_windows.png: roll rate of each run over 40 s, automatic windows shaded, the windows
   picked by hand drawn as bars above the trace.
 - runs_simulated.png: a simulated run of the benchmark bicycle on the ground (500 Hz, raw
@@ -37,6 +38,7 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from whipple.atomic import atomic_path  # noqa: E402
 from whipple.measurement.bundled import bundled_reference_windows, bundled_runs  # noqa: E402
+from whipple.measurement.measure import measure_runs  # noqa: E402
 from whipple.measurement.plots import plot_measured_eigenvalues, plot_run, plot_weave_fit  # noqa: E402
 from whipple.measurement.reference_windows import compare_windows, read_windows  # noqa: E402
 from whipple.measurement.runs import (
@@ -88,39 +90,34 @@ def bundled_figures() -> None:
           f"+/- ({fit.eigenvalue_std[0]:.3f}, {fit.eigenvalue_std[1]:.3f}), R^2 "
           f"{fit.r_squared:.3f}, speed {speed.start_speed:.3f} -> {speed.stop_speed:.3f} m/s")
 
-    print("\nrun: reference windows matched / reference, automatic windows, fitted, "
-          "median measured and model weave [1/s]")
-    speeds, fits, pairs = [], [], []
-    for run, search in zip(runs, searches, strict=True):
+    # The table is measured as `whipple fit --bundled --bicycle sbw2024` measures (roll rate and
+    # steer angle jointly, the quality checks): the one measurement of fit and diagnose.
+    measured = measure_runs(runs, bicycle=bicycle)
+    on_reference = measure_runs(runs, windows=reference, bicycle=bicycle)
+    print(f"\nrun ({measured.describe()}): reference windows matched / reference, windows found "
+          "automatically: listed, fitted, usable; median of the usable automatic windows, of the fitted "
+          "reference windows, and model weave [1/s] (how the automatic windows match the reference "
+          "ones: `whipple fit --bundled`)")
+    speeds, fits = [], []
+    for run_measured, run_reference in zip(measured, on_reference, strict=True):
+        run = run_measured.run
         mine = [w for w in reference if w.run == run.name]
-        comparison = compare_windows(search.windows, mine)
-        fitted = []
-        for window in search.windows:
-            try:
-                fitted.append((fit_window(run, window),
-                               speed_regression(run.time, run.speed(), window.start, window.stop)))
-            except NoOscillationError:
-                continue
-        fits += [f for f, _ in fitted]
-        speeds += [s for _, s in fitted]
-        for match in comparison.matches:
-            if match.found is not None:
-                pairs.append((fit_window(run, match.found).eigenvalue,
-                              fit_window(run, match.reference).eigenvalue))
-        measured = np.array([f.eigenvalue for f, _ in fitted])
-        on_reference = np.array([fit_window(run, w).eigenvalue for w in mine])
-        mean_speed = np.mean([s.mean for _, s in fitted])
+        comparison = compare_windows(run_measured.search.windows, mine)
+        usable = [m for m in run_measured if m.usable]
+        fits += [m.fit for m in usable]
+        speeds += [m.speed for m in usable]
+        measured_values = np.array([m.fit.eigenvalue for m in usable])
+        # The hand-picked windows are the authors' choice: every one fitted counts, usable or not.
+        reference_values = np.array([m.fit.eigenvalue for m in run_reference.fitted])
+        mean_speed = np.mean([m.speed.mean for m in usable])
         predicted = complex(weave_eigenvalue(model, [mean_speed])[0])
-        print(f"  {run.name}: {comparison.matched}/{len(mine)}, {len(search.windows)} automatic "
-              f"({len(search.rejected)} stretches rejected), {len(fitted)} fitted; "
+        print(f"  {run.name}: {comparison.matched}/{len(mine)}, {len(run_measured)} listed, "
+              f"{len(run_measured.fitted)} fitted, {len(usable)} usable; "
               f"v {mean_speed:.2f} m/s; median automatic "
-              f"{np.median(measured.real):+.2f}{np.median(measured.imag):+.2f}i, median on the "
-              f"reference windows {np.median(on_reference.real):+.2f}"
-              f"{np.median(on_reference.imag):+.2f}i, model {predicted.real:+.2f}"
+              f"{np.median(measured_values.real):+.2f}{np.median(measured_values.imag):+.2f}i, median on the "
+              f"reference windows {np.median(reference_values.real):+.2f}"
+              f"{np.median(reference_values.imag):+.2f}i, model {predicted.real:+.2f}"
               f"{predicted.imag:+.2f}i")
-    delta = np.array([a - b for a, b in pairs])
-    print(f"matched pairs: {delta.size}; median |delta d| {np.median(np.abs(delta.real)):.3f} 1/s, "
-          f"median |delta w| {np.median(np.abs(delta.imag)):.3f} rad/s")
 
     result = eigen_analysis(model, np.linspace(0.0, 10.0, 1001))
     critical = critical_speeds(model, 0.0, 10.0)

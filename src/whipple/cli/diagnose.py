@@ -74,6 +74,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "the calibration of every measured parameter as a candidate (for a bicycle whose "
                              "measurement uncertainty is stated; slower); laplace, the share of its bounds a fit "
                              "leaves open")
+    parser.add_argument("--prediction-shortlist", type=integer, metavar="N",
+                        default=DiagnosisOptions.prediction_shortlist,
+                        help="where no candidate explains the data, offer the one of the N best-supported physically "
+                             "consistent candidates that best predicts each speed left out in turn (default "
+                             f"{DiagnosisOptions.prediction_shortlist}; 0: always the best-supported consistent one)")
     cluster = parser.add_mutually_exclusive_group()
     cluster.add_argument("--workers", type=integer, metavar="N",
                          help="diagnose the held-out speeds on a local Dask cluster of N processes")
@@ -85,7 +90,7 @@ def options_of(args: argparse.Namespace) -> DiagnosisOptions:
     """Return the diagnosis options of the command's flags."""
     return DiagnosisOptions(measurement=measurement_options(args), comparison=args.compare,
                             parameters=not args.no_parameters, gain_by_cause=args.gain_by_cause,
-                            occam=args.evidence)
+                            occam=args.evidence, prediction_shortlist=args.prediction_shortlist)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -177,9 +182,19 @@ def _print_report(report: DiagnosisReport, data: dict) -> None:
         print(f"  {name} = {estimate['value']:.6g} +/- {estimate['std']:.3g} {estimate['unit']}")
     if data["calibration"]:
         print(f"  the calibration moves: {shift_sentence(data['calibration'])}")
-    if report.open_values is not None:
+    offered = data["offered"]
+    leader_offered = offered is not None and diagnosis.best is not None and offered["cause"] == diagnosis.best.cause
+    if report.open_values is not None and leader_offered:
         print(f"  the data leave open: {report.open_values.sentence()}")
     print("ranking: " + ", ".join(f"{cause} {evidence:.1f}" for cause, evidence in diagnosis.ranking()[:5]))
+    if diagnosis.verdict != "none" and not leader_offered:
+        if offered is None:
+            print("model offered: none (the base model)")
+        else:
+            values = ", ".join(f"{name} = {e['value']:.6g} {e['unit']}" for name, e in offered["values"].items())
+            print(f"model offered: {offered['cause']} ({values}; chosen by {offered['chosen_by']})")
+            if report.open_values is not None:
+                print(f"  the data leave open: {report.open_values.sentence()}")
     for note in report.caveats:
         print(f"caveat: {note}")
     if report.amplitude is not None:

@@ -53,16 +53,31 @@ class Offer:
         Its fitted values.
     rejected : tuple of (str, tuple of str)
         The better-supported candidates not offered, each with what makes it inconsistent.
+    chosen_by : {"evidence", "prediction"}
+        How the offered model was chosen among the consistent candidates: the best-supported
+        one, or the one that best predicts speeds left out in turn
+        (:func:`whipple.diagnosis.offer.offer`).
+    predictions : tuple of (str, float)
+        Chosen by prediction: each shortlisted candidate (``"none"``: the base model) with the
+        RMS [1/s] of its weave eigenvalue error on the speeds left out in turn.
     """
 
     cause: Cause | None
     fit: CauseFit | None
     rejected: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    chosen_by: str = "evidence"
+    predictions: tuple[tuple[str, float], ...] = ()
 
     def sentences(self) -> list[str]:
         """Say which candidates were not offered and why, and what is offered instead."""
         lines = [f"{name} is not offered: {'; '.join(reasons)}" for name, reasons in self.rejected]
-        if self.rejected:
+        if self.chosen_by == "prediction":
+            scores = ", ".join(f"{name} {rms:.3g}" for name, rms in self.predictions)
+            offered = self.fit.cause if self.fit is not None else "the base model"
+            lines.append(f"no candidate explains the data, so the model offered is the consistent candidate that "
+                         f"best predicts each speed left out in turn: {offered} (RMS weave-eigenvalue error [1/s] "
+                         f"on the left-out speeds: {scores})")
+        elif self.rejected:
             lines.append(f"offered instead: {self.fit.cause}" if self.fit is not None else
                          "no candidate that the data support is physically consistent: the base model is offered")
         return lines

@@ -21,7 +21,6 @@ from typing import TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.admissible import offer_of
 from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.consistency import refits_without, without
 from whipple.diagnosis.evaluation import Score, pooled, score_windows
@@ -30,6 +29,7 @@ from whipple.diagnosis.families import cause_pairs, general_forms
 from whipple.diagnosis.fitting import fit_cause, pinned_values
 from whipple.diagnosis.model_terms import is_term
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
+from whipple.diagnosis.offer import offer
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.registry import candidate_causes
 from whipple.distributed import map_ordered
@@ -143,13 +143,14 @@ def _fold_model(bicycle: Model, training: Sequence[Observation], causes: Sequenc
     if choose == "prediction":
         return _predictive_choice(bicycle, training, causes)
     diagnosis = diagnose_observations(bicycle, training, causes, options, estimate_spread=False, quick=True)
-    # The model this fold's diagnosis offers: its leading cause where physically consistent.
-    offer = offer_of(bicycle, diagnosis, causes if causes is not None else (options or DiagnosisOptions()).candidates(
-        bicycle), (options or DiagnosisOptions()).verdict.named_threshold)
-    if offer.cause is None or offer.fit is None:
+    # The model this fold's diagnosis offers, chosen as the whole diagnosis chooses it
+    # (by prediction on the fold's own training speeds where no candidate explains them).
+    options = options or DiagnosisOptions()
+    chosen = offer(bicycle, diagnosis, causes if causes is not None else options.candidates(bicycle), options)
+    if chosen.cause is None or chosen.fit is None:
         return bicycle, "none", diagnosis.verdict, ()
-    return (with_cause(bicycle, offer.cause, offer.fit.values), offer.fit.cause, diagnosis.verdict,
-            offer.fit.values)
+    return (with_cause(bicycle, chosen.cause, chosen.fit.values), chosen.fit.cause, diagnosis.verdict,
+            chosen.fit.values)
 
 
 def _predictive_choice(bicycle: Model, training: Sequence[Observation], causes: Sequence[Cause] | None

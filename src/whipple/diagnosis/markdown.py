@@ -87,10 +87,22 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
               f"![ranking]({figures['ranking']})", "",
               "## 3. The extended model", ""]
     if diagnosis.best is not None:
+        offered = data["offered"]
+        if offered is not None and offered["cause"] != diagnosis.best.cause:
+            how = ("the consistent candidate that best predicts each speed left out in turn"
+                   if offered["chosen_by"] == "prediction" else "the best-supported physically consistent candidate")
+            lines += [f"The model offered is **{offered['cause']}**, {how} (see the caveats above):", "",
+                      "| parameter | value | unit |", "|---|---|---|"]
+            lines += [f"| {name} | {e['value']:.6g} | {e['unit']} |" for name, e in offered["values"].items()]
+            if report.open_values is not None:
+                lines += ["", f"The data leave open: {report.open_values.sentence()}."]
+            lines += ["", f"The leading cause, {diagnosis.best.cause}, not offered:", ""]
+        elif offered is None:
+            lines += ["No model is offered (the base model stands; see the caveats above). The leading cause:", ""]
         lines += ["| parameter | value | std | unit |", "|---|---|---|---|"]
         lines += [f"| {name} | {e['value']:.6g} | {e['std']:.3g} | {e['unit']} |"
                   for name, e in data["estimate"].items()]
-        if report.open_values is not None:
+        if report.open_values is not None and (offered is None or offered["cause"] == diagnosis.best.cause):
             lines += ["", f"The data leave open: {report.open_values.sentence()}."]
         lines += ["", f"- base model: {_speeds(report.base_critical)}",
                   f"- extended model: {_speeds(report.extended_critical)}"]

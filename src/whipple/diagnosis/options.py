@@ -181,6 +181,14 @@ class DiagnosisOptions:
     gain_by_cause : {None, "singles", "pairs"}
         Also every candidate's held-out gain, refitted on every fold without a choice, and the
         gain of choosing by prediction (default None: many times the cost of a diagnosis).
+    prediction_shortlist : int
+        Where no candidate explains the data (the typical window's dispersion above
+        ``verdict.high_dispersion``) and the windows span three speeds or more, the model offered
+        is chosen among this many best-supported physically consistent candidates by how well
+        each, refitted without it, predicts every speed left out in turn (default 6; 0: always
+        the best-supported consistent candidate). The evidence assumes one candidate is the
+        truth; on real bicycles none is, and what a corrected model must do is carry over to
+        speeds it never saw (:mod:`whipple.diagnosis.offer`).
     amplitude_check : bool
         Compare the nonlinear model's weave at each window's measured amplitude with the linear
         one (default True: it says where the linear model is out of its range).
@@ -204,6 +212,7 @@ class DiagnosisOptions:
     fixed_point_start: str = "measured"
     held_out_gain: bool = True
     gain_by_cause: str | None = None
+    prediction_shortlist: int = 6
     amplitude_check: bool = True
     speed_range: tuple[float, float] = (0.0, 10.0)
 
@@ -218,6 +227,9 @@ class DiagnosisOptions:
             value = getattr(self, name)
             if not (isinstance(value, int | float) and 0.0 <= value < 1e9):
                 raise InputError(f"{name} must be a number from 0 to 1e9, got {value!r}")
+        if not (isinstance(self.prediction_shortlist, int) and 0 <= self.prediction_shortlist <= 1000):
+            raise InputError("prediction_shortlist must be a whole number from 0 to 1000, "
+                             f"got {self.prediction_shortlist!r}")
         low, high = self.speed_range
         if not 0.0 <= low < high < 1e6:
             raise InputError(f"speed_range must hold 0 <= low < high, got {self.speed_range}")
@@ -253,7 +265,8 @@ class DiagnosisOptions:
                 "pairs": vars(self.pairs).copy(), "occam": self.occam, "amplitude_charge": self.amplitude_charge,
                 "samples_screen": self.samples_screen, "bias_screen": self.bias_screen,
                 "fixed_point_start": self.fixed_point_start, "held_out_gain": self.held_out_gain,
-                "gain_by_cause": self.gain_by_cause, "amplitude_check": self.amplitude_check,
+                "gain_by_cause": self.gain_by_cause, "prediction_shortlist": self.prediction_shortlist,
+                "amplitude_check": self.amplitude_check,
                 "speed_range": list(self.speed_range)}
 
 

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.admissible import Offer, offer_of
+from whipple.diagnosis.admissible import Offer
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
@@ -29,6 +29,7 @@ from whipple.diagnosis.observations import (
     observation,
     speed_groups,
 )
+from whipple.diagnosis.offer import offer as offered
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.priors import prior_shifts
 from whipple.diagnosis.registry import CALIBRATION
@@ -356,7 +357,7 @@ def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasure
     causes = options.candidates(bicycle)
     diagnosis = diagnose_observations(bicycle, observations, causes, options, progress=progress)
     # The model offered: the leading cause where physically consistent, else the best consistent one.
-    offer = offer_of(bicycle, diagnosis, causes, options.verdict.named_threshold)
+    offer = offered(bicycle, diagnosis, causes, options)
     chosen = offer.cause
     extended = with_cause(bicycle, chosen, offer.fit.values) if chosen is not None and offer.fit else bicycle
     gain, note = None, ""
@@ -537,7 +538,10 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "offered": None if report.offer.fit is None else {
             "cause": report.offer.fit.cause,
             "values": {name: {"value": value, "unit": unit} for name, value, unit in
-                       zip(report.offer.fit.parameters, report.offer.fit.values, report.offer.fit.units, strict=True)}},
+                       zip(report.offer.fit.parameters, report.offer.fit.values, report.offer.fit.units, strict=True)},
+            "chosen_by": report.offer.chosen_by},
+        "offer_predictions": None if report.offer.chosen_by != "prediction" else {
+            name: rms for name, rms in report.offer.predictions},
         "not_offered": [{"cause": name, "reasons": list(reasons)} for name, reasons in report.offer.rejected],
         "calibration": calibration_shifts(report),
         "measurement": None if report.measured is None else {

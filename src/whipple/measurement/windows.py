@@ -300,6 +300,30 @@ class _Finder:
             self.quick(j) and self.durations[j] < 0.5 * self.durations[j - 1]
             and abs(self.smooth[self.extremes[j]]) >= 2 * self.loud)
 
+    def caught(self, j: int) -> bool:
+        """Whether swing j is a hand catching the moving bicycle: a grab, or a catch it holds.
+
+        A grab (:meth:`grab`) starts fast. A catch may start slower (the low-pass filter spreads
+        the hand's sharp stop back to the extreme before it), but the hand then holds the
+        bicycle: swing j, over in under half the time of the swing before it, and every swing
+        after it until the bicycle is still, are each over in under half the record's half
+        period. A free oscillation swings at its own pace until it sinks into the noise.
+        """
+        if self.grab(j):
+            return True
+        if not (1 <= j < self.swings.size and self.durations[j] < 0.5 * self.durations[j - 1]):
+            return False
+        later = int(np.searchsorted(self.rests, self.extremes[j], side="right"))
+        if later >= self.rests.size:
+            return False
+        rest, i = int(self.rests[later]), j
+        while i < self.swings.size and self.extremes[i] < rest:
+            # A swing that runs on into the still stretch ends where the stillness begins.
+            if min(int(self.extremes[i + 1]), rest) - int(self.extremes[i]) >= 0.5 * self.half_period:
+                return False
+            i += 1
+        return i > j
+
     def quick(self, j: int) -> bool:
         """Whether swing j is over in under half the record's half period."""
         return bool(self.durations[j] < 0.5 * self.half_period)
@@ -432,7 +456,7 @@ class _Finder:
             (windows if not window.reason.startswith("rejected") else rejected).append(window)
             # A hand that grabbed the bicycle right after the push starts nothing; other
             # forcing may be the next push.
-            grabbed = following == j + 1 and self.grab(following)
+            grabbed = following == j + 1 and self.caught(following)
             j = max(following + grabbed, j + 1)
         return windows, rejected
 
@@ -448,9 +472,11 @@ class _Finder:
         if first < 1 or self.swings[first] < self.loud:
             return None
         # Back through the swings that grew clearly (by half at least), down to twice the
-        # background and four times the noise floor.
+        # background and four times the noise floor. A growing weave swings at the pace of the
+        # record's oscillation: a quick swing is a hand (a catch out of a still stretch, which
+        # looks like a push, or a push), and the growth does not reach back across it.
         floor = max(2 * self.quiet, 4 * self.noise)
-        while (first > 0 and self.extremes[first - 1] >= earliest
+        while (first > 0 and self.extremes[first - 1] >= earliest and not self.quick(first - 1)
                and floor <= self.swings[first - 1] < self.swings[first] / 1.5):
             first -= 1
         if first == catch - 1:
@@ -514,7 +540,7 @@ class _Finder:
             # bicycle grabbed, perhaps as it fell). A catch at the largest lean starts slowly
             # (the roll rate turns there): quickness against both neighbours stands in for the
             # fast start.
-            grabbed = j == push + 1 and (self.grab(j) or self.abrupt(j) and self.quick(j))
+            grabbed = j == push + 1 and (self.caught(j) or self.abrupt(j) and self.quick(j))
             if a >= level and (grabbed or self.abrupt(j) and (j > push + 1 or growth or self.held(j + 1))):
                 end, resume = self.onset(j), j
                 why = f"abrupt swing at {self.run.time[end]:.2f} s"

@@ -30,8 +30,14 @@ alike; pushes and catches break that pattern. From the swings:
   right after the push that starts slowly but is as quick, and over in under half the time of
   each swing beside it, is a catch too (a growing weave caught at its largest lean, where the
   roll rate turns): it ends the window, but the search for the next push still looks at it.
+  So is a first swing over in under half the push's time that starts slower (the low-pass
+  filter spreads the hand's sharp stop back to the extreme before it) when it, and every swing
+  after it until the bicycle is still, is over in under half the record's half period: the
+  hand's catch and return, then its hold.
 * An unstable run may grow out of the noise and be caught within a swing or two, with no
-  visible push: the swings that grew up to the catch form the window.
+  visible push: the swings that grew up to the catch form the window. They swing at the
+  record's pace: the growth reaches back across no quick swing (a hand's catch out of a still
+  stretch looks like a push from rest).
 * A stretch with no free swing, or a single swing back followed by stillness (a push or a
   catch and its return), is rejected: no oscillation.
 

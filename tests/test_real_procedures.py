@@ -173,11 +173,10 @@ def test_most_coasts_of_a_weave_cycle_give_a_window_on_four_bicycles():
     bicycles, speeds of decaying and growing weave (up to +1 1/s) and the four procedures.
 
     Windows fitted across a catch: the aim is none, and it is not met. Measured (seeds 0-3,
-    2026-12-02, benchmarks/bench_window_finder.py): 6 of 1,056 coasts, 5 of those windows
-    usable. Four carry a hand's mark of 3-7 noise standard deviations (those looked at end 0.1 s
-    past a catch of a motion of 0.06 rad/s, eigenvalue errors 1-2 %); two are a hand's catch
-    and return read as a window (one usable, -1.2+11.7i 1/s on a weave of +0.75+2.4i). Here at
-    most 1 % of the coasts.
+    2026-12-06, benchmarks/bench_window_finder.py): 3 of 1,056 coasts, all usable, all
+    kooijman2008 at 4.5 m/s, ending 0.1 s past a catch of a motion at 1-3 noise standard
+    deviations, whose mark on the samples the fit absorbs (eigenvalue errors 1.8-2.3 %; see
+    docs/measured-runs.md). Here at most 1 % of the coasts.
     """
     total = fitted = across = before_push = 0
     for name in BICYCLES:

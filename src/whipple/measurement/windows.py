@@ -56,8 +56,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import RunFileError
+from whipple.measurement.record_gaps import gap_reason, parts_between, record_gaps
 from whipple.measurement.rejections import no_oscillation
-from whipple.measurement.runs import Run, contiguous
+from whipple.measurement.runs import Run
 from whipple.measurement.swings import Swings, swings_of
 
 __all__ = ["PUSH_RATIO", "TREND_TOLERANCE", "GROWTH", "STIR", "QUICK_PUSH", "SLOW_SWING_BACK", "ALIKE", "EARLY",
@@ -176,7 +177,7 @@ def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] |
         raise RunFileError(f"no {signal} signal to find windows in", run.source)
     x = np.asarray(run.signals[signal], dtype=float)
     usable = np.isfinite(x) if valid is None else np.asarray(valid, dtype=bool) & np.isfinite(x)
-    gaps = _gaps(run.time, usable)
+    gaps = record_gaps(run.time, usable)
     if not usable.any():
         return WindowSearch(run.name, (), tuple(_gap(run, a, b, usable) for a, b in gaps), np.nan, np.nan, np.nan)
     if gaps:
@@ -195,28 +196,11 @@ def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] |
                         swings.background, swings.frequency)
 
 
-def _gaps(time: NDArray[np.float64], usable: NDArray[np.bool_]) -> list[tuple[int, int]]:
-    """``(first, stop)`` of each gap: unusable samples, or the two samples around a jump in time."""
-    steps = np.diff(time)
-    jumps = np.flatnonzero(steps > 1.5 * np.median(steps)) if steps.size else np.array([], dtype=int)
-    gaps = contiguous(~usable) + [(int(j), int(j) + 2) for j in jumps if usable[j] and usable[j + 1]]
-    return sorted(gaps)
-
-
 def _cut(run: Run, window: Window, gaps: list[tuple[int, int]]) -> list[Window]:
     """Return the parts of `window` between the gaps (the whole window when it holds none)."""
-    inside = [(a, b) for a, b in gaps if a < window.stop_index and b > window.start_index]
-    if not inside:
+    parts = parts_between(run.time, window.start_index, window.stop_index, gaps)
+    if parts is None:
         return [window]
-    parts, first = [], window.start_index
-    for a, b in inside:
-        # A jump in time keeps both its samples: the gap lies between them.
-        a, b = (a + 1, a + 1) if b - a == 2 and np.all(np.isfinite(run.time[a:b])) and _is_jump(run, a) else (a, b)
-        if a - first >= 3:
-            parts.append((first, a))
-        first = b
-    if window.stop_index - first >= 3:
-        parts.append((first, window.stop_index))
     time = run.time
     return [replace(window, start=float(time[a]), stop=float(time[b - 1]), start_index=a, stop_index=b,
                     notes=(*window.notes, f"cut at a gap ({time[a]:.2f}-{time[b - 1]:.2f} s of "
@@ -224,18 +208,10 @@ def _cut(run: Run, window: Window, gaps: list[tuple[int, int]]) -> list[Window]:
             for a, b in parts]
 
 
-def _is_jump(run: Run, first: int) -> bool:
-    steps = np.diff(run.time)
-    return bool(steps[first] > 1.5 * np.median(steps))
-
-
 def _gap(run: Run, first: int, stop: int, usable: NDArray[np.bool_]) -> Window:
     """Return a rejected stretch for the gap ``first:stop``: unusable samples, or a jump in time."""
-    missing = int(np.count_nonzero(~usable[first:stop]))
-    what = (f"{missing} sample(s) without a value" if missing
-            else f"time jumps from {run.time[first]:.3f} to {run.time[stop - 1]:.3f} s")
     return Window(run.name, float(run.time[first]), float(run.time[stop - 1]), first, stop,
-                  f"rejected: gap: {what}; no window spans a gap")
+                  gap_reason(run.time, first, stop, usable))
 
 
 class _Finder:

@@ -44,6 +44,29 @@ def test_a_small_departure_is_no_catch():
     assert catch_onset(time, residual) is None
 
 
+@pytest.mark.parametrize("seed", range(5))
+def test_a_catch_at_the_window_end_is_found_in_the_samples_after_it(seed):
+    # A hand that takes hold four samples before the window's end, pulling the residual ten
+    # times the noise away: too short a tail inside the window, plain in the 40 samples after
+    # it; found where it begins, inside the window (its pull builds up over five samples, so the
+    # first ones stand out little: the cut may fall a sample after its start).
+    time, residual = _residual(440, 396, seed=seed, jump=0.1)
+    assert catch_onset(time[:400], residual[:, :400]) is None
+    found = catch_onset(time, residual, after=40)
+    assert found is not None and 396 - int(np.ceil(ONSET_MARGIN * RATE)) - 1 <= found <= 397
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_push_right_after_the_window_cuts_nothing(seed):
+    # The departure begins after the window's last sample: the window keeps its end. Noise past
+    # the end is no catch either.
+    for onset in (400, 402):
+        time, residual = _residual(440, onset, seed=seed, jump=0.3)
+        assert catch_onset(time, residual, after=40) is None
+    time, residual = _residual(440, seed=seed)
+    assert catch_onset(time, residual, after=40) is None
+
+
 @pytest.mark.parametrize("trial", [("none", 1, "browser"), ("basket", 0, "kooijman2008"), ("rack", 0, "benchmark")])
 def test_windows_end_before_the_true_catch(trial):
     # Simulated runs know where each free coasting ends. The window finder cut some of these

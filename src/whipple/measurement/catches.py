@@ -13,6 +13,15 @@ clean windows at their noise.
 is several times that of the rest, by more than chance allows (a change in variance,
 located where it is most likely). :func:`whipple.measurement.experiment.measure_window`
 cuts the window before it and fits again.
+
+A hand that catches the bicycle a few samples before the window's end leaves too short a tail
+inside it to stand out (the fit bends towards it), though its mark is plain right after: the
+hand holds the bicycle still where the free motion would have swung on. The fit's continuation
+is therefore compared with the samples after the window too, for :data:`LOOK_PAST` of a fitted
+period (``after`` of :func:`catch_onset`): the tail may reach into them, and a catch is cut
+where it starts inside the window. A window that ends where its free motion ends (a push, the
+record's end) or that the free motion outlasts keeps its end: the tail starts at its end or
+not at all.
 """
 
 from __future__ import annotations
@@ -31,6 +40,10 @@ KEPT_FRACTION = 0.5
 #: Seconds [s] cut before the tail's first sample: the hand's force builds up from zero, so
 #: its first samples stand out from the noise only a little.
 ONSET_MARGIN = 0.02
+#: Share of a fitted weave period after the window's end over which the fit's continuation is
+#: compared with the samples: a quarter period, in which a held bicycle and the free motion
+#: it stopped part by the free motion's amplitude whatever its phase at the catch.
+LOOK_PAST = 0.25
 
 
 def robust_scale(values: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -39,15 +52,19 @@ def robust_scale(values: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.asarray(1.4826 * np.median(np.abs(values - centre), axis=-1), dtype=float)
 
 
-def catch_onset(time: NDArray[np.float64], residual: NDArray[np.float64]) -> int | None:
+def catch_onset(time: NDArray[np.float64], residual: NDArray[np.float64], after: int = 0) -> int | None:
     """Return the index of the first sample of a catch at the window's end, or None.
 
     Parameters
     ----------
     time : ndarray, shape (n,)
-        Sample times of the window [s].
+        Sample times of the window [s], followed by those of the `after` samples past its end.
     residual : ndarray, shape (k, n)
-        The fit's residual of each of the k fitted signals (signal units).
+        The fit's residual of each of the k fitted signals (signal units): the fitted curve's
+        continuation for the samples past the window's end.
+    after : int
+        How many of the n samples lie past the window's end (0: none). The tail may start
+        among them; a catch is only returned where it starts inside the window.
 
     Returns
     -------
@@ -55,16 +72,20 @@ def catch_onset(time: NDArray[np.float64], residual: NDArray[np.float64]) -> int
         Where the window's free motion ends: the first sample kept out of it, ``ONSET_MARGIN``
         before the start of the tail. The tail is where the residual's variance changes most
         likely (a Gaussian residual of one variance before and another after, each signal
-        scaled by its own robust spread); it is a catch when its variance is at least
-        ``TAIL_VARIANCE`` times the rest's and the change's log-likelihood ratio exceeds
-        ``TAIL_EVIDENCE``. None when there is no such tail.
+        scaled by its own robust spread over the window), in the window's second half or past
+        its end; it is a catch when its variance is at least ``TAIL_VARIANCE`` times the rest's
+        and the change's log-likelihood ratio exceeds ``TAIL_EVIDENCE``. None when there is no
+        such tail, or when it starts at or past the window's end (a push or a catch right
+        after the window).
     """
     residual = np.atleast_2d(np.asarray(residual, dtype=float))
     signals, n = residual.shape
-    first = int(np.ceil(KEPT_FRACTION * n))
-    if n - first < 2 or first < 2:
+    inside = n - after
+    first = int(np.ceil(KEPT_FRACTION * inside))
+    if n - first < 2 or first < 2 or inside < 1:
         return None
-    scale = robust_scale(residual)
+    # The noise's scale from the window alone: the samples past it may be all catch.
+    scale = robust_scale(residual[:, :inside])
     if not np.all(scale > 0):
         return None
     # Each sample's squared residual, averaged over the signals (each in its own units).
@@ -79,7 +100,7 @@ def catch_onset(time: NDArray[np.float64], residual: NDArray[np.float64]) -> int
     if not (np.isfinite(log_likelihood[best]) and tail[best] >= TAIL_VARIANCE * head[best]):
         return None
     evidence = log_likelihood[best] + 0.5 * signals * n * np.log(before[-1] / n)
-    if evidence < TAIL_EVIDENCE:
+    if evidence < TAIL_EVIDENCE or cuts[best] >= inside:
         return None
     step = float(np.median(np.diff(time)))
     margin = int(np.ceil(ONSET_MARGIN / step)) if step > 0 else 0

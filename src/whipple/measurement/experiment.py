@@ -17,7 +17,7 @@ from typing import Any, overload
 import numpy as np
 
 from whipple.errors import InputError
-from whipple.measurement.catches import catch_onset
+from whipple.measurement.catches import LOOK_PAST, catch_onset
 from whipple.measurement.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
 from whipple.measurement.runs import Run
 from whipple.measurement.speedometer import SpeedRange, speed_regression
@@ -408,16 +408,38 @@ def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,
     time, measured = fit.time, fit.measured
     first = fitted.start_index if fitted.start_index >= 0 else int(np.searchsorted(run.time, fitted.start))
     kept = time.size
+    # The samples right after the window, where a hand that caught the bicycle just before its
+    # end holds it still while the fit's continuation swings on.
+    past_time, past = _past_end(run, first + time.size, fit, options.signals)
+    time, measured = np.r_[time, past_time], np.hstack([measured, past])
     for _ in range(options.catch_passes):
-        onset = catch_onset(time, measured - fit.curve(time))
+        onset = catch_onset(time, measured - fit.curve(time), after=past_time.size)
         if onset is None or onset == kept:
             break
         kept = onset
         fit = _fit(run, replace(fitted, stop=float(time[kept - 1]), stop_index=first + kept), options)
-    if kept == time.size:
+    if kept == time.size - past_time.size:
         return window, fit
     note = f"cut before a catch at {time[kept]:.2f} s (the fit's residual leaves the noise)"
     return replace(window, stop=float(time[kept - 1]), stop_index=first + kept, notes=(*window.notes, note)), fit
+
+
+def _past_end(run: Run, stop: int, fit: WeaveFit,
+              signals: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
+    """Return the times [s] and values (fitted signals' units) of the samples after a window's end.
+
+    ``stop`` is the index of the first sample after the window; the samples run for
+    :data:`~whipple.measurement.catches.LOOK_PAST` of the fitted period, up to the record's end,
+    the first sample any fitted signal lacks or a jump in time (a gap: what lies beyond it is
+    no continuation).
+    """
+    count = int(np.ceil(LOOK_PAST * 2 * np.pi / max(fit.frequency, 1e-9) * run.sample_rate))
+    last = min(stop + count, run.time.size)
+    values = np.array([run.signals[name][stop:last] for name in signals], dtype=float).reshape(len(signals), -1)
+    time = np.asarray(run.time[max(stop - 1, 0):last], dtype=float)
+    usable = np.all(np.isfinite(values), axis=0) & (np.diff(time) <= 1.5 / run.sample_rate)[-values.shape[1]:]
+    keep = int(np.argmin(usable)) if not usable.all() else usable.size
+    return time[time.size - values.shape[1]:][:keep], values[:, :keep]
 
 
 def _gap_in(run: Run, window: Window, names: Sequence[str], speed: np.ndarray) -> str | None:

@@ -30,8 +30,14 @@ alike; pushes and catches break that pattern. From the swings:
   right after the push that starts slowly but is as quick, and over in under half the time of
   each swing beside it, is a catch too (a growing weave caught at its largest lean, where the
   roll rate turns): it ends the window, but the search for the next push still looks at it.
+  So is a first swing over in under half the push's time that starts slower (the low-pass
+  filter spreads the hand's sharp stop back to the extreme before it) when it, and every swing
+  after it until the bicycle is still, is over in under half the record's half period: the
+  hand's catch and return, then its hold.
 * An unstable run may grow out of the noise and be caught within a swing or two, with no
-  visible push: the swings that grew up to the catch form the window.
+  visible push: the swings that grew up to the catch form the window. They swing at the
+  record's pace: the growth reaches back across no quick swing (a hand's catch out of a still
+  stretch looks like a push from rest).
 * A stretch with no free swing, or a single swing back followed by stillness (a push or a
   catch and its return), is rejected: no oscillation.
 
@@ -50,8 +56,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.errors import RunFileError
+from whipple.measurement.record_gaps import gap_reason, parts_between, record_gaps
 from whipple.measurement.rejections import no_oscillation
-from whipple.measurement.runs import Run, contiguous
+from whipple.measurement.runs import Run
 from whipple.measurement.swings import Swings, swings_of
 
 __all__ = ["PUSH_RATIO", "TREND_TOLERANCE", "GROWTH", "STIR", "QUICK_PUSH", "SLOW_SWING_BACK", "ALIKE", "EARLY",
@@ -170,7 +177,7 @@ def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] |
         raise RunFileError(f"no {signal} signal to find windows in", run.source)
     x = np.asarray(run.signals[signal], dtype=float)
     usable = np.isfinite(x) if valid is None else np.asarray(valid, dtype=bool) & np.isfinite(x)
-    gaps = _gaps(run.time, usable)
+    gaps = record_gaps(run.time, usable)
     if not usable.any():
         return WindowSearch(run.name, (), tuple(_gap(run, a, b, usable) for a, b in gaps), np.nan, np.nan, np.nan)
     if gaps:
@@ -189,28 +196,11 @@ def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] |
                         swings.background, swings.frequency)
 
 
-def _gaps(time: NDArray[np.float64], usable: NDArray[np.bool_]) -> list[tuple[int, int]]:
-    """``(first, stop)`` of each gap: unusable samples, or the two samples around a jump in time."""
-    steps = np.diff(time)
-    jumps = np.flatnonzero(steps > 1.5 * np.median(steps)) if steps.size else np.array([], dtype=int)
-    gaps = contiguous(~usable) + [(int(j), int(j) + 2) for j in jumps if usable[j] and usable[j + 1]]
-    return sorted(gaps)
-
-
 def _cut(run: Run, window: Window, gaps: list[tuple[int, int]]) -> list[Window]:
     """Return the parts of `window` between the gaps (the whole window when it holds none)."""
-    inside = [(a, b) for a, b in gaps if a < window.stop_index and b > window.start_index]
-    if not inside:
+    parts = parts_between(run.time, window.start_index, window.stop_index, gaps)
+    if parts is None:
         return [window]
-    parts, first = [], window.start_index
-    for a, b in inside:
-        # A jump in time keeps both its samples: the gap lies between them.
-        a, b = (a + 1, a + 1) if b - a == 2 and np.all(np.isfinite(run.time[a:b])) and _is_jump(run, a) else (a, b)
-        if a - first >= 3:
-            parts.append((first, a))
-        first = b
-    if window.stop_index - first >= 3:
-        parts.append((first, window.stop_index))
     time = run.time
     return [replace(window, start=float(time[a]), stop=float(time[b - 1]), start_index=a, stop_index=b,
                     notes=(*window.notes, f"cut at a gap ({time[a]:.2f}-{time[b - 1]:.2f} s of "
@@ -218,18 +208,10 @@ def _cut(run: Run, window: Window, gaps: list[tuple[int, int]]) -> list[Window]:
             for a, b in parts]
 
 
-def _is_jump(run: Run, first: int) -> bool:
-    steps = np.diff(run.time)
-    return bool(steps[first] > 1.5 * np.median(steps))
-
-
 def _gap(run: Run, first: int, stop: int, usable: NDArray[np.bool_]) -> Window:
     """Return a rejected stretch for the gap ``first:stop``: unusable samples, or a jump in time."""
-    missing = int(np.count_nonzero(~usable[first:stop]))
-    what = (f"{missing} sample(s) without a value" if missing
-            else f"time jumps from {run.time[first]:.3f} to {run.time[stop - 1]:.3f} s")
     return Window(run.name, float(run.time[first]), float(run.time[stop - 1]), first, stop,
-                  f"rejected: gap: {what}; no window spans a gap")
+                  gap_reason(run.time, first, stop, usable))
 
 
 class _Finder:
@@ -299,6 +281,30 @@ class _Finder:
         return 1 <= j < self.swings.size and bool(
             self.quick(j) and self.durations[j] < 0.5 * self.durations[j - 1]
             and abs(self.smooth[self.extremes[j]]) >= 2 * self.loud)
+
+    def caught(self, j: int) -> bool:
+        """Whether swing j is a hand catching the moving bicycle: a grab, or a catch it holds.
+
+        A grab (:meth:`grab`) starts fast. A catch may start slower (the low-pass filter spreads
+        the hand's sharp stop back to the extreme before it), but the hand then holds the
+        bicycle: swing j, over in under half the time of the swing before it, and every swing
+        after it until the bicycle is still, are each over in under half the record's half
+        period. A free oscillation swings at its own pace until it sinks into the noise.
+        """
+        if self.grab(j):
+            return True
+        if not (1 <= j < self.swings.size and self.durations[j] < 0.5 * self.durations[j - 1]):
+            return False
+        later = int(np.searchsorted(self.rests, self.extremes[j], side="right"))
+        if later >= self.rests.size:
+            return False
+        rest, i = int(self.rests[later]), j
+        while i < self.swings.size and self.extremes[i] < rest:
+            # A swing that runs on into the still stretch ends where the stillness begins.
+            if min(int(self.extremes[i + 1]), rest) - int(self.extremes[i]) >= 0.5 * self.half_period:
+                return False
+            i += 1
+        return i > j
 
     def quick(self, j: int) -> bool:
         """Whether swing j is over in under half the record's half period."""
@@ -432,7 +438,7 @@ class _Finder:
             (windows if not window.reason.startswith("rejected") else rejected).append(window)
             # A hand that grabbed the bicycle right after the push starts nothing; other
             # forcing may be the next push.
-            grabbed = following == j + 1 and self.grab(following)
+            grabbed = following == j + 1 and self.caught(following)
             j = max(following + grabbed, j + 1)
         return windows, rejected
 
@@ -448,9 +454,11 @@ class _Finder:
         if first < 1 or self.swings[first] < self.loud:
             return None
         # Back through the swings that grew clearly (by half at least), down to twice the
-        # background and four times the noise floor.
+        # background and four times the noise floor. A growing weave swings at the pace of the
+        # record's oscillation: a quick swing is a hand (a catch out of a still stretch, which
+        # looks like a push, or a push), and the growth does not reach back across it.
         floor = max(2 * self.quiet, 4 * self.noise)
-        while (first > 0 and self.extremes[first - 1] >= earliest
+        while (first > 0 and self.extremes[first - 1] >= earliest and not self.quick(first - 1)
                and floor <= self.swings[first - 1] < self.swings[first] / 1.5):
             first -= 1
         if first == catch - 1:
@@ -514,7 +522,7 @@ class _Finder:
             # bicycle grabbed, perhaps as it fell). A catch at the largest lean starts slowly
             # (the roll rate turns there): quickness against both neighbours stands in for the
             # fast start.
-            grabbed = j == push + 1 and (self.grab(j) or self.abrupt(j) and self.quick(j))
+            grabbed = j == push + 1 and (self.caught(j) or self.abrupt(j) and self.quick(j))
             if a >= level and (grabbed or self.abrupt(j) and (j > push + 1 or growth or self.held(j + 1))):
                 end, resume = self.onset(j), j
                 why = f"abrupt swing at {self.run.time[end]:.2f} s"

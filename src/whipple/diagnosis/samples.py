@@ -37,7 +37,7 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.instrument import InstrumentErrors
+from whipple.diagnosis.instrument import InstrumentErrors, profiled_residuals, yaw_gains, yaw_row
 from whipple.diagnosis.observations import Observation, WindowSignals, friction_gains, noise_free
 from whipple.diagnosis.window_speed import window_speeds
 from whipple.measurement.noise import noise_floor, second_difference_noise
@@ -266,9 +266,7 @@ class SampleComparison:
                         ) -> dict[int, tuple[list[int], NDArray[np.float64]]]:
         """Designs of the models frozen at each window's speed, by number of states: members, (M, W, k', L, n).
 
-        Each design's columns are the modes' responses (modal amplitudes fitted), in units of the
-        signals' noise, with the instrument's row after the signals where it is fitted
-        (:meth:`_signal_rows`).
+        Columns: the modes' responses, in units of the noise, in the rows of :meth:`_signal_rows`.
         """
         matrices = [self._state_matrices(bicycle, model) for bicycle, model in zip(bicycles, models, strict=True)]
         result: dict[int, tuple[list[int], NDArray[np.float64]]] = {}
@@ -280,7 +278,7 @@ class SampleComparison:
                 values, vectors = np.linalg.eig(stacked)
                 repeated = self._repeated(len(members))
                 speeds = np.concatenate([bicycles[k].model_speed(self.speeds) for k in members])
-                yaw = np.concatenate([np.broadcast_to(_yaw_gains(bicycles[k]), (self.speeds.size, 2))
+                yaw = np.concatenate([np.broadcast_to(yaw_gains(bicycles[k]), (self.speeds.size, 2))
                                       for k in members])
                 rows = self._signal_rows(vectors, speeds, yaw) * repeated._bin_factors(values)[:, None, :]
                 design = repeated._modal_design(values, rows)
@@ -291,24 +289,16 @@ class SampleComparison:
                      yaw: NDArray[np.float64]) -> NDArray[np.complex128]:
         """Return the rows (..., k', n) of the signals in the eigenvectors (..., n, n), the yaw rate's last if fitted.
 
-        ``speeds`` (...): the model's speed [m/s]; ``yaw`` (..., 2): the yaw rate's gains on the
-        steer angle per unit speed and on the steer rate (:func:`_yaw_gains`). The yaw rate is
-        the knife-edge front wheel's kinematics, ``psi' = (v delta + c delta') cos(lambda) / w``,
-        linear in the states: what a roll gyro misaligned about the lateral axis picks up.
+        ``speeds`` (...) [m/s] and ``yaw`` (..., 2): :func:`~whipple.diagnosis.instrument.yaw_row`'s.
         """
         rows = vectors[..., list(self.states), :]
         if self._instrument_row() is None:
             return rows
-        steer, steer_rate = MODE_SHAPE_STATES["steer_angle"], MODE_SHAPE_STATES["steer_rate"]
-        row = ((speeds * yaw[..., 0])[..., None] * vectors[..., steer, :]
-               + yaw[..., 1, None] * vectors[..., steer_rate, :])
-        return np.concatenate([rows, row[..., None, :]], axis=-2)
+        return np.concatenate([rows, yaw_row(vectors, speeds, yaw)[..., None, :]], axis=-2)
 
     def _instrument_row(self) -> int | None:
         """Return the roll rate's row whose instrument errors are fitted, None where they are not."""
-        if self.instrument is None or "roll_rate" not in self.names:
-            return None
-        return self.names.index("roll_rate")
+        return None if self.instrument is None or "roll_rate" not in self.names else self.names.index("roll_rate")
 
     def _row_noise(self) -> NDArray[np.float64]:
         """Return each design row's noise (W, k'): the signals', then the roll rate's for the yaw rate's row."""
@@ -345,7 +335,7 @@ class SampleComparison:
             members = [k for k, matrix in enumerate(matrices) if matrix.shape[-1] == states]
             stacked = np.stack([matrices[k] for k in members])  # (members, real pieces, n, n)
             model_speeds = np.stack([bicycles[k].model_speed(speeds) for k in members])  # (members, W, P)
-            yaw = np.stack([np.broadcast_to(_yaw_gains(bicycles[k]), (*speeds.shape, 2)) for k in members])
+            yaw = np.stack([np.broadcast_to(yaw_gains(bicycles[k]), (*speeds.shape, 2)) for k in members])
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
                 result[states] = (members, self._changing_design(stacked, pieces, model_speeds, yaw))
         return result
@@ -496,11 +486,7 @@ class SampleComparison:
         return first[:, :, None, :] * cosine[:, None, :, :] + second[:, :, None, :] * sine[:, None, :, :]
 
     def _fitted_residuals(self, design: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Residuals (M, W, k, L) of M models' designs (M, W, k', L, n) fitted to the windows.
-
-        Where the instrument's errors are fitted, each model at its own (shared by its windows:
-        :meth:`_instrument_residuals`).
-        """
+        """Residuals (M, W, k, L) of M models' designs (M, W, k', L, n), each at its instrument's errors if fitted."""
         models, windows = design.shape[:2]
         count = len(self.states)
         if self._instrument_row() is None:
@@ -514,10 +500,6 @@ class SampleComparison:
         valid = self.mask[:, None, :, None]
         return design - (design.sum(axis=-2, keepdims=True) / sizes) * valid
 
-    def _centred_targets(self) -> NDArray[np.float64]:
-        sizes = self.mask.sum(axis=1)[:, None, None]
-        return self.targets - (self.targets.sum(axis=2, keepdims=True) / sizes) * self.mask[:, None, :]
-
     def _least_squares(self, design: NDArray[np.float64]) -> NDArray[np.float64]:
         """Residuals (W, k, L) of the targets fitted by the columns of ``design`` (W, k, L, n) and offsets.
 
@@ -526,7 +508,7 @@ class SampleComparison:
         """
         windows, count, length = self.targets.shape
         design = self._centred(design).reshape(windows, count * length, -1)
-        targets = self._centred_targets().reshape(windows, count * length)
+        targets = self._centred(self.targets[..., None])[..., 0].reshape(windows, count * length)
         finite = np.isfinite(design).all(axis=(1, 2))
         residual = np.full((windows, count * length), 1e3)
         if finite.any():
@@ -536,51 +518,18 @@ class SampleComparison:
         return residual.reshape(windows, count, length)
 
     def _instrument_residuals(self, design: NDArray[np.float64], yaw: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Residuals (M, W, k, L) of M models, each with the roll gyro's scale and misalignment it fits best.
+        """Residuals (M, W, k, L) of M models, each with the roll gyro's errors it fits best.
 
         ``design`` (M, W, k, L, n): the signals' responses; ``yaw`` (M, W, L, n): the yaw rate's,
-        in units of the roll rate's noise. The roll gyro reads ``s (roll_rate + b yaw_rate)``
-        (``b = -tan(a)``, ``cos(a)`` taken into ``s``); ``s`` and ``b`` are fitted per model over
-        all its windows by Gauss-Newton steps on the residuals with the amplitudes projected out
-        (:mod:`whipple.diagnosis.instrument`), each step bounded and pulled to the prior.
+        in the roll rate's noise (:func:`~whipple.diagnosis.instrument.profiled_residuals`); 1e3 where it overflows.
         """
-        errors = self.instrument
-        assert errors is not None
-        row = self._instrument_row()
-        models, windows, count, length, states = design.shape
+        assert self.instrument is not None and (row := self._instrument_row()) is not None
         design, yaw = self._centred(design), self._centred(yaw[:, :, None])[:, :, 0]
         finite = np.asarray(np.isfinite(design).all(axis=(2, 3, 4)) & np.isfinite(yaw).all(axis=(2, 3)), dtype=bool)
         design, yaw = np.where(finite[..., None, None, None], design, 0.0), np.where(finite[..., None, None], yaw, 0.0)
-        targets = np.broadcast_to(self._centred_targets().reshape(windows, count * length), (models, windows,
-                                                                                              count * length))
-        prior = np.array([1.0, 0.0])
-        weight = np.diag([errors.scale_prior ** -2, np.tan(errors.misalignment_prior) ** -2])
-        low = np.array([1.0 - errors.scale_bound, -np.tan(errors.misalignment_bound)])
-        high = np.array([1.0 + errors.scale_bound, np.tan(errors.misalignment_bound)])
-        values = np.broadcast_to(prior, (models, 2)).copy()  # (M, 2): s and b of each model
-        for step in range(errors.steps + 1):
-            scale, mixing = values[:, 0, None, None, None], values[:, 1, None, None, None]
-            current = design.copy()
-            current[:, :, row] = scale * (design[:, :, row] + mixing * yaw)
-            flat = current.reshape(models, windows, count * length, states)
-            q, r = np.linalg.qr(flat)
-            coefficients = np.einsum("mwsc,mws->mwc", q, targets)
-            residual = targets - np.einsum("mwsc,mwc->mws", q, coefficients)
-            if step == errors.steps:
-                break
-            amplitudes = np.einsum("mwcd,mwd->mwc", np.linalg.pinv(r), coefficients)
-            # Kaufman's Jacobian: each value's change of the response, projected off the columns.
-            along = np.zeros((2, models, windows, count, length))
-            along[0, :, :, row] = np.einsum("mwlc,mwc->mwl", design[:, :, row] + mixing * yaw, amplitudes)
-            along[1, :, :, row] = scale[..., 0] * np.einsum("mwlc,mwc->mwl", yaw, amplitudes)
-            along = along.reshape(2, models, windows, count * length) * finite[None, :, :, None]
-            along = along - np.einsum("mwsc,jmwc->jmws", q, np.einsum("mwsc,jmws->jmwc", q, along))
-            normal = np.einsum("imws,jmws->mij", along, along) + weight
-            gradient = (np.einsum("imws,mws->mi", along, residual * finite[..., None])
-                        - (values - prior) @ weight)
-            values = np.clip(values + np.linalg.solve(normal, gradient[..., None])[..., 0], low, high)
-        residual = np.where(finite[..., None], residual, 1e3)
-        return residual.reshape(models, windows, count, length)
+        residual = profiled_residuals(design, yaw, self._centred(self.targets[..., None])[..., 0], row, finite,
+                                      self.instrument)
+        return np.where(finite[..., None, None], residual, 1e3)
 
     def fitted(self, bicycle: Model, model: LinearModel | None = None) -> list[NDArray[np.float64]]:
         """Return each window's free response of a model fitted to its samples, (k, bins) in signal units."""
@@ -608,17 +557,6 @@ class SampleComparison:
         """Return a model's chi-square per sample (1 where it leaves only the noise)."""
         residual = self.residuals([bicycle], [model])[0]
         return float(np.mean(residual**2))
-
-
-def _yaw_gains(bicycle: Bicycle) -> NDArray[np.float64]:
-    """Return the yaw rate's gains on the steer angle per unit speed [1/m] and on the steer rate [-].
-
-    The knife-edge front wheel's kinematics to first order:
-    ``psi' = (v delta + c delta') cos(lambda) / w``.
-    """
-    parameters = bicycle.parameters
-    tilt = np.cos(float(parameters["lam"])) / float(parameters["w"])
-    return np.array([tilt, float(parameters["c"]) * tilt])
 
 
 def _binned(signals: WindowSignals, duration: float = BIN_DURATION

@@ -23,6 +23,7 @@ from whipple.diagnosis.fitting import (
     robust_chi2,
     window_whitening,
 )
+from whipple.diagnosis.instrument import InstrumentErrors
 from whipple.diagnosis.observations import Observation, speed_groups
 from whipple.errors import AnalysisError
 from whipple.model.fleet import Model
@@ -55,7 +56,7 @@ class SpeedDependence:
 
 def jackknife_std(bicycle: Model, cause: Cause, observations: Sequence[Observation],
                   values: Sequence[float], scales: tuple[float, float] = (1.0, 1.0),
-                  comparison: str = "eigenvalues") -> NDArray[np.float64]:
+                  comparison: str = "eigenvalues", instrument: InstrumentErrors | None = None) -> NDArray[np.float64]:
     """Leave-one-speed-group-out jackknife standard deviation of a cause's values.
 
     The fit's own standard deviation assumes independent windows; errors shared by the windows
@@ -65,16 +66,17 @@ def jackknife_std(bicycle: Model, cause: Cause, observations: Sequence[Observati
     (:data:`~whipple.diagnosis.fitting.COMPARISONS`; a fitting function's bias already taken out).
     With the samples, each left-out fit is a few Gauss-Newton steps from ``values``
     (:func:`gauss_newton_refits`): a full local refit of every window's samples per group cost
-    most of a diagnosis.
+    most of a diagnosis. ``instrument``: the roll gyro's errors fitted with every model compared
+    with the samples (:mod:`whipple.diagnosis.instrument`; None: not).
     """
     groups = speed_groups(observations)
     if len(groups) < 3:
         return np.zeros(len(values))
     kept = [group for group in groups if len(observations) - len(group) >= 2]
     if comparison == "samples":
-        estimates = gauss_newton_refits(bicycle, cause, observations, values, kept, scales)
+        estimates = gauss_newton_refits(bicycle, cause, observations, values, kept, scales, instrument)
     else:
-        estimates = refits_without(bicycle, cause, observations, values, kept, scales, comparison)
+        estimates = refits_without(bicycle, cause, observations, values, kept, scales, comparison, instrument)
     if len(estimates) < 3:
         return np.zeros(len(values))
     estimates_array = np.array(estimates)
@@ -90,14 +92,15 @@ def without(observations: Sequence[Observation], group: Sequence[int]) -> list[O
 
 def refits_without(bicycle: Model, cause: Cause, observations: Sequence[Observation], values: Sequence[float],
                    groups: Sequence[Sequence[int]], scales: tuple[float, float] = (1.0, 1.0),
-                   comparison: str = "eigenvalues") -> list[tuple[float, ...]]:
+                   comparison: str = "eigenvalues", instrument: InstrumentErrors | None = None
+                   ) -> list[tuple[float, ...]]:
     """Return the cause's values refitted with each group of windows (indices) left out in turn.
 
     A local refit from `values` (fitted to all windows): it measures how those values move when
     a group is left out, not which other optimum a search could find. Each group must leave at
-    least 2 windows. ``comparison`` as in :func:`jackknife_std`.
+    least 2 windows. ``comparison`` and ``instrument`` as in :func:`jackknife_std`.
     """
-    return [fit_cause(bicycle, cause, kept, window_whitening(kept, bicycle, scales, comparison), [values],
+    return [fit_cause(bicycle, cause, kept, window_whitening(kept, bicycle, scales, comparison, instrument), [values],
                       grid=False).values
             for kept in (without(observations, group) for group in groups)]
 
@@ -110,8 +113,8 @@ GAUSS_NEWTON_STEPS = 3
 
 
 def gauss_newton_refits(bicycle: Model, cause: Cause, observations: Sequence[Observation], values: Sequence[float],
-                        groups: Sequence[Sequence[int]], scales: tuple[float, float] = (1.0, 1.0)
-                        ) -> list[tuple[float, ...]]:
+                        groups: Sequence[Sequence[int]], scales: tuple[float, float] = (1.0, 1.0),
+                        instrument: InstrumentErrors | None = None) -> list[tuple[float, ...]]:
     """Return the cause's values refitted to the samples with each group of windows left out.
 
     ``GAUSS_NEWTON_STEPS`` Gauss-Newton steps from `values` (fitted to all windows) on the
@@ -119,13 +122,14 @@ def gauss_newton_refits(bicycle: Model, cause: Cause, observations: Sequence[Obs
     (forward differences of ``GAUSS_NEWTON_DIFFERENCE`` of the bounds) and W the robust loss's
     weights (soft L1: ``1 / sqrt(1 + r^2 / c^2)``), clipped to the bounds. Like the local refits
     of :func:`refits_without`, it measures how the values move when a group is left out, at a
-    fraction of their cost (they were most of a diagnosis with the samples).
+    fraction of their cost (they were most of a diagnosis with the samples). ``instrument`` as in
+    :func:`jackknife_std`.
     """
     lower, upper = cause.limits
     estimates = []
     for group in groups:
         kept = without(observations, group)
-        whitening = window_whitening(kept, bicycle, scales, "samples")
+        whitening = window_whitening(kept, bicycle, scales, "samples", instrument)
         point = np.array(values, dtype=float)
         for _ in range(GAUSS_NEWTON_STEPS):
             difference = GAUSS_NEWTON_DIFFERENCE * (upper - lower)
@@ -164,7 +168,8 @@ def speed_group_sums(residuals: NDArray[np.float64], observations: Sequence[Obse
 
 def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observation],
                      values: Sequence[float], scales: tuple[float, float],
-                     comparison: str = "eigenvalues") -> SpeedDependence | None:
+                     comparison: str = "eigenvalues", instrument: InstrumentErrors | None = None
+                     ) -> SpeedDependence | None:
     """Fit a cause to the low and the high speeds apart, to see whether its values depend on speed.
 
     A physical cause (a mass, a damper, a wrong parameter) has the same values at every speed.
@@ -174,7 +179,7 @@ def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observ
     cause refitted to each from ``values`` (its fit to all windows; a local refit, so the
     evidence is never overstated), and the chi-squares compared at the diagnosis' dispersions
     ``scales``, charged for the k extra values like any cause (see the module's evidence);
-    ``comparison`` as in :func:`jackknife_std`.
+    ``comparison`` and ``instrument`` as in :func:`jackknife_std`.
     None where a half has fewer windows than values, or a refit fails.
     """
     groups = speed_groups(observations)
@@ -183,13 +188,13 @@ def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observ
     k = len(values)
     if min(len(half) for half in halves) <= k:
         return None
-    whitening = window_whitening(observations, bicycle, scales, comparison)
+    whitening = window_whitening(observations, bicycle, scales, comparison, instrument)
     one = robust_chi2(model_residuals(cause.apply(bicycle, values), observations, whitening)[0])
     n = whitening.charged
     fits, shared, independent = [], 0.0, 0.0
     for half in halves:
         kept = [observations[i] for i in half]
-        kept_whitening = window_whitening(kept, bicycle, scales, comparison)
+        kept_whitening = window_whitening(kept, bicycle, scales, comparison, instrument)
         try:
             fit = fit_cause(bicycle, cause, kept, kept_whitening, [values], grid=False)
         except AnalysisError:

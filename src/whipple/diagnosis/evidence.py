@@ -225,7 +225,8 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
     # fits still use them (a comparison with the samples costs several times as much).
     eigen = (whitening, base, fits)
     near = [True] * len(causes)
-    samples = SampleComparison.of(observations, bicycle=bicycle) if comparison == "samples" else None
+    samples = (SampleComparison.of(observations, bicycle=bicycle, instrument=options.instrument)
+               if comparison == "samples" else None)
     if samples is not None:
         whitening = replace(whitening, samples=samples)
         counts = whitening.counts
@@ -311,14 +312,15 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         compared = observations if biases is None else debiased(observations, biases[1 + index])
         if estimate_spread:
             spread = np.maximum(spread, jackknife_std(bicycle, chosen, compared, fit.values, scales,
-                                                      whitening.comparison))
+                                                      whitening.comparison, options.instrument))
         scored[0] = replace(fit, std=tuple(float(s) for s in spread))
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], whitening)
     verdict, name, rivals, reasons = _verdict(scored, typical, rules, rival_pairs, whitening.samples is not None)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
-        dependence = speed_dependence(bicycle, chosen, compared, best.values, scales, whitening.comparison)
+        dependence = speed_dependence(bicycle, chosen, compared, best.values, scales, whitening.comparison,
+                                      options.instrument)
         if dependence is not None and dependence.evidence > rules.speed_dependence:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.instrument import InstrumentErrors
 from whipple.diagnosis.observations import Observation, compared_shapes, mode_targets
 from whipple.diagnosis.priors import robust_prior_residuals
 from whipple.diagnosis.samples import SampleComparison
@@ -192,13 +193,15 @@ def _with_floor(observation: Observation) -> NDArray[np.float64]:
 
 
 def window_whitening(observations: Sequence[Observation], bicycle: Model,
-                     scales: tuple[float, float] = (1.0, 1.0), comparison: str = "eigenvalues") -> Whitening:
+                     scales: tuple[float, float] = (1.0, 1.0), comparison: str = "eigenvalues",
+                     instrument: InstrumentErrors | None = None) -> Whitening:
     """Whitening of every window's eigenvalue, and of the shapes the base ``bicycle`` compares.
 
     ``comparison`` ``"samples"``: models are compared with the windows' samples where every
     window has them (:meth:`~whipple.diagnosis.samples.SampleComparison.of`), else with the
     eigenvalues; other comparisons: the eigenvalues (a fitting function's bias is set by the
-    caller, :mod:`whipple.diagnosis.fit_bias`).
+    caller, :mod:`whipple.diagnosis.fit_bias`). ``instrument``: the roll gyro's errors fitted
+    with every model compared with the samples (:mod:`whipple.diagnosis.instrument`; None: not).
     """
     if comparison not in COMPARISONS:
         raise ValueError(f"comparison must be one of {', '.join(COMPARISONS)}, got {comparison!r}")
@@ -207,7 +210,8 @@ def window_whitening(observations: Sequence[Observation], bicycle: Model,
     shape = np.array([_inverse_cholesky(observations[int(n)].shape_covariance, observations[int(n)], "mode shape")
                       for n in index]).reshape(-1, 2, 2)
     measured_shapes = np.array([complex(observations[int(n)].shape or 0.0) for n in index], dtype=complex)
-    samples = SampleComparison.of(observations, bicycle=bicycle) if comparison == "samples" else None
+    samples = (SampleComparison.of(observations, bicycle=bicycle, instrument=instrument)
+               if comparison == "samples" else None)
     return Whitening(eigenvalue, index, shape, mode_targets(observations, bicycle), measured_shapes, scales,
                      samples=samples)
 

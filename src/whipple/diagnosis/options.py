@@ -15,6 +15,7 @@ from typing import Any
 
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.fitting import COMPARISONS
+from whipple.diagnosis.instrument import InstrumentErrors
 from whipple.diagnosis.model_terms import term_causes
 from whipple.diagnosis.registry import CauseDeclaration, candidate_causes
 from whipple.errors import InputError
@@ -195,6 +196,10 @@ class DiagnosisOptions:
     speed_range : tuple of float
         Speeds [m/s] over which the critical speeds of the base and extended models are searched
         (default 0 to 10).
+    instrument : InstrumentErrors or None
+        The roll gyro's scale error and the IMU's misalignment, fitted with every model compared
+        with the samples (the base model included) as values shared by all windows
+        (:mod:`whipple.diagnosis.instrument`); None: the signals are taken as read.
     """
 
     measurement: MeasurementOptions = field(default_factory=MeasurementOptions)
@@ -213,6 +218,7 @@ class DiagnosisOptions:
     held_out_gain: bool = True
     gain_by_cause: str | None = None
     prediction_shortlist: int = 6
+    instrument: InstrumentErrors | None = field(default_factory=InstrumentErrors)
     amplitude_check: bool = True
     speed_range: tuple[float, float] = (0.0, 10.0)
 

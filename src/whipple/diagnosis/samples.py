@@ -37,6 +37,7 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.instrument import InstrumentErrors, profiled_residuals, yaw_gains, yaw_row
 from whipple.diagnosis.observations import Observation, WindowSignals, friction_gains, noise_free
 from whipple.diagnosis.window_speed import window_speeds
 from whipple.measurement.noise import noise_floor, second_difference_noise
@@ -144,6 +145,9 @@ class SampleComparison:
         the regression's speed at its centre ``v_c`` [m/s] and that centre ``t_c`` from the
         window's first sample [s]; the model follows it (:meth:`_changing_residuals`). None where
         every window's speed is constant.
+    instrument : InstrumentErrors or None
+        The roll gyro's scale and misalignment fitted with every model, shared by all windows
+        (:mod:`whipple.diagnosis.instrument`); None: the signals are taken as read.
     """
 
     speeds: NDArray[np.float64]
@@ -159,17 +163,19 @@ class SampleComparison:
     friction: NDArray[np.float64] | None = None
     accelerations: NDArray[np.float64] | None = None
     profiles: NDArray[np.float64] | None = None
+    instrument: InstrumentErrors | None = None
 
     @classmethod
     def of(cls, observations: Sequence[Observation], binned: bool = True,
-           bicycle: Model | None = None) -> SampleComparison | None:
+           bicycle: Model | None = None, instrument: InstrumentErrors | None = None) -> SampleComparison | None:
         """Return the samples of the observations, or None where they cannot be compared so.
 
         None where a window's samples are unknown (windows read from a list of eigenvalues),
         where the windows fitted different signals, or where a signal is no state of the models.
         ``binned``: averaged in bins of about ``BIN_DURATION`` (else every sample on its own).
         ``bicycle``: the model whose mode shape gives the steer amplitude of windows without a
-        steer angle (:func:`~whipple.diagnosis.observations.friction_gains`).
+        steer angle (:func:`~whipple.diagnosis.observations.friction_gains`). ``instrument``: the
+        roll gyro's errors fitted with every model (None: not).
         """
         if not observations or any(o.signals is None for o in observations):
             return None
@@ -197,7 +203,7 @@ class SampleComparison:
             [(o.speed, 0.5 * (o.start + o.stop) - float(o.signals.time[0])) for o in observations])  # type: ignore[union-attr]
         return cls(speeds, tau, mask, targets, noise, tuple(MODE_SHAPE_STATES[name] for name in names), names,
                    bins, steps, tuple(o.group for o in observations), friction_gains(observations, bicycle),
-                   accelerations, profiles)
+                   accelerations, profiles, instrument)
 
     @property
     def samples(self) -> int:
@@ -233,15 +239,21 @@ class SampleComparison:
         given = [linear_model(bicycle) if model is None else model
                  for bicycle, model in zip(plain, linear, strict=True)]
         changing = self._changing()
-        if not changing.any():
-            residual = self._frozen_residuals(plain, given)
-        else:
-            residual = np.zeros((len(models), *self.targets.shape))
-            constant = np.flatnonzero(~changing)
-            if constant.size:
-                residual[:, constant] = self._subset(constant)._frozen_residuals(plain, given)
-            varying = np.flatnonzero(changing)
-            residual[:, varying] = (self if changing.all() else self._subset(varying))._changing_residuals(plain, given)
+        constant, varying = np.flatnonzero(~changing), np.flatnonzero(changing)
+        designs: dict[int, tuple[list[int], NDArray[np.float64]]] = {}
+        for index, follows in ((constant, False), (varying, True)):
+            if not index.size:
+                continue
+            part = self if index.size == changing.size else self._subset(index)
+            built = part._changing_designs(plain, given) if follows else part._frozen_designs(plain, given)
+            for states, (members, design) in built.items():
+                if states not in designs:
+                    designs[states] = (members, np.zeros((len(members), changing.size, *design.shape[2:])))
+                designs[states][1][:, index] = design
+        residual = np.zeros((len(models), *self.targets.shape))
+        for members, design in designs.values():
+            with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+                residual[members] = self._fitted_residuals(design)
         return residual[:, self._residual_mask()]
 
     def _changing(self) -> NDArray[np.bool_]:
@@ -250,25 +262,52 @@ class SampleComparison:
             return np.zeros(self.mask.shape[0], dtype=bool)
         return np.asarray(self.accelerations != 0, dtype=bool)
 
-    def _frozen_residuals(self, bicycles: Sequence[Bicycle], models: Sequence[LinearModel]) -> NDArray[np.float64]:
-        """Residuals (models, W, k, L) of the models frozen at each window's speed: modal amplitudes fitted."""
+    def _frozen_designs(self, bicycles: Sequence[Bicycle], models: Sequence[LinearModel]
+                        ) -> dict[int, tuple[list[int], NDArray[np.float64]]]:
+        """Designs of the models frozen at each window's speed, by number of states: members, (M, W, k', L, n).
+
+        Columns: the modes' responses, in units of the noise, in the rows of :meth:`_signal_rows`.
+        """
         matrices = [self._state_matrices(bicycle, model) for bicycle, model in zip(bicycles, models, strict=True)]
-        result = np.zeros((len(models), *self.targets.shape))
-        # Models with as many states are solved together: one evaluation of all their windows.
+        result: dict[int, tuple[list[int], NDArray[np.float64]]] = {}
+        # Models with as many states are evaluated together: one evaluation of all their windows.
         for states in sorted({matrix.shape[-1] for matrix in matrices}):
             members = [k for k, matrix in enumerate(matrices) if matrix.shape[-1] == states]
             stacked = np.concatenate([matrices[k] for k in members])  # (members * W, n, n)
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
                 values, vectors = np.linalg.eig(stacked)
                 repeated = self._repeated(len(members))
-                signal_rows = vectors[:, list(self.states), :] * repeated._bin_factors(values)[:, None, :]
-                residual = repeated._window_residuals(values, signal_rows)
-            result[members] = residual.reshape(len(members), *self.targets.shape)
+                speeds = np.concatenate([bicycles[k].model_speed(self.speeds) for k in members])
+                yaw = np.concatenate([np.broadcast_to(yaw_gains(bicycles[k]), (self.speeds.size, 2))
+                                      for k in members])
+                rows = self._signal_rows(vectors, speeds, yaw) * repeated._bin_factors(values)[:, None, :]
+                design = repeated._modal_design(values, rows)
+            result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]))
         return result
 
-    def _changing_residuals(self, bicycles: Sequence[Bicycle], models: Sequence[LinearModel]
-                            ) -> NDArray[np.float64]:
-        """Residuals (models, W, k, L) of the models following each window's changing speed.
+    def _signal_rows(self, vectors: NDArray[np.complex128], speeds: NDArray[np.float64],
+                     yaw: NDArray[np.float64]) -> NDArray[np.complex128]:
+        """Return the rows (..., k', n) of the signals in the eigenvectors (..., n, n), the yaw rate's last if fitted.
+
+        ``speeds`` (...) [m/s] and ``yaw`` (..., 2): :func:`~whipple.diagnosis.instrument.yaw_row`'s.
+        """
+        rows = vectors[..., list(self.states), :]
+        if self._instrument_row() is None:
+            return rows
+        return np.concatenate([rows, yaw_row(vectors, speeds, yaw)[..., None, :]], axis=-2)
+
+    def _instrument_row(self) -> int | None:
+        """Return the roll rate's row whose instrument errors are fitted, None where they are not."""
+        return None if self.instrument is None or "roll_rate" not in self.names else self.names.index("roll_rate")
+
+    def _row_noise(self) -> NDArray[np.float64]:
+        """Return each design row's noise (W, k'): the signals', then the roll rate's for the yaw rate's row."""
+        row = self._instrument_row()
+        return self.noise if row is None else np.concatenate([self.noise, self.noise[:, row, None]], axis=1)
+
+    def _changing_designs(self, bicycles: Sequence[Bicycle], models: Sequence[LinearModel]
+                          ) -> dict[int, tuple[list[int], NDArray[np.float64]]]:
+        """Designs of the models following each window's changing speed, by number of states: members, (M, W, k', L, n).
 
         The bicycle coasting on the ground is a linear time-varying system along the window's
         speed profile ``v(t)`` (:attr:`profiles`): ``x' = A(v(t)) x`` with ``A`` the model's state
@@ -291,15 +330,14 @@ class SampleComparison:
         matrices = [window_state_matrices(bicycle, model, bicycle.model_speed(speeds[pieces.real]),
                                           window_steer_damping(bicycle, friction), accelerations)
                     for bicycle, model in zip(bicycles, models, strict=True)]
-        result = np.zeros((len(models), *self.targets.shape))
+        result: dict[int, tuple[list[int], NDArray[np.float64]]] = {}
         for states in sorted({matrix.shape[-1] for matrix in matrices}):
             members = [k for k, matrix in enumerate(matrices) if matrix.shape[-1] == states]
             stacked = np.stack([matrices[k] for k in members])  # (members, real pieces, n, n)
+            model_speeds = np.stack([bicycles[k].model_speed(speeds) for k in members])  # (members, W, P)
+            yaw = np.stack([np.broadcast_to(yaw_gains(bicycles[k]), (*speeds.shape, 2)) for k in members])
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-                design = self._changing_design(stacked, pieces)
-                residual = self._repeated(len(members))._least_squares(
-                    design.reshape(len(members) * windows, *design.shape[2:]))
-            result[members] = residual.reshape(len(members), *self.targets.shape)
+                result[states] = (members, self._changing_design(stacked, pieces, model_speeds, yaw))
         return result
 
     @cached_property
@@ -329,12 +367,14 @@ class SampleComparison:
         real = np.arange(count)[None, :] < -(-sizes // per_piece)[:, None]
         return _Pieces(starts, stops - starts, following - starts, grid - starts[:, :, None], real)
 
-    def _changing_design(self, matrices: NDArray[np.float64], pieces: _Pieces) -> NDArray[np.float64]:
-        """Return the design (models, W, k, L, n) of the responses to each initial state, over the pieces.
+    def _changing_design(self, matrices: NDArray[np.float64], pieces: _Pieces, speeds: NDArray[np.float64],
+                         yaw: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Return the design (models, W, k', L, n) of the responses to each initial state, over the pieces.
 
         ``matrices`` (models, R, n, n): the constant state matrix of each of the R pieces the
-        windows hold (:attr:`_Pieces.real`, in order). Each signal is divided by its noise; padded
-        bins are 0.
+        windows hold (:attr:`_Pieces.real`, in order); ``speeds`` (models, W, P) and ``yaw``
+        (models, W, P, 2): each piece's model speed [m/s] and yaw-rate gains (:meth:`_signal_rows`).
+        Each signal is divided by its noise; padded bins are 0.
         """
         models, states = matrices.shape[0], matrices.shape[-1]
         windows, count = pieces.real.shape
@@ -353,12 +393,12 @@ class SampleComparison:
         modal = inverse @ start  # each piece's modal amplitudes per unit initial state
         factors = self._bin_factors(np.moveaxis(values, 1, 0).reshape(windows, -1))
         factors = np.moveaxis(factors.reshape(windows, models, count, states), 0, 1)
-        rows = vectors[..., list(self.states), :] * factors[..., None, :]  # (M, W, P, k, n)
+        rows = self._signal_rows(vectors, speeds, yaw) * factors[..., None, :]  # (M, W, P, k', n)
         growth = np.exp(values[:, :, :, None, :] * pieces.offsets[None, :, :, :, None])  # (M, W, P, g, n)
         design = np.real(np.einsum("mwpkj,mwpgj,mwpjc->mwkpgc", rows, growth, modal))
         length = self.mask.shape[1]
-        design = design.reshape(models, windows, len(self.states), -1, states)[:, :, :, :length]
-        return design * self.mask[None, :, None, :, None] / self.noise[None, :, :, None, None]
+        design = design.reshape(models, windows, rows.shape[-2], -1, states)[:, :, :, :length]
+        return design * self.mask[None, :, None, :, None] / self._row_noise()[None, :, :, None, None]
 
     def _state_matrices(self, bicycle: Bicycle, model: LinearModel) -> NDArray[np.float64]:
         """Return the model's state matrix at each window's speed (W, n, n).
@@ -411,7 +451,8 @@ class SampleComparison:
                                 np.concatenate([self.mask] * copies), np.concatenate([self.targets] * copies),
                                 np.concatenate([self.noise] * copies), self.states, self.names, tile(self.bins),
                                 tile(self.steps), friction=tile(self.friction),
-                                accelerations=tile(self.accelerations), profiles=tile(self.profiles))
+                                accelerations=tile(self.accelerations), profiles=tile(self.profiles),
+                                instrument=self.instrument)
 
     def _bin_factors(self, values: NDArray[np.complex128]) -> NDArray[np.complex128]:
         """Return each mode's mean over a bin relative to its value at the bin's first sample (W, n).
@@ -426,25 +467,38 @@ class SampleComparison:
         terms = np.exp(values[:, None, :] * offsets[:, :, None]) * inside[:, :, None]
         return np.asarray(terms.sum(axis=1) / self.bins[:, None], dtype=complex)
 
-    def _window_residuals(self, values: NDArray[np.complex128], rows: NDArray[np.complex128]
-                          ) -> NDArray[np.float64]:
-        """Residuals (W, k, L) of the models' responses with eigenvalues (W, n) and signal rows (W, k, n).
+    def _modal_design(self, values: NDArray[np.complex128], rows: NDArray[np.complex128]) -> NDArray[np.float64]:
+        """Design (W, k', L, n) of the models' responses with eigenvalues (W, n) and signal rows (W, k', n).
 
         A complex pair's response ``Re(a v e^{lambda t})`` takes two real amplitudes: the real
         part of its upper member's column and the imaginary part of its lower member's (the
-        conjugate), so that every mode gives one real column, n in all. Each signal's offset is
-        taken out by centring the signal and every column on the window's mean.
+        conjugate), so that every mode gives one real column, n in all; in units of each row's noise.
         """
+        noise = self._row_noise()
         magnitude = np.maximum(np.abs(values), np.finfo(float).tiny)
         lower = values.imag < -REAL_MODE * magnitude
         # design[w, k, l, j] = first[w, k, j] Re(e^{lambda_j t_l}) + second[w, k, j] Im(e^{lambda_j t_l}).
-        first = np.where(lower[:, None, :], rows.imag, rows.real) / self.noise[:, :, None]
-        second = np.where(lower[:, None, :], rows.real, -rows.imag) / self.noise[:, :, None]
+        first = np.where(lower[:, None, :], rows.imag, rows.real) / noise[:, :, None]
+        second = np.where(lower[:, None, :], rows.real, -rows.imag) / noise[:, :, None]
         exponent = values[:, None, :] * self.tau[:, :, None]
         envelope = np.exp(exponent.real) * self.mask[:, :, None]
         cosine, sine = envelope * np.cos(exponent.imag), envelope * np.sin(exponent.imag)
-        design = first[:, :, None, :] * cosine[:, None, :, :] + second[:, :, None, :] * sine[:, None, :, :]
-        return self._least_squares(design)
+        return first[:, :, None, :] * cosine[:, None, :, :] + second[:, :, None, :] * sine[:, None, :, :]
+
+    def _fitted_residuals(self, design: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Residuals (M, W, k, L) of M models' designs (M, W, k', L, n), each at its instrument's errors if fitted."""
+        models, windows = design.shape[:2]
+        count = len(self.states)
+        if self._instrument_row() is None:
+            residual = self._repeated(models)._least_squares(design.reshape(models * windows, *design.shape[2:]))
+            return residual.reshape(models, windows, *residual.shape[1:])
+        return self._instrument_residuals(design[:, :, :count], design[:, :, count])
+
+    def _centred(self, design: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Return a design (..., W, k, L, n) centred on each window's mean (each signal's offset taken out)."""
+        sizes = self.mask.sum(axis=1)[:, None, None, None]
+        valid = self.mask[:, None, :, None]
+        return design - (design.sum(axis=-2, keepdims=True) / sizes) * valid
 
     def _least_squares(self, design: NDArray[np.float64]) -> NDArray[np.float64]:
         """Residuals (W, k, L) of the targets fitted by the columns of ``design`` (W, k, L, n) and offsets.
@@ -453,12 +507,8 @@ class SampleComparison:
         signal's offset is taken out by centring the signal and every column on the window's mean.
         """
         windows, count, length = self.targets.shape
-        sizes = self.mask.sum(axis=1)[:, None, None]
-        valid = self.mask[:, None, :]
-        design = design - (design.sum(axis=2, keepdims=True) / sizes[..., None]) * valid[..., None]
-        targets = self.targets - (self.targets.sum(axis=2, keepdims=True) / sizes) * valid
-        design = design.reshape(windows, count * length, -1)
-        targets = targets.reshape(windows, count * length)
+        design = self._centred(design).reshape(windows, count * length, -1)
+        targets = self._centred(self.targets[..., None])[..., 0].reshape(windows, count * length)
         finite = np.isfinite(design).all(axis=(1, 2))
         residual = np.full((windows, count * length), 1e3)
         if finite.any():
@@ -466,6 +516,20 @@ class SampleComparison:
             fitted = np.einsum("wsc,wc->ws", q, np.einsum("wsc,ws->wc", q, targets[finite]))
             residual[finite] = targets[finite] - fitted
         return residual.reshape(windows, count, length)
+
+    def _instrument_residuals(self, design: NDArray[np.float64], yaw: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Residuals (M, W, k, L) of M models, each with the roll gyro's errors it fits best.
+
+        ``design`` (M, W, k, L, n): the signals' responses; ``yaw`` (M, W, L, n): the yaw rate's,
+        in the roll rate's noise (:func:`~whipple.diagnosis.instrument.profiled_residuals`); 1e3 where it overflows.
+        """
+        assert self.instrument is not None and (row := self._instrument_row()) is not None
+        design, yaw = self._centred(design), self._centred(yaw[:, :, None])[:, :, 0]
+        finite = np.asarray(np.isfinite(design).all(axis=(2, 3, 4)) & np.isfinite(yaw).all(axis=(2, 3)), dtype=bool)
+        design, yaw = np.where(finite[..., None, None, None], design, 0.0), np.where(finite[..., None, None], yaw, 0.0)
+        residual = profiled_residuals(design, yaw, self._centred(self.targets[..., None])[..., 0], row, finite,
+                                      self.instrument)
+        return np.where(finite[..., None, None], residual, 1e3)
 
     def fitted(self, bicycle: Model, model: LinearModel | None = None) -> list[NDArray[np.float64]]:
         """Return each window's free response of a model fitted to its samples, (k, bins) in signal units."""

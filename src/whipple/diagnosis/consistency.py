@@ -23,7 +23,7 @@ from whipple.diagnosis.fitting import (
     robust_chi2,
     window_whitening,
 )
-from whipple.diagnosis.instrument import InstrumentErrors
+from whipple.diagnosis.instrument import INSTRUMENT_VALUES, InstrumentErrors
 from whipple.diagnosis.observations import Observation, speed_groups
 from whipple.errors import AnalysisError
 from whipple.model.fleet import Model
@@ -207,6 +207,9 @@ def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observ
     # this design effect, so the evidence is discounted by it.
     design_effect = max(1.0, shared / independent)
     speeds = [[observations[i].speed for i in half] for half in halves]
-    evidence = (one - fits[0].chi2 - fits[1].chi2) / (2.0 * design_effect) - 0.5 * k * np.log(n)
+    # Fitted apart, the halves free the instrument's values as well as the cause's (each half is
+    # compared at its own best roll gyro), and are charged for both.
+    freed = k + (INSTRUMENT_VALUES if whitening.samples is not None and whitening.samples.fits_instrument else 0)
+    evidence = (one - fits[0].chi2 - fits[1].chi2) / (2.0 * design_effect) - 0.5 * freed * np.log(n)
     return SpeedDependence(float((max(speeds[0]) + min(speeds[1])) / 2.0), fits[0].values, fits[1].values,
                            float(evidence), design_effect)

@@ -25,6 +25,9 @@ from numpy.typing import NDArray
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES
 
+#: Values the instrument's fit frees for each set of windows fitted apart: the scale and the misalignment.
+INSTRUMENT_VALUES = 2
+
 
 @dataclass(frozen=True)
 class InstrumentErrors:

@@ -296,6 +296,11 @@ class SampleComparison:
             return rows
         return np.concatenate([rows, yaw_row(vectors, speeds, yaw)[..., None, :]], axis=-2)
 
+    @property
+    def fits_instrument(self) -> bool:
+        """Whether the roll gyro's errors are fitted with every model (:mod:`whipple.diagnosis.instrument`)."""
+        return self._instrument_row() is not None
+
     def _instrument_row(self) -> int | None:
         """Return the roll rate's row whose instrument errors are fitted, None where they are not."""
         return None if self.instrument is None or "roll_rate" not in self.names else self.names.index("roll_rate")

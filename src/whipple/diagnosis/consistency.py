@@ -209,7 +209,8 @@ def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observ
     speeds = [[observations[i].speed for i in half] for half in halves]
     # Fitted apart, the halves free the instrument's values as well as the cause's (each half is
     # compared at its own best roll gyro), and are charged for both.
-    freed = k + (INSTRUMENT_VALUES if whitening.samples is not None and whitening.samples.fits_instrument else 0)
+    fitted_instrument = whitening.samples is not None and whitening.samples.instrument_row() is not None
+    freed = k + (INSTRUMENT_VALUES if fitted_instrument else 0)
     evidence = (one - fits[0].chi2 - fits[1].chi2) / (2.0 * design_effect) - 0.5 * freed * np.log(n)
     return SpeedDependence(float((max(speeds[0]) + min(speeds[1])) / 2.0), fits[0].values, fits[1].values,
                            float(evidence), design_effect)

@@ -292,22 +292,17 @@ class SampleComparison:
         ``speeds`` (...) [m/s] and ``yaw`` (..., 2): :func:`~whipple.diagnosis.instrument.yaw_row`'s.
         """
         rows = vectors[..., list(self.states), :]
-        if self._instrument_row() is None:
+        if self.instrument_row() is None:
             return rows
         return np.concatenate([rows, yaw_row(vectors, speeds, yaw)[..., None, :]], axis=-2)
 
-    @property
-    def fits_instrument(self) -> bool:
-        """Whether the roll gyro's errors are fitted with every model (:mod:`whipple.diagnosis.instrument`)."""
-        return self._instrument_row() is not None
-
-    def _instrument_row(self) -> int | None:
+    def instrument_row(self) -> int | None:
         """Return the roll rate's row whose instrument errors are fitted, None where they are not."""
         return None if self.instrument is None or "roll_rate" not in self.names else self.names.index("roll_rate")
 
     def _row_noise(self) -> NDArray[np.float64]:
         """Return each design row's noise (W, k'): the signals', then the roll rate's for the yaw rate's row."""
-        row = self._instrument_row()
+        row = self.instrument_row()
         return self.noise if row is None else np.concatenate([self.noise, self.noise[:, row, None]], axis=1)
 
     def _changing_designs(self, bicycles: Sequence[Bicycle], models: Sequence[LinearModel]
@@ -494,7 +489,7 @@ class SampleComparison:
         """Residuals (M, W, k, L) of M models' designs (M, W, k', L, n), each at its instrument's errors if fitted."""
         models, windows = design.shape[:2]
         count = len(self.states)
-        if self._instrument_row() is None:
+        if self.instrument_row() is None:
             residual = self._repeated(models)._least_squares(design.reshape(models * windows, *design.shape[2:]))
             return residual.reshape(models, windows, *residual.shape[1:])
         return self._instrument_residuals(design[:, :, :count], design[:, :, count])
@@ -528,7 +523,7 @@ class SampleComparison:
         ``design`` (M, W, k, L, n): the signals' responses; ``yaw`` (M, W, L, n): the yaw rate's,
         in the roll rate's noise (:func:`~whipple.diagnosis.instrument.profiled_residuals`); 1e3 where it overflows.
         """
-        assert self.instrument is not None and (row := self._instrument_row()) is not None
+        assert self.instrument is not None and (row := self.instrument_row()) is not None
         design, yaw = self._centred(design), self._centred(yaw[:, :, None])[:, :, 0]
         finite = np.asarray(np.isfinite(design).all(axis=(2, 3, 4)) & np.isfinite(yaw).all(axis=(2, 3)), dtype=bool)
         design, yaw = np.where(finite[..., None, None, None], design, 0.0), np.where(finite[..., None, None], yaw, 0.0)

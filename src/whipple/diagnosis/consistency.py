@@ -178,7 +178,8 @@ def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observ
     trading the low speeds against the high ones. The speed groups are split in two halves, the
     cause refitted to each from ``values`` (its fit to all windows; a local refit, so the
     evidence is never overstated), and the chi-squares compared at the diagnosis' dispersions
-    ``scales``, charged for the k extra values like any cause (see the module's evidence);
+    ``scales``, charged for the k extra values like any cause (see the module's evidence), and
+    for the instrument's values where they are fitted (each half has its own);
     ``comparison`` and ``instrument`` as in :func:`jackknife_std`.
     None where a half has fewer windows than values, or a refit fails.
     """

@@ -69,10 +69,9 @@ def jackknife_std(bicycle: Model, cause: Cause, observations: Sequence[Observati
     most of a diagnosis. ``instrument``: the roll gyro's errors fitted with every model compared
     with the samples (:mod:`whipple.diagnosis.instrument`; None: not).
     """
-    groups = speed_groups(observations)
-    if len(groups) < 3:
+    if len(speed_groups(observations)) < 3:
         return np.zeros(len(values))
-    kept = [group for group in groups if len(observations) - len(group) >= 2]
+    kept = left_out_groups(observations)
     if comparison == "samples":
         estimates = gauss_newton_refits(bicycle, cause, observations, values, kept, scales, instrument)
     else:
@@ -82,6 +81,11 @@ def jackknife_std(bicycle: Model, cause: Cause, observations: Sequence[Observati
     estimates_array = np.array(estimates)
     g = len(estimates_array)
     return np.asarray(np.sqrt((g - 1) / g * np.sum((estimates_array - estimates_array.mean(axis=0)) ** 2, axis=0)))
+
+
+def left_out_groups(observations: Sequence[Observation]) -> list[list[int]]:
+    """Return the speed groups (indices) that can be left out in turn: each leaves at least 2 windows."""
+    return [group for group in speed_groups(observations) if len(observations) - len(group) >= 2]
 
 
 def without(observations: Sequence[Observation], group: Sequence[int]) -> list[Observation]:

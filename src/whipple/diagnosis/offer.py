@@ -27,10 +27,10 @@ import numpy as np
 
 from whipple.diagnosis.admissible import Offer, form_of, inconsistencies, offer_of
 from whipple.diagnosis.causes import Cause, with_cause
-from whipple.diagnosis.consistency import gauss_newton_refits, refits_without
+from whipple.diagnosis.consistency import gauss_newton_refits, left_out_groups, refits_without
 from whipple.diagnosis.evidence import Diagnosis
 from whipple.diagnosis.fitting import CauseFit
-from whipple.diagnosis.observations import predicted_weave, speed_groups
+from whipple.diagnosis.observations import predicted_weave
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.model.fleet import Model
 
@@ -64,13 +64,13 @@ def offer(bicycle: Model, diagnosis: Diagnosis, causes: Sequence[Cause], options
         consistent candidate that best predicts each speed left out in turn, or the base model.
     """
     evidence_offer = offer_of(bicycle, diagnosis, causes, options.verdict.named_threshold)
-    if not _by_prediction(diagnosis, options):
+    observations = diagnosis.observations
+    groups = left_out_groups(observations) if observations else []
+    if not _by_prediction(diagnosis, options, groups):
         return evidence_offer
     shortlist, rejected = _shortlist(bicycle, diagnosis, causes, options)
     if not shortlist:
         return evidence_offer
-    observations = diagnosis.observations
-    groups = [g for g in speed_groups(observations) if len(observations) - len(g) >= 2]
     measured = np.array([o.eigenvalue for o in observations], dtype=complex)
     held = np.concatenate(groups)
     base_rms = _rms(measured[held] - predicted_weave(bicycle, [observations[i] for i in held]))
@@ -85,7 +85,7 @@ def offer(bicycle: Model, diagnosis: Diagnosis, causes: Sequence[Cause], options
     return Offer(cause, fit, rejected, "prediction", predictions)
 
 
-def _by_prediction(diagnosis: Diagnosis, options: DiagnosisOptions) -> bool:
+def _by_prediction(diagnosis: Diagnosis, options: DiagnosisOptions, groups: Sequence[Sequence[int]]) -> bool:
     """Whether the offer is chosen by prediction: no candidate explains the data, and speeds enough to leave out."""
     if options.prediction_shortlist < 1 or diagnosis.verdict == "none" or diagnosis.best is None:
         return False
@@ -93,8 +93,6 @@ def _by_prediction(diagnosis: Diagnosis, options: DiagnosisOptions) -> bool:
         return False  # a fitting function's bias would have to be refitted with each speed left out
     if max(diagnosis.typical_scales) <= options.verdict.high_dispersion:
         return False
-    observations = diagnosis.observations
-    groups = [g for g in speed_groups(observations) if len(observations) - len(g) >= 2] if observations else []
     return len(groups) >= MIN_SPEED_GROUPS
 
 

@@ -30,6 +30,7 @@ from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.consistency import gauss_newton_refits, left_out_groups, refits_without
 from whipple.diagnosis.evidence import Diagnosis
 from whipple.diagnosis.fitting import CauseFit
+from whipple.diagnosis.instrument import InstrumentErrors
 from whipple.diagnosis.observations import predicted_weave
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.model.fleet import Model
@@ -74,7 +75,7 @@ def offer(bicycle: Model, diagnosis: Diagnosis, causes: Sequence[Cause], options
     measured = np.array([o.eigenvalue for o in observations], dtype=complex)
     held = np.concatenate(groups)
     base_rms = _rms(measured[held] - predicted_weave(bicycle, [observations[i] for i in held]))
-    scores = [(prediction_rms(bicycle, cause, fit, diagnosis, groups), len(cause.parameters), k)
+    scores = [(prediction_rms(bicycle, cause, fit, diagnosis, groups, options.instrument), len(cause.parameters), k)
               for k, (cause, fit) in enumerate(shortlist)]
     predictions = (("none", base_rms), *((fit.cause, score[0]) for (_, fit), score in zip(shortlist, scores,
                                                                                           strict=True)))
@@ -116,7 +117,7 @@ def _shortlist(bicycle: Model, diagnosis: Diagnosis, causes: Sequence[Cause], op
 
 
 def prediction_rms(bicycle: Model, cause: Cause, fit: CauseFit, diagnosis: Diagnosis,
-                   groups: Sequence[Sequence[int]]) -> float:
+                   groups: Sequence[Sequence[int]], instrument: InstrumentErrors | None = None) -> float:
     """Return a candidate's RMS weave-eigenvalue error [1/s] on each group of windows left out in turn.
 
     Parameters
@@ -132,6 +133,9 @@ def prediction_rms(bicycle: Model, cause: Cause, fit: CauseFit, diagnosis: Diagn
     groups : sequence of sequence of int
         The groups of windows (indices into ``diagnosis.observations``) left out in turn, each
         leaving at least two.
+    instrument : InstrumentErrors or None
+        The roll gyro's errors fitted with the refits as with the diagnosis' own fits
+        (``DiagnosisOptions.instrument``; None: the signals taken as read).
 
     Returns
     -------
@@ -142,9 +146,10 @@ def prediction_rms(bicycle: Model, cause: Cause, fit: CauseFit, diagnosis: Diagn
     observations = diagnosis.observations
     scales = (diagnosis.scale, diagnosis.shape_scale)
     if diagnosis.comparison == "samples":
-        refits = gauss_newton_refits(bicycle, cause, observations, fit.values, groups, scales)
+        refits = gauss_newton_refits(bicycle, cause, observations, fit.values, groups, scales, instrument)
     else:
-        refits = refits_without(bicycle, cause, observations, fit.values, groups, scales, diagnosis.comparison)
+        refits = refits_without(bicycle, cause, observations, fit.values, groups, scales, diagnosis.comparison,
+                                instrument)
     errors = []
     for group, values in zip(groups, refits, strict=True):
         held = [observations[i] for i in group]

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from whipple.diagnosis.observations import Observation, observations, predicted_weave, speed_groups
 from whipple.diagnosis.samples import SampleComparison
@@ -93,8 +93,9 @@ class Score:
                 "samples": self.samples}
 
 
-def _rms(values: NDArray[np.float64]) -> float:
-    return float(np.sqrt(np.mean(np.square(values))))
+def rms(values: ArrayLike) -> float:
+    """Return the root mean square of `values` (real or complex: of their magnitudes), in their units."""
+    return float(np.sqrt(np.mean(np.abs(np.asarray(values)) ** 2)))
 
 
 def score_windows(model: Model, windows: Sequence[Observation], samples: bool | SampleComparison | None = True
@@ -122,7 +123,7 @@ def score_windows(model: Model, windows: Sequence[Observation], samples: bool | 
     comparison = SampleComparison.of(windows, bicycle=model) if samples is True else samples or None
     chi2 = None if comparison is None else comparison.chi2_per_sample(model)
     speeds = [o.speed for o in windows]
-    return Score(float(np.mean(speeds)), (float(min(speeds)), float(max(speeds))), len(windows), _rms(errors),
+    return Score(float(np.mean(speeds)), (float(min(speeds)), float(max(speeds))), len(windows), rms(errors),
                  float(np.median(errors)), chi2, 0 if comparison is None else comparison.samples, errors, predicted)
 
 
@@ -141,7 +142,7 @@ def pooled(scores: Sequence[Score]) -> Score:
     weighted = [s.chi2_per_sample * s.samples for s in scores if s.chi2_per_sample is not None]
     if len(weighted) == len(scores) and count:
         chi2 = float(sum(weighted) / count)
-    return Score(speed, (low, high), windows, _rms(errors), float(np.median(errors)), chi2,
+    return Score(speed, (low, high), windows, rms(errors), float(np.median(errors)), chi2,
                  count if chi2 is not None else 0, errors, np.concatenate([s.predicted for s in scores]))
 
 

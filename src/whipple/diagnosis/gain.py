@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.consistency import refits_without, without
-from whipple.diagnosis.evaluation import Score, pooled, score_windows
+from whipple.diagnosis.evaluation import Score, pooled, rms, score_windows
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.families import cause_pairs, general_forms
 from whipple.diagnosis.fitting import fit_cause, pinned_values
@@ -126,10 +126,6 @@ class Gain:
         return [speed for speed in self.speeds if not speed.helps]
 
 
-def _rms(values: NDArray[np.float64]) -> float:
-    return float(np.sqrt(np.mean(np.square(values))))
-
-
 def _fold_model(bicycle: Model, training: Sequence[Observation], causes: Sequence[Cause] | None,
                 fixed: Cause | None, choose: str = "evidence", options: DiagnosisOptions | None = None
                 ) -> tuple[Model, str, str, tuple[float, ...]]:
@@ -168,7 +164,7 @@ def _predictive_choice(bicycle: Model, training: Sequence[Observation], causes: 
     measured = np.array([o.eigenvalue for o in training])
     # The base model on the same windows as the candidates: those of the groups left out.
     predicted = np.concatenate(groups)
-    base_rms = _rms(np.abs(measured[predicted] - predicted_weave(bicycle, [training[i] for i in predicted])))
+    base_rms = rms(np.abs(measured[predicted] - predicted_weave(bicycle, [training[i] for i in predicted])))
     best: tuple[float, int, Cause, tuple[float, ...]] | None = None
     for cause in causes:
         values = fit_cause(bicycle, cause, training).values
@@ -176,7 +172,7 @@ def _predictive_choice(bicycle: Model, training: Sequence[Observation], causes: 
                                                            [training[i] for i in group]))
                   for group, inner in zip(groups, refits_without(bicycle, cause, training, values, groups),
                                           strict=True)]
-        score = (_rms(np.concatenate(errors)), len(cause.parameters), cause, values)
+        score = (rms(np.concatenate(errors)), len(cause.parameters), cause, values)
         if best is None or score[:2] < best[:2]:
             best = score
     if best is None or best[0] >= base_rms:

@@ -28,6 +28,7 @@ import numpy as np
 from whipple.diagnosis.admissible import Offer, form_of, inconsistencies, offer_of
 from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.consistency import gauss_newton_refits, left_out_groups, refits_without
+from whipple.diagnosis.evaluation import rms
 from whipple.diagnosis.evidence import Diagnosis
 from whipple.diagnosis.fitting import CauseFit
 from whipple.diagnosis.instrument import InstrumentErrors
@@ -74,7 +75,7 @@ def offer(bicycle: Model, diagnosis: Diagnosis, causes: Sequence[Cause], options
         return evidence_offer
     measured = np.array([o.eigenvalue for o in observations], dtype=complex)
     held = np.concatenate(groups)
-    base_rms = _rms(measured[held] - predicted_weave(bicycle, [observations[i] for i in held]))
+    base_rms = rms(measured[held] - predicted_weave(bicycle, [observations[i] for i in held]))
     scores = [(prediction_rms(bicycle, cause, fit, diagnosis, groups, options.instrument), len(cause.parameters), k)
               for k, (cause, fit) in enumerate(shortlist)]
     predictions = (("none", base_rms), *((fit.cause, score[0]) for (_, fit), score in zip(shortlist, scores,
@@ -155,8 +156,4 @@ def prediction_rms(bicycle: Model, cause: Cause, fit: CauseFit, diagnosis: Diagn
         held = [observations[i] for i in group]
         measured = np.array([o.eigenvalue for o in held], dtype=complex)
         errors.append(np.abs(measured - predicted_weave(with_cause(bicycle, cause, values), held)))
-    return _rms(np.concatenate(errors))
-
-
-def _rms(values: np.ndarray) -> float:
-    return float(np.sqrt(np.mean(np.abs(values) ** 2)))
+    return rms(np.concatenate(errors))

@@ -17,7 +17,7 @@ from typing import Any, overload
 import numpy as np
 
 from whipple.errors import InputError
-from whipple.measurement.catches import LOOK_PAST, catch_onset
+from whipple.measurement.catches import DRIFT_DEGREE, LOOK_PAST, catch_onset
 from whipple.measurement.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
 from whipple.measurement.runs import Run
 from whipple.measurement.speedometer import SpeedRange, speed_regression
@@ -413,7 +413,8 @@ def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,
     past_time, past = _past_end(run, first + time.size, fit, options.signals)
     time, measured = np.r_[time, past_time], np.hstack([measured, past])
     for _ in range(options.catch_passes):
-        onset = catch_onset(time, measured - fit.curve(time), after=past_time.size)
+        degree = max(DRIFT_DEGREE, BASELINES[fit.baseline])
+        onset = catch_onset(time, measured - fit.curve(time), after=past_time.size, terms=fit.terms(time, degree))
         if onset is None or onset == kept:
             break
         kept = onset

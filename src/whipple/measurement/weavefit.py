@@ -148,6 +148,18 @@ class WeaveFit:
         basis = _basis(tau.ravel(), self.damping, self.frequency, self.coefficients.shape[1] - 3)
         return (basis @ self.coefficients.T).T.reshape((-1,) + tau.shape)
 
+    def terms(self, time: ArrayLike, degree: int | None = None) -> NDArray[np.float64]:
+        """Return the fitted function's terms at `time` [s] (its eigenvalue fixed), shape (n, degree + 3).
+
+        The powers of the time from `start` up to `degree` (default: the fit's baseline), then
+        the damped cosine and sine; the fitted curves are these terms times `coefficients`
+        (for the fit's own degree). Other coefficients of the same terms are other free
+        motions of the same eigenvalue, with another baseline for a larger `degree`.
+        """
+        degree = self.coefficients.shape[1] - 3 if degree is None else degree
+        tau = np.asarray(time, dtype=float).ravel() - self.start
+        return _basis(tau, self.damping, self.frequency, degree)
+
 
 def fit_weave(
     time: ArrayLike,

@@ -90,8 +90,27 @@ def bundled_figures() -> None:
           f"+/- ({fit.eigenvalue_std[0]:.3f}, {fit.eigenvalue_std[1]:.3f}), R^2 "
           f"{fit.r_squared:.3f}, speed {speed.start_speed:.3f} -> {speed.stop_speed:.3f} m/s")
 
-    # The table is measured as `whipple fit --bundled --bicycle sbw2024` measures (roll rate and
-    # steer angle jointly, the quality checks): the one measurement of fit and diagnose.
+    speeds, fits = run_table(runs, reference, bicycle)
+    runs_on = [read_run(entry) for entry in bundled_runs("model-matching-on")]
+    run_table(runs_on, read_windows(bundled_reference_windows(), runs_on), load_bicycle("sbw2024-mm"))
+
+    result = eigen_analysis(model, np.linspace(0.0, 10.0, 1001))
+    critical = critical_speeds(model, 0.0, 10.0)
+    save(plot_measured_eigenvalues(speeds, fits, result, critical,
+                                   title="bundled treadmill runs and the sbw2024 model"),
+         "runs_eigenvalues.png")
+    print(f"runs_eigenvalues: {len(fits)} windows; model weave speed {critical.weave_speed:.3f} "
+          f"m/s, capsize speed {critical.capsize_speed:.3f} m/s")
+    windows_figure(runs, searches, reference)
+
+
+def run_table(runs, reference, bicycle) -> tuple[list, list]:
+    """Print each run's windows against the reference ones; return the usable windows' speeds and fits.
+
+    Measured as `whipple fit --bundled --bicycle ...` measures (roll rate and steer angle
+    jointly, the quality checks): the one measurement of fit and diagnose.
+    """
+    model = linear_model(bicycle)
     measured = measure_runs(runs, bicycle=bicycle)
     on_reference = measure_runs(runs, windows=reference, bicycle=bicycle)
     print(f"\nrun ({measured.describe()}): reference windows matched / reference, windows found "
@@ -118,15 +137,7 @@ def bundled_figures() -> None:
               f"reference windows {np.median(reference_values.real):+.2f}"
               f"{np.median(reference_values.imag):+.2f}i, model {predicted.real:+.2f}"
               f"{predicted.imag:+.2f}i")
-
-    result = eigen_analysis(model, np.linspace(0.0, 10.0, 1001))
-    critical = critical_speeds(model, 0.0, 10.0)
-    save(plot_measured_eigenvalues(speeds, fits, result, critical,
-                                   title="bundled treadmill runs and the sbw2024 model"),
-         "runs_eigenvalues.png")
-    print(f"runs_eigenvalues: {len(fits)} windows; model weave speed {critical.weave_speed:.3f} "
-          f"m/s, capsize speed {critical.capsize_speed:.3f} m/s")
-    windows_figure(runs, searches, reference)
+    return speeds, fits
 
 
 def windows_figure(runs, searches, reference) -> None:

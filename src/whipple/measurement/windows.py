@@ -136,6 +136,9 @@ class WindowSearch:
         Median swing of the low-passed roll rate [rad/s].
     frequency : float
         Dominant frequency of the roll rate [Hz].
+    stills : tuple of int
+        Sample indices where the roll rate comes to rest (the first sample of each still
+        stretch, whether or not it moves again before the record ends), increasing.
     """
 
     run: str
@@ -144,6 +147,7 @@ class WindowSearch:
     noise: float
     background: float
     frequency: float
+    stills: tuple[int, ...] = ()
 
 
 def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] | None = None) -> WindowSearch:
@@ -193,7 +197,7 @@ def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] |
         windows = [part for window in windows for part in _cut(run, window, gaps)]
         rejected = sorted(rejected + [_gap(run, a, b, usable) for a, b in gaps], key=lambda w: w.start)
     return WindowSearch(run.name, tuple(windows), tuple(rejected), swings.noise,
-                        swings.background, swings.frequency)
+                        swings.background, swings.frequency, tuple(int(i) for i in swings.stills))
 
 
 def _cut(run: Run, window: Window, gaps: list[tuple[int, int]]) -> list[Window]:

@@ -137,8 +137,7 @@ class WindowSearch:
     frequency : float
         Dominant frequency of the roll rate [Hz].
     stills : tuple of int
-        Sample indices where the roll rate comes to rest (the first sample of each still
-        stretch, whether or not it moves again before the record ends), increasing.
+        Where each still stretch of the roll rate begins, with or without a wake (sample indices).
     """
 
     run: str
@@ -313,9 +312,6 @@ class _Finder:
     def quick(self, j: int) -> bool:
         """Whether swing j is over in under half the record's half period."""
         return bool(self.durations[j] < 0.5 * self.half_period)
-
-    def forced(self, j: int) -> bool:
-        return self.ratio(j) > PUSH_RATIO and not self.sustained(j)
 
     def is_push(self, j: int) -> bool:
         """Whether a window starts after swing j (a push, or the rise of an unstable one)."""

@@ -72,6 +72,11 @@ DRIFT_DEGREE = 2
 #: Log-likelihood ratio of a free motion followed by a held, still bicycle against one free motion
 #: throughout that a hold needs (as for a catch's louder tail: chance gives a few units).
 HOLD_EVIDENCE = TAIL_EVIDENCE
+#: Root-mean-square departure, in the fit's residual RMS, of the free motion fitted up to a
+#: hand's catch from the held samples after it (over ``LOOK_PAST`` of a period) that a hold
+#: needs: the free motion would have swung on well above the noise. Fits that lack some of
+#: the bicycle's modes part from a free decay into the noise by up to 2.5 (simulated trials).
+HOLD_MARK = 4.0
 
 
 def robust_scale(values: NDArray[np.float64]) -> NDArray[np.float64]:

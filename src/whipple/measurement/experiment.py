@@ -17,7 +17,7 @@ from typing import Any, overload
 import numpy as np
 
 from whipple.errors import InputError
-from whipple.measurement.catches import DRIFT_DEGREE, HOLD_EVIDENCE, LOOK_PAST, catch_onset, hold_evidence
+from whipple.measurement.catches import DRIFT_DEGREE, HOLD_EVIDENCE, HOLD_MARK, LOOK_PAST, catch_onset, hold_evidence
 from whipple.measurement.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
 from whipple.measurement.runs import Run
 from whipple.measurement.speedometer import SpeedRange, speed_regression
@@ -408,21 +408,19 @@ def _before_hold(run: Run, window: Window, fitted: Window, fit: WeaveFit, option
                  stills: Sequence[int]) -> tuple[Window, WeaveFit] | None:
     """Return the window and its fit cut before a hand that holds the bicycle still; None if none does.
 
-    ``window`` is the window as found, ``fitted`` the part of it that ``fit`` fitted (after the
-    settle time). Where the roll rate comes to rest inside ``fitted`` (the first of `stills`,
-    still for at least :data:`~whipple.measurement.catches.LOOK_PAST` of a fitted period), the
-    free motion is fitted again to the samples before it alone. The bicycle is held there when
-    that free motion and a constant after it beat one free motion throughout by
-    :data:`~whipple.measurement.catches.HOLD_EVIDENCE`
-    (:func:`~whipple.measurement.catches.hold_evidence`) and the catch test, with the still
-    samples as those past the window's end, finds the hand's catch before the stillness
-    (:func:`_before_catch`): the window is cut there. The evidence alone is no
-    sufficient sign: where the fitted function lacks the bicycle's other modes, the two pieces
-    can beat one curve by more than chance even in a free decay into the noise, but there the
-    free motion and the samples part, if at all, only where the stillness begins. Under half a
-    period of free motion before the stillness is no free motion to tell a hold by: nothing
-    is done. A window that the catch leaves too short to fit is rejected (raises
-    :class:`NoOscillationError`, naming the hold).
+    ``window`` is the window as found, ``fitted`` the part of it that ``fit`` fitted. Where the
+    roll rate comes to rest inside ``fitted`` (the first of `stills`, still for ``LOOK_PAST`` of
+    a fitted period at least), the free motion is fitted again to the samples before it. It is
+    a hold when (1) that free motion and a constant after it beat one free motion throughout by
+    ``HOLD_EVIDENCE`` (:func:`~whipple.measurement.catches.hold_evidence`), (2) the catch test,
+    the still samples past the end, finds the catch inside (:func:`_before_catch`), and (3) the
+    free motion fitted up to the catch leaves the held samples after it (``LOOK_PAST`` of a
+    period) ``HOLD_MARK`` times its residual's RMS off or more (first signal): it would have
+    swung on. Then the window is cut at the catch; one the catch leaves too short to fit is
+    rejected (:class:`NoOscillationError`, naming the hold). (1) alone is not enough: where the
+    fitted function lacks some of the bicycle's modes, two pieces beat one curve by more than
+    chance in a free decay into the noise too. Under half a period of motion before the
+    stillness: nothing is done.
     """
     first = fitted.start_index if fitted.start_index >= 0 else int(np.searchsorted(run.time, fitted.start))
     n = fit.time.size
@@ -443,10 +441,8 @@ def _before_hold(run: Run, window: Window, fitted: Window, fit: WeaveFit, option
     if evidence < HOLD_EVIDENCE:
         return None
     held = float(run.time[first + kept])
-    # The hand takes hold before the roll rate is seen still (the stillness is read over half a
-    # period, and the hand's force builds up): the free motion before the stillness parts from
-    # the samples before it does, where the catch test finds the catch. A free motion that
-    # decays into the noise parts from its own continuation, if at all, only past its end.
+    # The hand takes hold before the roll rate is seen still (stillness is read over half a
+    # period): the catch test finds where the free motion and the samples part.
     note = (f"held still from {held:.2f} s (one free motion throughout misfits it: log-likelihood "
             f"ratio {min(evidence, 1e6):.0f})")
     cut = replace(window, stop=head_window.stop, stop_index=head_window.stop_index, notes=(*window.notes, note))
@@ -455,7 +451,14 @@ def _before_hold(run: Run, window: Window, fitted: Window, fit: WeaveFit, option
     except NoOscillationError as error:
         raise NoOscillationError(f"held still from {held:.2f} s, caught before it with too little free motion "
                                  f"to fit ({error.problem})") from error
-    return caught if caught[0].stop_index < cut.stop_index else None
+    window, fit = caught
+    if window.stop_index >= cut.stop_index:
+        return None
+    past_time, past = _past_end(run, window.stop_index, fit, options.signals[:1])
+    if past_time.size == 0:
+        return None
+    mark = float(np.sqrt(np.mean((fit.curve(past_time)[0] - past[0])**2))) / fit.rms_residual[0]
+    return (window, fit) if mark >= HOLD_MARK else None
 
 
 def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,

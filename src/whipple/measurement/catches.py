@@ -43,7 +43,10 @@ hold that no longer follows the samples. :func:`hold_evidence` weighs the two re
 a window: one free motion throughout, or a free motion up to where the roll rate comes to rest
 and a bicycle held still (a constant) from there. A free motion that decays into the noise
 fits both alike; a hold makes the single free motion misfit the samples before it, by far
-more than chance allows (:data:`HOLD_EVIDENCE`).
+more than chance allows (:data:`HOLD_EVIDENCE`). Where the fitted function lacks some of the
+bicycle's modes a free decay can do so too: a hold also needs the free motion fitted up to
+the catch to leave the held samples a swing off (:data:`HOLD_MARK`; see
+:func:`whipple.measurement.experiment.measure_window`).
 """
 
 from __future__ import annotations

@@ -33,7 +33,9 @@ Printed: per bicycle and procedure, coasts holding a cycle, those with a fitted 
 (and a usable one, passing the quality checks), windows fitted across a catch or a push, and
 the median and 90th percentile of the usable windows' eigenvalue error relative to the model's
 weave, |fitted - model| / |model|; the overall rate; and the rejected stretches' reasons of the
-coasts without a window.
+coasts without a window. The coasts shorter than a weave cycle are counted apart (not in the
+rates): a window starting in one can run on past its catch into the held bicycle, so those
+fitted across a catch, the usable ones among them and their eigenvalue errors are printed.
 
 Run: ``python benchmarks/bench_window_finder.py [--seeds 3] [--bicycles ...] [--procedures ...]``
 """
@@ -60,13 +62,17 @@ def main() -> None:
     parser.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS))
     args = parser.parse_args()
     total: Counter[str] = Counter()
+    short: Counter[str] = Counter()
+    short_errors: list[float] = []
     reasons: Counter[str] = Counter()
     marks: list[float] = []
     for name in args.bicycles:
         for procedure in args.procedures:
-            tally = procedure_tally(name, procedure, range(args.seeds), args.speeds)
+            tally = procedure_tally(name, procedure, range(args.seeds), args.speeds, short=True)
             count, growing = tally.count, tally.growing
             total.update(count)
+            short.update(tally.short)
+            short_errors.extend(tally.short_errors)
             marks.extend(tally.marks)
             reasons.update(_short(why) for why in tally.reasons)
             print(f"{name:13s} {procedure:6s} coasts {count['coasts']:4d}  fitted {count['fitted']:4d} "
@@ -74,11 +80,19 @@ def main() -> None:
                   f"across a catch {count['across_catch']} ({count['usable_across_catch']} usable)  "
                   f"across a push {count['across_push']}  "
                   f"error {_percentiles(tally.errors)}  "
-                  f"| growing weave: {growing['coasts']} coasts, {growing['fitted']} fitted", flush=True)
+                  f"| growing weave: {growing['coasts']} coasts, {growing['fitted']} fitted "
+                  f"| under a cycle: {tally.short['coasts']} coasts, {tally.short['usable']} usable, "
+                  f"across a catch {tally.short['across_catch']} ({tally.short['usable_across_catch']} usable, "
+                  f"error {_percentiles(tally.short_errors)})", flush=True)
     print(f"\nall: {total['coasts']} coasts holding a weave cycle, {total['fitted']} with a fitted window "
           f"({_rate(total, 'fitted')}), {total['usable']} usable ({_rate(total, 'usable')}); "
           f"fitted across a catch: {total['across_catch']} ({total['usable_across_catch']} of them usable), "
           f"across a push: {total['across_push']}")
+    print(f"coasts shorter than a weave cycle (not in the rates): {short['coasts']}, {short['fitted']} with a "
+          f"fitted window, {short['usable']} usable; fitted across a catch: {short['across_catch']} "
+          f"({short['usable_across_catch']} of them usable"
+          + (f"; their eigenvalue errors {', '.join(f'{100 * e:.0f}%' for e in sorted(short_errors))})"
+             if short_errors else ")"))
     if marks:
         print(f"the hand's mark on the windows fitted across a catch (noise standard deviations): "
               f"{', '.join(f'{m:.2f}' for m in sorted(marks))}; {sum(m >= 1 for m in marks)} of them at 1 or more")

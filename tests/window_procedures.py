@@ -88,19 +88,30 @@ def pieces(simulated: SimulatedRun, procedure: str, seed: int) -> list[Simulated
 
 def coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict]:
     """Measure a run; one record per coast holding a weave cycle (`eigenvalue`: the model's weave [1/s])."""
+    return [record for record in all_coasts(simulated, eigenvalue, model) if not record["short"]]
+
+
+def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict]:
+    """As :func:`coasts`, for every coast; ``short`` marks those shorter than a weave cycle.
+
+    The windows of a coast shorter than a cycle can run on past the catch into the held
+    bicycle; such coasts are not counted in the rates.
+    """
     frequency, fs = eigenvalue.imag, simulated.sample_rate
+
+    def is_short(start: float, stop: float) -> bool:
+        return bool((stop - start) * frequency < 2 * np.pi)
+
     try:
         measured = measure_run(run_from_simulation(simulated))
     except InputError as error:
         return [{"fitted": False, "usable": False, "across_catch": 0, "usable_across_catch": 0, "across_push": 0,
                  "hand_mark": [],
-                 "errors": [], "why": [str(error)]}
-                for start, stop in simulated.segments if (stop - start) * frequency >= 2 * np.pi]
+                 "errors": [], "errors_across_catch": [], "why": [str(error)], "short": is_short(start, stop)}
+                for start, stop in simulated.segments]
     records = []
     caught = set(simulated.catches)
     for start, stop in simulated.segments:
-        if (stop - start) * frequency < 2 * np.pi:
-            continue
         inside = [m for m in measured if m.fit is not None and start - 0.5 / fs <= m.fit.start < stop]
         # Coasts cut by the record's end have no catch to cross.
         ends_in_catch = any(abs(stop - t) < 1e-6 for t in caught)
@@ -109,6 +120,7 @@ def coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict]:
                and m.window.stop > start]
         across = [m for m in inside if ends_in_catch and m.fit.stop > stop + 1.01 / fs]
         records.append({
+            "short": is_short(start, stop),
             "fitted": bool(inside),
             "usable": any(m.usable for m in inside),
             "across_catch": len(across),
@@ -117,6 +129,8 @@ def coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict]:
             "across_push": sum(pushed and m.fit.start < start - 0.5 / fs for m in inside),
             "errors": [abs(complex(m.fit.damping, m.fit.frequency) - eigenvalue) / abs(eigenvalue)
                        for m in inside if m.usable],
+            "errors_across_catch": [abs(complex(m.fit.damping, m.fit.frequency) - eigenvalue) / abs(eigenvalue)
+                                    for m in across if m.usable],
             "why": why if not inside else [],
         })
     return records
@@ -145,7 +159,9 @@ class Tally:
     ``usable_across_catch``) or a push (``across_push``); ``growing``: the same for
     the coasts of a growing weave; ``errors``: the usable windows' |fitted - model| / |model|;
     ``marks``: the hand's mark on each window fitted across a catch [noise std]; ``reasons``:
-    the rejected stretches' reasons of the coasts without a window.
+    the rejected stretches' reasons of the coasts without a window. ``short``: the same counts
+    for the coasts shorter than a weave cycle (not in the rates), and ``short_errors`` the
+    eigenvalue errors of their usable windows fitted across a catch.
     """
 
     count: Counter[str] = field(default_factory=Counter)
@@ -153,10 +169,16 @@ class Tally:
     errors: list[float] = field(default_factory=list)
     marks: list[float] = field(default_factory=list)
     reasons: list[str] = field(default_factory=list)
+    short: Counter[str] = field(default_factory=Counter)
+    short_errors: list[float] = field(default_factory=list)
 
 
-def procedure_tally(name: str, procedure: str, seeds: Iterable[int], speeds: Iterable[float] = SPEEDS) -> Tally:
-    """Simulate and measure the runs of bicycle `name` (a key of BICYCLES) by `procedure`."""
+def procedure_tally(name: str, procedure: str, seeds: Iterable[int], speeds: Iterable[float] = SPEEDS,
+                    short: bool = False) -> Tally:
+    """Simulate and measure the runs of bicycle `name` (a key of BICYCLES) by `procedure`.
+
+    `short`: count the coasts shorter than a weave cycle too (``Tally.short``).
+    """
     bicycle = load_bicycle(BICYCLES[name])
     model = linear_model(bicycle)
     tally = Tally()
@@ -168,7 +190,15 @@ def procedure_tally(name: str, procedure: str, seeds: Iterable[int], speeds: Ite
         for seed in seeds:
             simulated = simulate_run(bicycle, scenario(procedure, speed, seed), model)
             for piece in pieces(simulated, procedure, seed):
-                for record in coasts(piece, eigenvalue, model):
+                records = all_coasts(piece, eigenvalue, model)
+                for record in (r for r in records if short and r["short"]):
+                    tally.short.update(Counter(coasts=1, fitted=int(record["fitted"]), usable=int(record["usable"]),
+                                               across_catch=record["across_catch"],
+                                               usable_across_catch=record["usable_across_catch"]))
+                    tally.short_errors.extend(record["errors_across_catch"])
+                for record in records:
+                    if record["short"]:
+                        continue
                     counted = Counter(coasts=1, fitted=record["fitted"], usable=record["usable"],
                                       across_catch=record["across_catch"], across_push=record["across_push"],
                                       usable_across_catch=record["usable_across_catch"])

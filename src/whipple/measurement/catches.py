@@ -33,6 +33,20 @@ free motion again, at the fitted eigenvalue and with a quadratic baseline that f
 drift (:data:`DRIFT_DEGREE`), to the samples before it alone, so that neither the drift nor
 the hand bends the curve the samples after it are compared with. A catch is cut where either
 look finds one inside the window, at the earlier.
+
+A hand that takes hold while the free motion still swings and then holds the bicycle still
+leaves no louder tail when the window runs on into the hold (the window finder ends a window
+at a still stretch only where it sees the bicycle move again, and a coast shorter than a weave
+cycle ends where its last swing does, well past the catch): the fit bends its damping to die
+out into the held stretch, and its residual there is at the noise. It is the fit before the
+hold that no longer follows the samples. :func:`hold_evidence` weighs the two readings of such
+a window: one free motion throughout, or a free motion up to where the roll rate comes to rest
+and a bicycle held still (a constant) from there. A free motion that decays into the noise
+fits both alike; a hold makes the single free motion misfit the samples before it, by far
+more than chance allows (:data:`HOLD_EVIDENCE`). Where the fitted function lacks some of the
+bicycle's modes a free decay can do so too: a hold also needs the free motion fitted up to
+the catch to leave the held samples a swing off (:data:`HOLD_MARK`; see
+:func:`whipple.measurement.experiment.measure_window`).
 """
 
 from __future__ import annotations
@@ -58,6 +72,14 @@ LOOK_PAST = 0.25
 #: Degree of the baseline of the free motion fitted before each possible catch in the second
 #: look (quadratic: the fit's baseline that follows the slow capsize mode).
 DRIFT_DEGREE = 2
+#: Log-likelihood ratio of a free motion followed by a held, still bicycle against one free motion
+#: throughout that a hold needs (as for a catch's louder tail: chance gives a few units).
+HOLD_EVIDENCE = TAIL_EVIDENCE
+#: Root-mean-square departure, in the fit's residual RMS, of the free motion fitted up to a
+#: hand's catch from the held samples after it (over ``LOOK_PAST`` of a period) that a hold
+#: needs: the free motion would have swung on well above the noise. Fits that lack some of
+#: the bicycle's modes part from a free decay into the noise by up to 2.5 (simulated trials).
+HOLD_MARK = 4.0
 
 
 def robust_scale(values: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -175,3 +197,36 @@ def _tail_start(cuts: NDArray[np.intp], head: NDArray[np.float64], tail: NDArray
     if evidence < TAIL_EVIDENCE or cuts[best] >= inside:
         return None
     return int(cuts[best])
+
+
+def hold_evidence(free: NDArray[np.float64], head: NDArray[np.float64], still: NDArray[np.float64]) -> float:
+    """Return the log-likelihood ratio of a window held still from some sample on against one free motion.
+
+    Parameters
+    ----------
+    free : ndarray, shape (k, n)
+        Residual of the free motion fitted to the whole window, for each of the k fitted signals
+        (signal units).
+    head : ndarray, shape (k, m)
+        Residual of the free motion fitted to the window's first m samples alone: those before
+        the roll rate comes to rest.
+    still : ndarray, shape (k, n - m)
+        The samples from there to the window's end (signal units): a held bicycle keeps each
+        signal at a constant.
+
+    Returns
+    -------
+    float
+        ``n / 2`` times the sum over the signals of the log of the whole fit's squared residual
+        over that of the free motion before the stillness and the constant after it (each
+        signal Gaussian with its own variance, profiled out). Near zero or below when the free
+        motion decays into the noise there; at least :data:`HOLD_EVIDENCE` for a hold. Infinite
+        when the second reading leaves no residual at all.
+    """
+    free, head, still = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (free, head, still))
+    whole = np.sum(free**2, axis=1)
+    split = np.sum(head**2, axis=1) + np.sum((still - still.mean(axis=1, keepdims=True))**2, axis=1)
+    if not np.all(split > 0):
+        return np.inf
+    with np.errstate(divide="ignore"):
+        return float(0.5 * free.shape[1] * np.sum(np.log(whole / split)))

@@ -17,7 +17,7 @@ from typing import Any, overload
 import numpy as np
 
 from whipple.errors import InputError
-from whipple.measurement.catches import DRIFT_DEGREE, LOOK_PAST, catch_onset
+from whipple.measurement.catches import DRIFT_DEGREE, HOLD_EVIDENCE, HOLD_MARK, LOOK_PAST, catch_onset, hold_evidence
 from whipple.measurement.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
 from whipple.measurement.runs import Run
 from whipple.measurement.speedometer import SpeedRange, speed_regression
@@ -321,7 +321,7 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None, options: FitO
     search = find_windows(run, valid=valid)
     from_file = windows is not None
     chosen = [w for w in windows if w.run == run.name] if windows is not None else list(search.windows)
-    measured = [measure_window(run, window, options, speed) for window in chosen]
+    measured = [measure_window(run, window, options, speed, search.stills) for window in chosen]
     if not from_file:
         measured += [_rejected(run, window, window.reason.removeprefix("rejected: "), speed)
                      for window in search.rejected]
@@ -335,7 +335,7 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None, options: FitO
 
 
 def measure_window(run: Run, window: Window, options: FitOptions | None = None,
-                   speed: np.ndarray | None = None) -> WindowMeasurement:
+                   speed: np.ndarray | None = None, stills: Sequence[int] = ()) -> WindowMeasurement:
     """Fit the weave in one window of a run; a failure is a rejected window with the reason.
 
     Parameters
@@ -348,6 +348,12 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
         How to fit (default :class:`FitOptions`).
     speed : ndarray, optional
         The run's speed at every sample [m/s] (default ``run.speed()``), to save recomputing it.
+    stills : sequence of int
+        Sample indices where the roll rate comes to rest
+        (:attr:`~whipple.measurement.windows.WindowSearch.stills`). A window that runs on past
+        the first of them inside it is cut there when the bicycle is held still from there
+        (:func:`~whipple.measurement.catches.hold_evidence`), or rejected when too little free
+        motion comes before it; none given: no such test.
     """
     options = options or FitOptions()
     first, last = float(run.time[0]), float(run.time[-1])
@@ -375,7 +381,8 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
     try:
         fitted = _settled(run, window, options.settle)
         fit = _fit(run, fitted, options)
-        window, fit = _before_catch(run, window, fitted, fit, options)
+        held = _before_hold(run, window, fitted, fit, options, stills)
+        window, fit = held if held is not None else _before_catch(run, window, fitted, fit, options)
     except InputError as error:
         return WindowMeasurement(run, window, None, speeds, error.problem)
     if window.stop < speeds.stop:
@@ -395,6 +402,63 @@ def _fit(run: Run, window: Window, options: FitOptions) -> WeaveFit:
     if options.baseline == "auto" and fit.cycles >= AUTO_QUADRATIC_CYCLES:
         fit = fit_window(run, window, options.signals, options.noise, "quadratic")
     return fit
+
+
+def _before_hold(run: Run, window: Window, fitted: Window, fit: WeaveFit, options: FitOptions,
+                 stills: Sequence[int]) -> tuple[Window, WeaveFit] | None:
+    """Return the window and its fit cut before a hand that holds the bicycle still; None if none does.
+
+    ``window`` is the window as found, ``fitted`` the part of it that ``fit`` fitted. Where the
+    roll rate comes to rest inside ``fitted`` (the first of `stills`, still for ``LOOK_PAST`` of
+    a fitted period at least), the free motion is fitted again to the samples before it. It is
+    a hold when (1) that free motion and a constant after it beat one free motion throughout by
+    ``HOLD_EVIDENCE`` (:func:`~whipple.measurement.catches.hold_evidence`), (2) the catch test,
+    the still samples past the end, finds the catch inside (:func:`_before_catch`), and (3) the
+    free motion fitted up to the catch leaves the held samples after it (``LOOK_PAST`` of a
+    period) ``HOLD_MARK`` times its residual's RMS off or more (first signal): it would have
+    swung on. Then the window is cut at the catch; one the catch leaves too short to fit is
+    rejected (:class:`NoOscillationError`, naming the hold). (1) alone is not enough: where the
+    fitted function lacks some of the bicycle's modes, two pieces beat one curve by more than
+    chance in a free decay into the noise too. Under half a period of motion before the
+    stillness: nothing is done.
+    """
+    first = fitted.start_index if fitted.start_index >= 0 else int(np.searchsorted(run.time, fitted.start))
+    n = fit.time.size
+    # The stillness must last a quarter of a fitted period, in which a held bicycle and the free
+    # motion it stopped part by the free motion's amplitude.
+    held_for = int(np.ceil(LOOK_PAST * 2 * np.pi / max(fit.frequency, 1e-9) * run.sample_rate))
+    inside = [int(s) - first for s in stills if first < s <= first + n - held_for]
+    if not inside:
+        return None
+    kept = inside[0]
+    head_window = replace(fitted, stop=float(run.time[first + kept - 1]), stop_index=first + kept)
+    try:
+        head_fit = _fit(run, head_window, options)
+    except NoOscillationError:
+        # Under half a period before the stillness: no free motion to tell a hold by.
+        return None
+    evidence = hold_evidence(fit.measured - fit.fitted, head_fit.measured - head_fit.fitted, fit.measured[:, kept:])
+    if evidence < HOLD_EVIDENCE:
+        return None
+    held = float(run.time[first + kept])
+    # The hand takes hold before the roll rate is seen still (stillness is read over half a
+    # period): the catch test finds where the free motion and the samples part.
+    note = (f"held still from {held:.2f} s (one free motion throughout misfits it: log-likelihood "
+            f"ratio {min(evidence, 1e6):.0f})")
+    cut = replace(window, stop=head_window.stop, stop_index=head_window.stop_index, notes=(*window.notes, note))
+    try:
+        caught = _before_catch(run, cut, head_window, head_fit, options)
+    except NoOscillationError as error:
+        raise NoOscillationError(f"held still from {held:.2f} s, caught before it with too little free motion "
+                                 f"to fit ({error.problem})") from error
+    window, fit = caught
+    if window.stop_index >= cut.stop_index:
+        return None
+    past_time, past = _past_end(run, window.stop_index, fit, options.signals[:1])
+    if past_time.size == 0:
+        return None
+    mark = float(np.sqrt(np.mean((fit.curve(past_time)[0] - past[0])**2))) / fit.rms_residual[0]
+    return (window, fit) if mark >= HOLD_MARK else None
 
 
 def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,

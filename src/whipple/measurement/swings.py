@@ -6,7 +6,8 @@ removes, and its extremes found by a zig-zag rule: an extreme counts once the si
 retreated from it by more than five noise standard deviations (of the low-passed signal).
 Where the signal stays still for half a period (the bicycle held, or at rest before a
 release), the moment it moves again also counts as an extreme, a "wake", so that no swing
-reaches back across a still stretch.
+reaches back across a still stretch. Where each still stretch begins is kept too, whether or
+not the signal moves again before the record ends.
 """
 
 from __future__ import annotations
@@ -32,6 +33,10 @@ class Swings:
         extremes[j + 1].
     rest : ndarray of int, shape (m,)
         For a wake, the sample at which the still stretch before it began; -1 otherwise.
+    stills : ndarray of int
+        The first sample of every still stretch, increasing: also of those the signal does
+        not wake from before the record ends, and of those whose wake merged with another's
+        (a stretch interrupted by a brief wobble).
     heights : ndarray, shape (m - 1,)
         Height of each swing (signal units).
     noise : float
@@ -51,6 +56,7 @@ class Swings:
     smooth: NDArray[np.float64]
     extremes: NDArray[np.intp]
     rest: NDArray[np.intp]
+    stills: NDArray[np.intp]
     heights: NDArray[np.float64]
     noise: float
     threshold: float
@@ -73,10 +79,10 @@ def swings_of(x: NDArray[np.float64], fs: float) -> Swings:
     scale = np.percentile(np.abs(smooth - np.median(smooth)), 99)
     threshold = max(5 * smooth_noise, 1e-2 * scale)
     half = max(3, int(0.5 * fs / frequency))
-    extremes, rest = _extremes(smooth, threshold, half)
+    extremes, rest, stills = _extremes(smooth, threshold, half)
     heights = np.abs(np.diff(smooth[extremes]))
     if heights.size == 0:
-        return Swings(smooth, extremes, rest, heights, float(noise), float(threshold),
+        return Swings(smooth, extremes, rest, stills, heights, float(noise), float(threshold),
                       float(threshold), float(2 * threshold), frequency, cutoff)
     # The background is the typical swing, weighted by time (a quiet record may have few, long
     # swings), unless the signal's range over half a period is lower a fifth of the time (a
@@ -89,7 +95,7 @@ def swings_of(x: NDArray[np.float64], fs: float) -> Swings:
     # A push stands out from the typical swing, or is at least a quarter of the record's large
     # swings (when the typical swing is the oscillation itself).
     loud = max(2 * threshold, min(2 * typical, 0.25 * np.percentile(heights, 95)))
-    return Swings(smooth, extremes, rest, heights, float(noise), float(threshold),
+    return Swings(smooth, extremes, rest, stills, heights, float(noise), float(threshold),
                   float(background), float(loud), frequency, cutoff)
 
 
@@ -105,7 +111,7 @@ def _dominant_frequency(x: NDArray[np.float64], fs: float) -> float:
 
 def _extremes(
     x: NDArray[np.float64], threshold: float, still: int
-) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]:
     """Return the indices of extremes, each confirmed by a retreat of more than `threshold`.
 
     Where the signal has stayed within twice the threshold for `still` samples (the bicycle
@@ -118,6 +124,8 @@ def _extremes(
         Sample indices, increasing.
     rest : ndarray of int
         For a wake, the sample at which the still stretch began; -1 for other extremes.
+    stills : ndarray of int
+        The sample at which each still stretch began, increasing (with or without a wake).
     """
     found = _zigzag(x, threshold)
     span = maximum_filter1d(x, still) - minimum_filter1d(x, still)
@@ -139,7 +147,7 @@ def _extremes(
     # A wake that falls on an extreme makes that extreme the wake.
     rest = np.full(extremes.size, -1, dtype=np.intp)
     rest[_nearest(extremes, wakes)] = began
-    return extremes, rest
+    return extremes, rest, sleeps.astype(np.intp)
 
 
 def _nearest(sorted_values: NDArray[np.intp], points: NDArray[np.intp]) -> NDArray[np.intp]:

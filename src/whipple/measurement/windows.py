@@ -136,6 +136,8 @@ class WindowSearch:
         Median swing of the low-passed roll rate [rad/s].
     frequency : float
         Dominant frequency of the roll rate [Hz].
+    stills : tuple of int
+        Where each still stretch of the roll rate begins, with or without a wake (sample indices).
     """
 
     run: str
@@ -144,6 +146,7 @@ class WindowSearch:
     noise: float
     background: float
     frequency: float
+    stills: tuple[int, ...] = ()
 
 
 def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] | None = None) -> WindowSearch:
@@ -193,7 +196,7 @@ def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] |
         windows = [part for window in windows for part in _cut(run, window, gaps)]
         rejected = sorted(rejected + [_gap(run, a, b, usable) for a, b in gaps], key=lambda w: w.start)
     return WindowSearch(run.name, tuple(windows), tuple(rejected), swings.noise,
-                        swings.background, swings.frequency)
+                        swings.background, swings.frequency, tuple(int(i) for i in swings.stills))
 
 
 def _cut(run: Run, window: Window, gaps: list[tuple[int, int]]) -> list[Window]:
@@ -309,9 +312,6 @@ class _Finder:
     def quick(self, j: int) -> bool:
         """Whether swing j is over in under half the record's half period."""
         return bool(self.durations[j] < 0.5 * self.half_period)
-
-    def forced(self, j: int) -> bool:
-        return self.ratio(j) > PUSH_RATIO and not self.sustained(j)
 
     def is_push(self, j: int) -> bool:
         """Whether a window starts after swing j (a push, or the rise of an unstable one)."""

@@ -102,6 +102,9 @@ def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict
     def is_short(start: float, stop: float) -> bool:
         return bool((stop - start) * frequency < 2 * np.pi)
 
+    def relative_error(measured_window) -> float:
+        return abs(complex(measured_window.fit.damping, measured_window.fit.frequency) - eigenvalue) / abs(eigenvalue)
+
     try:
         measured = measure_run(run_from_simulation(simulated))
     except InputError as error:
@@ -127,10 +130,8 @@ def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict
             "usable_across_catch": sum(m.usable for m in across),
             "hand_mark": [_hand_mark(simulated, model, stop, m.fit.stop) for m in across],
             "across_push": sum(pushed and m.fit.start < start - 0.5 / fs for m in inside),
-            "errors": [abs(complex(m.fit.damping, m.fit.frequency) - eigenvalue) / abs(eigenvalue)
-                       for m in inside if m.usable],
-            "errors_across_catch": [abs(complex(m.fit.damping, m.fit.frequency) - eigenvalue) / abs(eigenvalue)
-                                    for m in across if m.usable],
+            "errors": [relative_error(m) for m in inside if m.usable],
+            "errors_across_catch": [relative_error(m) for m in across if m.usable],
             "why": why if not inside else [],
         })
     return records

@@ -82,6 +82,11 @@ HOLD_EVIDENCE = TAIL_EVIDENCE
 HOLD_MARK = 4.0
 
 
+def look_past_samples(frequency: float, sample_rate: float) -> int:
+    """Return how many samples :data:`LOOK_PAST` of a period spans (`frequency` [rad/s], `sample_rate` [Hz])."""
+    return int(np.ceil(LOOK_PAST * 2 * np.pi / max(frequency, 1e-9) * sample_rate))
+
+
 def robust_scale(values: NDArray[np.float64]) -> NDArray[np.float64]:
     """Return each row's standard deviation from its median absolute deviation (robust to a tail)."""
     centre = np.median(values, axis=-1, keepdims=True)

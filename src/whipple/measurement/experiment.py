@@ -17,7 +17,7 @@ from typing import Any, overload
 import numpy as np
 
 from whipple.errors import InputError
-from whipple.measurement.catches import DRIFT_DEGREE, HOLD_EVIDENCE, HOLD_MARK, LOOK_PAST, catch_onset, hold_evidence
+from whipple.measurement import catches
 from whipple.measurement.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
 from whipple.measurement.runs import Run
 from whipple.measurement.speedometer import SpeedRange, speed_regression
@@ -426,7 +426,7 @@ def _before_hold(run: Run, window: Window, fitted: Window, fit: WeaveFit, option
     n = fit.time.size
     # The stillness must last a quarter of a fitted period, in which a held bicycle and the free
     # motion it stopped part by the free motion's amplitude.
-    held_for = int(np.ceil(LOOK_PAST * 2 * np.pi / max(fit.frequency, 1e-9) * run.sample_rate))
+    held_for = catches.look_past_samples(fit.frequency, run.sample_rate)
     inside = [int(s) - first for s in stills if first < s <= first + n - held_for]
     if not inside:
         return None
@@ -437,8 +437,9 @@ def _before_hold(run: Run, window: Window, fitted: Window, fit: WeaveFit, option
     except NoOscillationError:
         # Under half a period before the stillness: no free motion to tell a hold by.
         return None
-    evidence = hold_evidence(fit.measured - fit.fitted, head_fit.measured - head_fit.fitted, fit.measured[:, kept:])
-    if evidence < HOLD_EVIDENCE:
+    evidence = catches.hold_evidence(fit.measured - fit.fitted, head_fit.measured - head_fit.fitted,
+                                     fit.measured[:, kept:])
+    if evidence < catches.HOLD_EVIDENCE:
         return None
     held = float(run.time[first + kept])
     # The hand takes hold before the roll rate is seen still (stillness is read over half a
@@ -458,7 +459,7 @@ def _before_hold(run: Run, window: Window, fitted: Window, fit: WeaveFit, option
     if past_time.size == 0:
         return None
     mark = float(np.sqrt(np.mean((fit.curve(past_time)[0] - past[0])**2))) / fit.rms_residual[0]
-    return (window, fit) if mark >= HOLD_MARK else None
+    return (window, fit) if mark >= catches.HOLD_MARK else None
 
 
 def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,
@@ -477,8 +478,9 @@ def _before_catch(run: Run, window: Window, fitted: Window, fit: WeaveFit,
     past_time, past = _past_end(run, first + time.size, fit, options.signals)
     time, measured = np.r_[time, past_time], np.hstack([measured, past])
     for _ in range(options.catch_passes):
-        degree = max(DRIFT_DEGREE, BASELINES[fit.baseline])
-        onset = catch_onset(time, measured - fit.curve(time), after=past_time.size, terms=fit.terms(time, degree))
+        degree = max(catches.DRIFT_DEGREE, BASELINES[fit.baseline])
+        onset = catches.catch_onset(time, measured - fit.curve(time), after=past_time.size,
+                                    terms=fit.terms(time, degree))
         if onset is None or onset == kept:
             break
         kept = onset
@@ -498,8 +500,7 @@ def _past_end(run: Run, stop: int, fit: WeaveFit,
     the first sample any fitted signal lacks or a jump in time (a gap: what lies beyond it is
     no continuation).
     """
-    count = int(np.ceil(LOOK_PAST * 2 * np.pi / max(fit.frequency, 1e-9) * run.sample_rate))
-    last = min(stop + count, run.time.size)
+    last = min(stop + catches.look_past_samples(fit.frequency, run.sample_rate), run.time.size)
     values = np.array([run.signals[name][stop:last] for name in signals], dtype=float).reshape(len(signals), -1)
     time = np.asarray(run.time[max(stop - 1, 0):last], dtype=float)
     usable = np.all(np.isfinite(values), axis=0) & (np.diff(time) <= 1.5 / run.sample_rate)[-values.shape[1]:]

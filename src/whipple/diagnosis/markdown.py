@@ -89,7 +89,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     if diagnosis.best is not None:
         offered = data["offered"]
         if offered is not None and offered["cause"] != diagnosis.best.cause:
-            how = ("the consistent candidate that best predicts each speed left out in turn"
+            how = ("the simplest consistent candidate that predicts the speeds left out in turn within "
+                   f"{report.options.prediction_standard_errors:g} standard error(s) of the best predictor"
                    if offered["chosen_by"] == "prediction" else "the best-supported physically consistent candidate")
             lines += [f"The model offered is **{offered['cause']}**, {how} (see the caveats above):", "",
                       "| parameter | value | unit |", "|---|---|---|"]

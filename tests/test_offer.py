@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+import pytest
 from synthetic_windows import STD, synthetic_observations
 
 from whipple.diagnosis.admissible import inconsistencies, offer_of
@@ -20,6 +21,7 @@ from whipple.diagnosis.observations import predicted_weave, speed_groups
 from whipple.diagnosis.offer import excess_over_best, held_out_errors, offer, prediction_rms, simplest_within
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.registry import cause_by_name
+from whipple.errors import InputError
 from whipple.model.parameters import load_bicycle
 
 SPEEDS = np.repeat([3.5, 4.5, 5.5, 6.5, 7.5], 4)
@@ -151,3 +153,10 @@ def test_a_folds_choice_by_prediction_never_sees_its_held_out_speed():
     honest, leaked = (held_out_gain(BICYCLE, obs, CAUSES) for obs in (observations, spoiled))
     assert honest.speeds[-1].cause == leaked.speeds[-1].cause
     assert honest.speeds[-1].values == leaked.speeds[-1].values
+
+
+def test_the_rules_multiplier_is_a_number_from_0():
+    for bad in (-1.0, float("nan"), True, "1"):
+        with pytest.raises(InputError, match="prediction_standard_errors"):
+            DiagnosisOptions(prediction_standard_errors=bad)
+    assert DiagnosisOptions().to_dict()["prediction_standard_errors"] == 1.0

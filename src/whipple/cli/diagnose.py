@@ -19,7 +19,7 @@ import sys
 from pathlib import Path
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer
+from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, number
 from whipple.cli.measurement_arguments import add_bundled_argument, add_measurement_arguments, measurement_options
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.cli.progress import ProgressBars
@@ -76,9 +76,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "leaves open")
     parser.add_argument("--prediction-shortlist", type=integer, metavar="N",
                         default=DiagnosisOptions.prediction_shortlist,
-                        help="where no candidate explains the data, offer the one of the N best-supported physically "
-                             "consistent candidates that best predicts each speed left out in turn (default "
+                        help="where no candidate explains the data, choose the model offered among the base model "
+                             "and the N best-supported physically consistent candidates by how well each predicts "
+                             "the speeds left out in turn (default "
                              f"{DiagnosisOptions.prediction_shortlist}; 0: always the best-supported consistent one)")
+    parser.add_argument("--prediction-standard-errors", type=number, metavar="K",
+                        default=DiagnosisOptions.prediction_standard_errors,
+                        help="that choice's rule: offer the simplest candidate whose mean squared error on the "
+                             "left-out speeds is within K standard errors of the best predictor's (default "
+                             f"{DiagnosisOptions.prediction_standard_errors:g}; 0: the best predictor)")
     cluster = parser.add_mutually_exclusive_group()
     cluster.add_argument("--workers", type=integer, metavar="N",
                          help="diagnose the held-out speeds on a local Dask cluster of N processes")
@@ -90,7 +96,8 @@ def options_of(args: argparse.Namespace) -> DiagnosisOptions:
     """Return the diagnosis options of the command's flags."""
     return DiagnosisOptions(measurement=measurement_options(args), comparison=args.compare,
                             parameters=not args.no_parameters, gain_by_cause=args.gain_by_cause,
-                            occam=args.evidence, prediction_shortlist=args.prediction_shortlist)
+                            occam=args.evidence, prediction_shortlist=args.prediction_shortlist,
+                            prediction_standard_errors=args.prediction_standard_errors)
 
 
 def run(args: argparse.Namespace) -> int:

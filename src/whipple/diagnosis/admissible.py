@@ -42,6 +42,37 @@ _NEEDS_MASS = ("_x", "_z", "_roll_gyration", "_yaw_gyration")
 
 
 @dataclass(frozen=True)
+class HeldOutPrediction:
+    """How well one candidate of a choice by prediction predicts the speeds left out in turn.
+
+    Attributes
+    ----------
+    name : str
+        The candidate (``"none"``: the base model).
+    values : int
+        Its number of fitted values (the base model: 0).
+    rms : float
+        RMS [1/s] of its ``|measured - predicted|`` weave eigenvalue over every left-out window.
+    excess : float
+        Its mean squared error minus that of the best predictor [1/s^2] (0 for the best).
+    standard_error : float
+        The standard error [1/s^2] of ``excess``, the speed groups taken as the units
+        (:func:`whipple.diagnosis.offer.excess_over_best`; 0 for the best).
+    """
+
+    name: str
+    values: int
+    rms: float
+    excess: float
+    standard_error: float
+
+    def to_dict(self) -> dict[str, float | int]:
+        """Return the figures as JSON-ready data."""
+        return {"values": self.values, "rms": self.rms, "mse_above_best": self.excess,
+                "standard_error": self.standard_error}
+
+
+@dataclass(frozen=True)
 class Offer:
     """The model the diagnosis offers, and what was not offered.
 
@@ -55,32 +86,48 @@ class Offer:
         The better-supported candidates not offered, each with what makes it inconsistent.
     chosen_by : {"evidence", "prediction"}
         How the offered model was chosen among the consistent candidates: the best-supported
-        one, or the one that best predicts speeds left out in turn
+        one, or by how well each predicts speeds left out in turn
         (:func:`whipple.diagnosis.offer.offer`).
-    predictions : tuple of (str, float)
-        Chosen by prediction: each shortlisted candidate (``"none"``: the base model) with the
-        RMS [1/s] of its weave eigenvalue error on the speeds left out in turn.
+    predictions : tuple of HeldOutPrediction
+        Chosen by prediction: the base model and each shortlisted candidate, with its error on
+        the speeds left out in turn.
+    standard_errors : float
+        Chosen by prediction: the simplest candidate whose mean squared error is within this
+        many standard errors of the best predictor's was offered
+        (``DiagnosisOptions.prediction_standard_errors``).
     """
 
     cause: Cause | None
     fit: CauseFit | None
     rejected: tuple[tuple[str, tuple[str, ...]], ...] = ()
     chosen_by: str = "evidence"
-    predictions: tuple[tuple[str, float], ...] = ()
+    predictions: tuple[HeldOutPrediction, ...] = ()
+    standard_errors: float = 0.0
 
     def sentences(self) -> list[str]:
         """Say which candidates were not offered and why, and what is offered instead."""
         lines = [f"{name} is not offered: {'; '.join(reasons)}" for name, reasons in self.rejected]
         if self.chosen_by == "prediction":
-            scores = ", ".join(f"{name} {rms:.3g}" for name, rms in self.predictions)
-            offered = self.fit.cause if self.fit is not None else "the base model"
-            lines.append(f"no candidate explains the data, so the model offered is the consistent candidate that "
-                         f"best predicts each speed left out in turn: {offered} (RMS weave-eigenvalue error [1/s] "
-                         f"on the left-out speeds: {scores})")
+            lines.append(self._prediction_sentence())
         elif self.rejected:
             lines.append(f"offered instead: {self.fit.cause}" if self.fit is not None else
                          "no candidate that the data support is physically consistent: the base model is offered")
         return lines
+
+    def _prediction_sentence(self) -> str:
+        """Say how the model offered was chosen by prediction, with every candidate's figures."""
+        offered = self.fit.cause if self.fit is not None else "none"
+        best = min(self.predictions, key=lambda p: p.rms).name if self.predictions else offered
+        scores = ", ".join(f"{p.name} {p.rms:.3g}" + ("" if p.name == best else
+                                                      f" ({p.excess:+.2g} +/- {p.standard_error:.2g})")
+                           for p in self.predictions)
+        plural = "" if self.standard_errors == 1 else "s"
+        return (f"no candidate explains the data, so the model offered is chosen by prediction: of the base model "
+                f"and the consistent candidates, the simplest (fewest fitted values) whose mean squared error on "
+                f"the speeds left out in turn is within {self.standard_errors:g} standard error{plural} of the best "
+                f"predictor's ({best}): {'the base model' if offered == 'none' else offered}. RMS weave-eigenvalue "
+                f"error [1/s] on the left-out speeds, and in brackets the mean squared error above the best's +/- "
+                f"its standard error over the speeds [1/s^2]: {scores}")
 
 
 def inconsistencies(bicycle: Model, cause: Cause, fit: CauseFit, observations: Sequence[Observation]

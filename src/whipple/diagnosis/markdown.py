@@ -89,7 +89,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     if diagnosis.best is not None:
         offered = data["offered"]
         if offered is not None and offered["cause"] != diagnosis.best.cause:
-            how = ("the consistent candidate that best predicts each speed left out in turn"
+            how = ("the simplest consistent candidate that predicts the speeds left out in turn within "
+                   f"{report.options.prediction_standard_errors:g} standard error(s) of the best predictor"
                    if offered["chosen_by"] == "prediction" else "the best-supported physically consistent candidate")
             lines += [f"The model offered is **{offered['cause']}**, {how} (see the caveats above):", "",
                       "| parameter | value | unit |", "|---|---|---|"]
@@ -104,6 +105,7 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
                   for name, e in data["estimate"].items()]
         if report.open_values is not None and (offered is None or offered["cause"] == diagnosis.best.cause):
             lines += ["", f"The data leave open: {report.open_values.sentence()}."]
+        lines += _prediction_table(data["offer_predictions"], report.options.prediction_standard_errors)
         lines += ["", f"- base model: {_speeds(report.base_critical)}",
                   f"- extended model: {_speeds(report.extended_critical)}"]
         if "matrices" in data["extended_model"]:
@@ -178,4 +180,17 @@ def _gain_table(gain: Gain) -> list[str]:
               f"{100 * s.cut:+.0f}% | {s.base_median:.2f} | {s.extended_median:.2f} |" for s in gain.speeds]
     lines.append(f"| all | {sum(s.windows for s in gain.speeds)} | | {gain.base_rms:.2f} | {gain.extended_rms:.2f} | "
                  f"{100 * gain.cut:+.0f}% | {gain.base:.2f} | {gain.extended:.2f} |")
+    return lines
+
+
+def _prediction_table(predictions: dict[str, dict[str, float]] | None, standard_errors: float) -> list[str]:
+    """Return the choice by prediction as a table: each model's error on the speeds left out in turn."""
+    if not predictions:
+        return []
+    lines = ["", f"Chosen by prediction: the simplest model (fewest fitted values) whose mean squared error on the "
+             f"speeds left out in turn is within {standard_errors:g} standard error(s) of the best predictor's "
+             "(the standard error of the excess over the speeds):", "",
+             "| model | fitted values | RMS [1/s] | mean squared error above the best [1/s^2] |", "|---|---|---|---|"]
+    lines += [f"| {name} | {p['values']} | {p['rms']:.3g} | "
+              f"{p['mse_above_best']:.3g} +/- {p['standard_error']:.2g} |" for name, p in predictions.items()]
     return lines

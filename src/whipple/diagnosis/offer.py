@@ -13,10 +13,29 @@ So, where no candidate explains the data and the windows span at least :data:`MI
 speeds, the model offered is chosen among the ``DiagnosisOptions.prediction_shortlist``
 best-supported physically consistent candidates by prediction: each is refitted with each speed
 left out in turn (a few Gauss-Newton steps from its values, as the jackknife does,
-:mod:`whipple.diagnosis.consistency`) and predicts the weave eigenvalue there; the one with the
-smallest RMS error over those predictions is offered, the base model where none predicts better
-than it. The held-out gain's folds make the same choice on their own training speeds, so the
-gain reported is that of this procedure on speeds it never saw.
+:mod:`whipple.diagnosis.consistency`) and predicts the weave eigenvalue there
+(:func:`held_out_errors`). The choice follows the one-standard-error rule (Breiman et al. 1984;
+Hastie, Tibshirani & Friedman, *The Elements of Statistical Learning*, sec. 7.10): the best
+predictor is the candidate, the base model among them, with the smallest mean squared
+``|measured - predicted|`` over every left-out window (the square of the RMS the report gives);
+offered is the simplest candidate (fewest fitted values, the base model none; then the smaller
+error) whose mean squared error exceeds the best's by at most
+``DiagnosisOptions.prediction_standard_errors`` (default 1) standard errors of that excess
+(:func:`excess_over_best`, :func:`simplest_within`). Two predictors equal within the noise are
+thus not told apart by which of them a window more or less happens to favour: the simpler one
+is offered, and the base model when no candidate beats it by more than a standard error.
+
+The standard error is honest about what is independent. The windows of one speed share a refit
+(the candidate refitted without that speed predicts all of them), so the units are the speed
+groups, not the windows: per group, the mean of the squared errors; the excess over the best is
+the pooled one, the groups' paired differences weighted by their windows; its standard error is
+that of a weighted mean over the groups (the clustered standard error, with the factor
+G/(G - 1) for G groups), which for groups of equal size is the standard deviation of the
+per-group differences over the square root of G. A multiplier of 0 offers the best predictor
+(the smaller RMS; ties to fewer values), as the choice did before the rule.
+
+The held-out gain's folds make the same choice on their own training speeds, so the gain
+reported is that of this procedure on speeds it never saw.
 """
 
 from __future__ import annotations
@@ -24,8 +43,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 
-from whipple.diagnosis.admissible import Offer, form_of, inconsistencies, offer_of
+from whipple.diagnosis.admissible import HeldOutPrediction, Offer, form_of, inconsistencies, offer_of
 from whipple.diagnosis.causes import Cause, with_cause
 from whipple.diagnosis.consistency import gauss_newton_refits, left_out_groups, refits_without
 from whipple.diagnosis.evaluation import rms
@@ -54,16 +74,17 @@ def offer(bicycle: Model, diagnosis: Diagnosis, causes: Sequence[Cause], options
         The candidates, every form.
     options : DiagnosisOptions
         The diagnosis' options: ``verdict.named_threshold`` (evidence a model needs to be
-        offered), ``verdict.high_dispersion`` (above it no candidate explains the data) and
+        offered), ``verdict.high_dispersion`` (above it no candidate explains the data),
         ``prediction_shortlist`` (how many consistent candidates a choice by prediction weighs;
-        0: always by evidence).
+        0: always by evidence) and ``prediction_standard_errors`` (the rule's multiplier).
 
     Returns
     -------
     Offer
         By evidence: the leading cause if physically consistent, else the best-supported
-        consistent one. By prediction (no candidate explains the data): the shortlisted
-        consistent candidate that best predicts each speed left out in turn, or the base model.
+        consistent one. By prediction (no candidate explains the data): the simplest of the base
+        model and the shortlisted consistent candidates whose error on the speeds left out in
+        turn is within ``prediction_standard_errors`` standard errors of the best predictor's.
     """
     evidence_offer = offer_of(bicycle, diagnosis, causes, options.verdict.named_threshold)
     observations = diagnosis.observations
@@ -73,18 +94,76 @@ def offer(bicycle: Model, diagnosis: Diagnosis, causes: Sequence[Cause], options
     shortlist, rejected = _shortlist(bicycle, diagnosis, causes, options)
     if not shortlist:
         return evidence_offer
-    measured = np.array([o.eigenvalue for o in observations], dtype=complex)
-    held = np.concatenate(groups)
-    base_rms = rms(measured[held] - predicted_weave(bicycle, [observations[i] for i in held]))
-    scores = [(prediction_rms(bicycle, cause, fit, diagnosis, groups, options.instrument), len(cause.parameters), k)
-              for k, (cause, fit) in enumerate(shortlist)]
-    predictions = (("none", base_rms), *((fit.cause, score[0]) for (_, fit), score in zip(shortlist, scores,
-                                                                                          strict=True)))
-    best_rms, _, best = min(scores)
-    if not best_rms < base_rms:
-        return Offer(None, None, rejected, "prediction", predictions)
-    cause, fit = shortlist[best]
-    return Offer(cause, fit, rejected, "prediction", predictions)
+    errors = [held_out_errors(bicycle, None, None, diagnosis, groups),
+              *(held_out_errors(bicycle, cause, fit, diagnosis, groups, options.instrument)
+                for cause, fit in shortlist)]
+    names = ["none", *(fit.cause for _, fit in shortlist)]
+    sizes = [0, *(len(cause.parameters) for cause, _ in shortlist)]
+    excess, standard_error = excess_over_best(errors)
+    predictions = tuple(HeldOutPrediction(name, size, rms(np.concatenate(error)), float(e), float(se))
+                        for name, size, error, e, se in zip(names, sizes, errors, excess, standard_error, strict=True))
+    chosen = simplest_within(sizes, excess, standard_error, options.prediction_standard_errors)
+    if chosen == 0:
+        return Offer(None, None, rejected, "prediction", predictions, options.prediction_standard_errors)
+    cause, fit = shortlist[chosen - 1]
+    return Offer(cause, fit, rejected, "prediction", predictions, options.prediction_standard_errors)
+
+
+def excess_over_best(errors: Sequence[Sequence[NDArray[np.float64]]]
+                     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Return each candidate's mean squared error above the best's, and the standard error of that excess.
+
+    Parameters
+    ----------
+    errors : sequence of sequence of array
+        Per candidate, per group of windows (the same groups, in the same order, for every
+        candidate), the ``|measured - predicted|`` weave eigenvalue [1/s] of each window.
+
+    Returns
+    -------
+    excess : array
+        Per candidate, its mean squared error over every window minus the smallest one [1/s^2]
+        (0 for the best).
+    standard_error : array
+        Per candidate, the standard error [1/s^2] of its excess with the groups as the units:
+        sqrt(G/(G-1) sum_g (n_g/N)^2 (d_g - excess)^2), d_g the group's paired difference of mean
+        squared errors, n_g its windows, N all; std(d_g)/sqrt(G) for groups of equal size.
+    """
+    sizes = np.array([len(group) for group in errors[0]], dtype=float)
+    if len(sizes) < 2 or any(len(candidate) != len(sizes) for candidate in errors):
+        raise ValueError("every candidate needs its errors on the same two or more groups")
+    per_group = np.array([[np.mean(np.abs(group) ** 2) for group in candidate] for candidate in errors])
+    pooled = per_group @ sizes / sizes.sum()
+    best = int(np.argmin(pooled))
+    excess = pooled - pooled[best]
+    weights = sizes / sizes.sum()
+    spread = weights * (per_group - per_group[best] - excess[:, None])
+    count = len(sizes)
+    return excess, np.sqrt(count / (count - 1) * np.sum(spread ** 2, axis=1))
+
+
+def simplest_within(sizes: Sequence[int], excess: Sequence[float] | NDArray[np.float64],
+                    standard_error: Sequence[float] | NDArray[np.float64], standard_errors: float) -> int:
+    """Return the candidate the one-standard-error rule picks: the simplest one close enough to the best.
+
+    Parameters
+    ----------
+    sizes : sequence of int
+        Each candidate's number of fitted values (the base model: 0).
+    excess, standard_error : sequence of float
+        Each candidate's mean squared error above the best's and its standard error [1/s^2]
+        (:func:`excess_over_best`).
+    standard_errors : float
+        How many standard errors above the best's a candidate's error may be (0: the best).
+
+    Returns
+    -------
+    int
+        Index of the candidate with the fewest values among those within the bound; ties in
+        values to the smaller error, then the earlier candidate.
+    """
+    within = [k for k in range(len(sizes)) if excess[k] <= standard_errors * standard_error[k]]
+    return min(within, key=lambda k: (sizes[k], excess[k], k))
 
 
 def _by_prediction(diagnosis: Diagnosis, options: DiagnosisOptions, groups: Sequence[Sequence[int]]) -> bool:
@@ -117,17 +196,18 @@ def _shortlist(bicycle: Model, diagnosis: Diagnosis, causes: Sequence[Cause], op
     return shortlist, tuple(rejected)
 
 
-def prediction_rms(bicycle: Model, cause: Cause, fit: CauseFit, diagnosis: Diagnosis,
-                   groups: Sequence[Sequence[int]], instrument: InstrumentErrors | None = None) -> float:
-    """Return a candidate's RMS weave-eigenvalue error [1/s] on each group of windows left out in turn.
+def held_out_errors(bicycle: Model, cause: Cause | None, fit: CauseFit | None, diagnosis: Diagnosis,
+                    groups: Sequence[Sequence[int]], instrument: InstrumentErrors | None = None
+                    ) -> list[NDArray[np.float64]]:
+    """Return a candidate's weave-eigenvalue errors [1/s] on each group of windows left out in turn.
 
     Parameters
     ----------
     bicycle : Bicycle or Fleet
         The base model.
-    cause : Cause
-        The candidate's form.
-    fit : CauseFit
+    cause : Cause or None
+        The candidate's form (None: the base model, nothing refitted).
+    fit : CauseFit or None
         Its values fitted to every window of ``diagnosis``.
     diagnosis : Diagnosis
         The diagnosis: its windows, its comparison and its dispersions.
@@ -140,20 +220,29 @@ def prediction_rms(bicycle: Model, cause: Cause, fit: CauseFit, diagnosis: Diagn
 
     Returns
     -------
-    float
-        The RMS of ``|measured - predicted|`` weave eigenvalue over every left-out window, each
-        predicted by the candidate refitted without its group (locally from ``fit.values``).
+    list of array
+        Per group, ``|measured - predicted|`` weave eigenvalue of each of its windows, predicted
+        by the candidate refitted without the group (locally from ``fit.values``).
     """
     observations = diagnosis.observations
-    scales = (diagnosis.scale, diagnosis.shape_scale)
-    if diagnosis.comparison == "samples":
-        refits = gauss_newton_refits(bicycle, cause, observations, fit.values, groups, scales, instrument)
-    else:
-        refits = refits_without(bicycle, cause, observations, fit.values, groups, scales, diagnosis.comparison,
-                                instrument)
+    models: list[Model] = [bicycle] * len(groups)
+    if cause is not None and fit is not None:
+        scales = (diagnosis.scale, diagnosis.shape_scale)
+        if diagnosis.comparison == "samples":
+            refits = gauss_newton_refits(bicycle, cause, observations, fit.values, groups, scales, instrument)
+        else:
+            refits = refits_without(bicycle, cause, observations, fit.values, groups, scales, diagnosis.comparison,
+                                    instrument)
+        models = [with_cause(bicycle, cause, values) for values in refits]
     errors = []
-    for group, values in zip(groups, refits, strict=True):
+    for group, model in zip(groups, models, strict=True):
         held = [observations[i] for i in group]
         measured = np.array([o.eigenvalue for o in held], dtype=complex)
-        errors.append(np.abs(measured - predicted_weave(with_cause(bicycle, cause, values), held)))
-    return rms(np.concatenate(errors))
+        errors.append(np.abs(measured - predicted_weave(model, held)))
+    return errors
+
+
+def prediction_rms(bicycle: Model, cause: Cause | None, fit: CauseFit | None, diagnosis: Diagnosis,
+                   groups: Sequence[Sequence[int]], instrument: InstrumentErrors | None = None) -> float:
+    """Return the RMS [1/s] of a candidate's :func:`held_out_errors` over every left-out window."""
+    return rms(np.concatenate(held_out_errors(bicycle, cause, fit, diagnosis, groups, instrument)))

@@ -190,6 +190,11 @@ class DiagnosisOptions:
         the best-supported consistent candidate). The evidence assumes one candidate is the
         truth; on real bicycles none is, and what a corrected model must do is carry over to
         speeds it never saw (:mod:`whipple.diagnosis.offer`).
+    prediction_standard_errors : float
+        The one-standard-error rule of that choice: the simplest candidate (fewest fitted values,
+        the base model none) whose mean squared error on the left-out speeds exceeds the best
+        predictor's by at most this many standard errors of the excess (the speed groups the
+        units) is offered (default 1.0; 0: the best predictor, the smallest RMS).
     amplitude_check : bool
         Compare the nonlinear model's weave at each window's measured amplitude with the linear
         one (default True: it says where the linear model is out of its range).
@@ -218,6 +223,7 @@ class DiagnosisOptions:
     held_out_gain: bool = True
     gain_by_cause: str | None = None
     prediction_shortlist: int = 6
+    prediction_standard_errors: float = 1.0
     instrument: InstrumentErrors | None = field(default_factory=InstrumentErrors)
     amplitude_check: bool = True
     speed_range: tuple[float, float] = (0.0, 10.0)
@@ -236,6 +242,9 @@ class DiagnosisOptions:
         if not (isinstance(self.prediction_shortlist, int) and 0 <= self.prediction_shortlist <= 1000):
             raise InputError("prediction_shortlist must be a whole number from 0 to 1000, "
                              f"got {self.prediction_shortlist!r}")
+        value = self.prediction_standard_errors
+        if isinstance(value, bool) or not (isinstance(value, int | float) and 0.0 <= value <= 100.0):
+            raise InputError(f"prediction_standard_errors must be a number from 0 to 100, got {value!r}")
         low, high = self.speed_range
         if not 0.0 <= low < high < 1e6:
             raise InputError(f"speed_range must hold 0 <= low < high, got {self.speed_range}")
@@ -272,6 +281,7 @@ class DiagnosisOptions:
                 "samples_screen": self.samples_screen, "bias_screen": self.bias_screen,
                 "fixed_point_start": self.fixed_point_start, "held_out_gain": self.held_out_gain,
                 "gain_by_cause": self.gain_by_cause, "prediction_shortlist": self.prediction_shortlist,
+                "prediction_standard_errors": self.prediction_standard_errors,
                 "amplitude_check": self.amplitude_check,
                 "speed_range": list(self.speed_range)}
 

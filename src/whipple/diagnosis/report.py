@@ -541,7 +541,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
                        zip(report.offer.fit.parameters, report.offer.fit.values, report.offer.fit.units, strict=True)},
             "chosen_by": report.offer.chosen_by},
         "offer_predictions": None if report.offer.chosen_by != "prediction" else {
-            name: rms for name, rms in report.offer.predictions},
+            p.name: p.to_dict() for p in report.offer.predictions},
         "not_offered": [{"cause": name, "reasons": list(reasons)} for name, reasons in report.offer.rejected],
         "calibration": calibration_shifts(report),
         "measurement": None if report.measured is None else {

@@ -27,8 +27,9 @@ alike). ``none`` has evidence 0. The verdict:
 ``none`` when no cause reaches ``named_threshold``; ``ambiguous`` when the runner-up is within
 ``margin`` of the best, when a runner-up within ``close_evidence`` predicts the observations
 within ``separation`` of the best (:func:`separation`), or when even the best model leaves the
-typical window far off (:func:`typical_dispersion` above ``high_dispersion``); otherwise
-``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
+typical window far off (:func:`typical_dispersion` above ``high_dispersion``), or when the
+name depends on how extra modal amplitudes are charged (:mod:`whipple.diagnosis.charge_sensitivity`);
+otherwise ``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
 (:mod:`whipple.diagnosis.families`; which pairs: :mod:`whipple.diagnosis.pair_search`) and
 kept only when they beat every single cause by ``margin``; a leading pair is reported, never
 named outright, and a pair of two other causes ahead of the best single cause by less than
@@ -49,6 +50,7 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples
 from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.charge_sensitivity import charge_reason, charge_rivals, other_charge
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
@@ -317,6 +319,13 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], whitening)
     verdict, name, rivals, reasons = _verdict(scored, typical, rules, rival_pairs, whitening.samples is not None)
+    if verdict == "named" and rules.charge_sensitivity and whitening.samples is not None:
+        # Were the extra modal amplitudes charged the other defensible way, would another lead?
+        other = replace(options, amplitude_charge=other_charge(options.amplitude_charge))
+        recharged = {fit.cause: fit for fit in _merge_forms(_scored(causes, base, fits, n, whitening.samples, other))}
+        if sensitive := charge_rivals(scored, recharged, rules.margin):
+            verdict, rivals = "ambiguous", tuple(fit.cause for fit in sensitive)
+            reasons = (charge_reason(recharged[name], sensitive, options.amplitude_charge),)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
         dependence = speed_dependence(bicycle, chosen, compared, best.values, scales, whitening.comparison,

@@ -23,8 +23,12 @@ from collections.abc import Mapping, Sequence
 
 from whipple.diagnosis.families import components
 from whipple.diagnosis.fitting import CauseFit
+from whipple.diagnosis.options import VerdictRules
 
-__all__ = ["other_charge", "charge_rivals", "charge_reason"]
+__all__ = ["other_charge", "charge_checked", "charge_rivals", "charge_reason"]
+
+#: A verdict as :func:`whipple.diagnosis.evidence._verdict` returns it: verdict, leading cause, rivals, reasons.
+Verdict = tuple[str, str, tuple[str, ...], tuple[str, ...]]
 
 _WORDS = {"bic": "fitted values (ln(n)/2 each, n the window's residuals)",
           "noise": "what they gain on noise alone (1/2 each)"}
@@ -33,6 +37,40 @@ _WORDS = {"bic": "fitted values (ln(n)/2 each, n the window's residuals)",
 def other_charge(how: str) -> str:
     """Return the amplitude charge the options do not use (``"bic"`` <-> ``"noise"``)."""
     return "noise" if how == "bic" else "bic"
+
+
+def charge_checked(verdict: Verdict, scored: Sequence[CauseFit], recharged: Sequence[CauseFit],
+                   rules: VerdictRules, how: str) -> Verdict:
+    """Return the verdict, made ``ambiguous`` where a ``named`` cause depends on the amplitude charge.
+
+    Parameters
+    ----------
+    verdict : tuple
+        The verdict, leading cause, rivals and reasons under the options' charge.
+    scored : sequence of CauseFit
+        The causes by decreasing evidence under the options' charge, the leader first.
+    recharged : sequence of CauseFit
+        The same causes with their evidence under the other charge (:func:`other_charge`).
+    rules : VerdictRules
+        ``charge_sensitivity`` (False: the verdict unchanged) and ``margin``.
+    how : str
+        The charge the options use, ``"bic"`` or ``"noise"``.
+
+    Returns
+    -------
+    tuple
+        The verdict unchanged unless it was ``named`` and some cause with another number of states
+        would lead or come within ``margin`` of the leader under the other charge
+        (:func:`charge_rivals`): then ``ambiguous``, those causes the rivals, and why in words.
+    """
+    name = verdict[1]
+    if verdict[0] != "named" or not rules.charge_sensitivity:
+        return verdict
+    other = {fit.cause: fit for fit in recharged}
+    rivals = charge_rivals(scored, other, rules.margin)
+    if not rivals:
+        return verdict
+    return "ambiguous", name, tuple(fit.cause for fit in rivals), (charge_reason(other[name], rivals, how),)
 
 
 def charge_rivals(scored: Sequence[CauseFit], other: Mapping[str, CauseFit], margin: float) -> list[CauseFit]:

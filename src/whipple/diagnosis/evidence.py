@@ -50,7 +50,7 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples
 from whipple.diagnosis.causes import Cause
-from whipple.diagnosis.charge_sensitivity import charge_reason, charge_rivals, other_charge
+from whipple.diagnosis.charge_sensitivity import charge_checked, other_charge
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
@@ -319,19 +319,19 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], whitening)
     verdict, name, rivals, reasons = _verdict(scored, typical, rules, rival_pairs, whitening.samples is not None)
-    if verdict == "named" and rules.charge_sensitivity and whitening.samples is not None:
-        # Were the extra modal amplitudes charged the other defensible way, would another lead?
-        other = replace(options, amplitude_charge=other_charge(options.amplitude_charge))
-        recharged = {fit.cause: fit for fit in _merge_forms(_scored(causes, base, fits, n, whitening.samples, other))}
-        if sensitive := charge_rivals(scored, recharged, rules.margin):
-            verdict, rivals = "ambiguous", tuple(fit.cause for fit in sensitive)
-            reasons = (charge_reason(recharged[name], sensitive, options.amplitude_charge),)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
         dependence = speed_dependence(bicycle, chosen, compared, best.values, scales, whitening.comparison,
                                       options.instrument)
         if dependence is not None and dependence.evidence > rules.speed_dependence:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
+    if verdict == "named" and rules.charge_sensitivity and whitening.samples is not None:
+        # Checked last, so that only a name changes: were the extra modal amplitudes charged
+        # the other defensible way, would another lead?
+        other = replace(options, amplitude_charge=other_charge(options.amplitude_charge))
+        recharged = _merge_forms(_scored(causes, base, fits, n, whitening.samples, other))
+        verdict, name, rivals, reasons = charge_checked((verdict, name, rivals, reasons), scored, recharged, rules,
+                                                        options.amplitude_charge)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
                      observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index),
                      chosen=chosen if verdict != "none" else None, rivals=rivals,

@@ -27,8 +27,9 @@ alike). ``none`` has evidence 0. The verdict:
 ``none`` when no cause reaches ``named_threshold``; ``ambiguous`` when the runner-up is within
 ``margin`` of the best, when a runner-up within ``close_evidence`` predicts the observations
 within ``separation`` of the best (:func:`separation`), or when even the best model leaves the
-typical window far off (:func:`typical_dispersion` above ``high_dispersion``); otherwise
-``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
+typical window far off (:func:`typical_dispersion` above ``high_dispersion``), or when the
+name depends on how extra modal amplitudes are charged (:mod:`whipple.diagnosis.charge_sensitivity`);
+otherwise ``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
 (:mod:`whipple.diagnosis.families`; which pairs: :mod:`whipple.diagnosis.pair_search`) and
 kept only when they beat every single cause by ``margin``; a leading pair is reported, never
 named outright, and a pair of two other causes ahead of the best single cause by less than
@@ -49,6 +50,7 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples
 from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.charge_sensitivity import charge_checked, other_charge
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
@@ -323,6 +325,13 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
                                       options.instrument)
         if dependence is not None and dependence.evidence > rules.speed_dependence:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
+    if verdict == "named" and rules.charge_sensitivity and whitening.samples is not None:
+        # Checked last, so that only a name changes: were the extra modal amplitudes charged
+        # the other defensible way, would another lead?
+        other = replace(options, amplitude_charge=other_charge(options.amplitude_charge))
+        recharged = _merge_forms(_scored(causes, base, fits, n, whitening.samples, other))
+        verdict, name, rivals, reasons = charge_checked((verdict, name, rivals, reasons), scored, recharged, rules,
+                                                        options.amplitude_charge)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
                      observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index),
                      chosen=chosen if verdict != "none" else None, rivals=rivals,

@@ -64,6 +64,17 @@ class VerdictRules:
         Evidence for values that differ between the low and the high speeds above which a
         leading cause is not named: its form does not follow how the error changes with speed
         (default 2, the margin's odds).
+    charge_sensitivity : bool
+        Where the models are compared with the samples, also score every cause with its extra
+        modal amplitudes charged the other defensible way (``DiagnosisOptions.amplitude_charge``:
+        ``"noise"`` where the options say ``"bic"``, and ``"bic"`` where they say ``"noise"``); a
+        named cause that a cause with another number of states would then lead, or come within
+        ``margin`` of, is not named: the verdict is ``ambiguous`` with that cause among the rivals
+        (:mod:`whipple.diagnosis.charge_sensitivity`). Default True: with the BIC's charge a
+        true tyre compliance lost its name to a front load on the ground, with the noise charge
+        effect-free controlled bicycles were named a tyre compliance (7 of 30), so a name that
+        depends on the choice is a guess. False: the verdict of the options' charge alone. Only
+        a ``named`` verdict changes, never ``none``.
     """
 
     named_threshold: float = 3.0
@@ -72,8 +83,11 @@ class VerdictRules:
     separation: float = 2.0
     high_dispersion: float = 5.0
     speed_dependence: float = 2.0
+    charge_sensitivity: bool = True
 
     def __post_init__(self) -> None:
+        if not isinstance(self.charge_sensitivity, bool):
+            raise InputError(f"verdict rule charge_sensitivity must be True or False, got {self.charge_sensitivity!r}")
         for name in ("named_threshold", "margin", "close_evidence", "separation", "high_dispersion",
                      "speed_dependence"):
             value = getattr(self, name)

@@ -111,6 +111,18 @@ def test_none_stays_none_and_an_ambiguous_verdict_keeps_its_reasons():
     assert charge_checked(open_verdict, ranked, recharged, wide, "bic") == open_verdict
 
 
+def test_an_ambiguous_verdict_gains_the_rival_the_other_charge_would_put_first():
+    _, ranked, recharged, rules = _verdicts(951.0)
+    # Ambiguous for another reason (no candidate explains the data), the tyre not among the rivals.
+    open_verdict = evidence._verdict(ranked, (2 * rules.high_dispersion, 1.0), rules, samples=True)
+    assert open_verdict[0] == "ambiguous" and "tyre_compliance" not in open_verdict[2]
+    checked = charge_checked(open_verdict, ranked, recharged, rules, "bic")
+    assert checked[:2] == open_verdict[:2]
+    assert checked[2] == (*open_verdict[2], "tyre_compliance")
+    assert checked[3][:-1] == open_verdict[3]
+    assert checked[3][-1].startswith("tyre_compliance fits the samples better")
+
+
 def test_charge_sensitivity_must_be_true_or_false():
     with pytest.raises(InputError, match="charge_sensitivity"):
         VerdictRules(charge_sensitivity="yes")  # type: ignore[arg-type]

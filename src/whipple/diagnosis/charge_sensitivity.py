@@ -59,18 +59,23 @@ def charge_checked(verdict: Verdict, scored: Sequence[CauseFit], recharged: Sequ
     Returns
     -------
     tuple
-        The verdict unchanged unless it was ``named`` and some cause with another number of states
-        would lead or come within ``margin`` of the leader under the other charge
-        (:func:`charge_rivals`): then ``ambiguous``, those causes the rivals, and why in words.
+        The verdict unchanged unless some cause with another number of states would lead or come
+        within ``margin`` of the leader under the other charge (:func:`charge_rivals`): a
+        ``named`` verdict then becomes ``ambiguous``, those causes its rivals, and why in words;
+        an ``ambiguous`` one keeps its leader and reasons and gains those causes among its rivals
+        (the ones not there yet) and the reason. ``none`` is left as it is.
     """
-    name = verdict[1]
-    if verdict[0] != "named" or not rules.charge_sensitivity:
+    state, name, rivals_before, reasons = verdict
+    if state not in ("named", "ambiguous") or not rules.charge_sensitivity:
         return verdict
     other = {fit.cause: fit for fit in recharged}
-    rivals = charge_rivals(scored, other, rules.margin)
+    rivals = [fit for fit in charge_rivals(scored, other, rules.margin) if fit.cause not in rivals_before]
     if not rivals:
         return verdict
-    return "ambiguous", name, tuple(fit.cause for fit in rivals), (charge_reason(other[name], rivals, how),)
+    reason = charge_reason(other[name], rivals, how)
+    if state == "named":
+        return "ambiguous", name, tuple(fit.cause for fit in rivals), (reason,)
+    return "ambiguous", name, (*rivals_before, *(fit.cause for fit in rivals)), (*reasons, reason)
 
 
 def charge_rivals(scored: Sequence[CauseFit], other: Mapping[str, CauseFit], margin: float) -> list[CauseFit]:

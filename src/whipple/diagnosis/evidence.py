@@ -325,9 +325,9 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
                                       options.instrument)
         if dependence is not None and dependence.evidence > rules.speed_dependence:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
-    if verdict == "named" and rules.charge_sensitivity and whitening.samples is not None:
-        # Checked last, so that only a name changes: were the extra modal amplitudes charged
-        # the other defensible way, would another lead?
+    if verdict != "none" and rules.charge_sensitivity and whitening.samples is not None:
+        # Checked last, so that only a name or the rivals change: were the extra modal
+        # amplitudes charged the other defensible way, would another lead?
         other = replace(options, amplitude_charge=other_charge(options.amplitude_charge))
         recharged = _merge_forms(_scored(causes, base, fits, n, whitening.samples, other))
         verdict, name, rivals, reasons = charge_checked((verdict, name, rivals, reasons), scored, recharged, rules,

@@ -73,8 +73,9 @@ class VerdictRules:
         (:mod:`whipple.diagnosis.charge_sensitivity`). Default True: with the BIC's charge a
         true tyre compliance lost its name to a front load on the ground, with the noise charge
         effect-free controlled bicycles were named a tyre compliance (7 of 30), so a name that
-        depends on the choice is a guess. False: the verdict of the options' charge alone. Only
-        a ``named`` verdict changes, never ``none``.
+        depends on the choice is a guess; an ``ambiguous`` verdict keeps its leader and gains
+        such a cause among its rivals. False: the verdict of the options' charge alone. ``none``
+        never changes.
     """
 
     named_threshold: float = 3.0

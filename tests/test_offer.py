@@ -15,10 +15,11 @@ import pytest
 from synthetic_windows import STD, synthetic_observations
 
 from whipple.diagnosis.admissible import inconsistencies, offer_of
+from whipple.diagnosis.evaluation import rms
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.gain import held_out_gain
 from whipple.diagnosis.observations import predicted_weave, speed_groups
-from whipple.diagnosis.offer import excess_over_best, held_out_errors, offer, prediction_rms, simplest_within
+from whipple.diagnosis.offer import excess_over_best, held_out_errors, offer, simplest_within
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.registry import cause_by_name
 from whipple.errors import InputError
@@ -47,11 +48,12 @@ def test_where_no_candidate_explains_the_windows_the_choice_is_by_prediction():
     assert best.excess == 0.0 and all(np.isclose(p.excess, p.rms ** 2 - best.rms ** 2) for p in scores.values())
     assert not any(p.values < scores[chosen].values and p.excess <= p.standard_error for p in scores.values())
     groups = speed_groups(diagnosis.observations)
-    assert np.isclose(scores["none"].rms, prediction_rms(BICYCLE, None, None, diagnosis, groups))
+    assert np.isclose(scores["none"].rms, rms(np.concatenate(held_out_errors(BICYCLE, None, None, diagnosis, groups))))
     for cause in CAUSES:
         fit = next((f for f in diagnosis.fits if f.cause == cause.name), None)
         if fit is not None and cause.name in scores:
-            assert np.isclose(scores[cause.name].rms, prediction_rms(BICYCLE, cause, fit, diagnosis, groups))
+            held_out = held_out_errors(BICYCLE, cause, fit, diagnosis, groups)
+            assert np.isclose(scores[cause.name].rms, rms(np.concatenate(held_out)))
     if offered.fit is not None and offered.cause is not None:
         assert not inconsistencies(BICYCLE, offered.cause, offered.fit, diagnosis.observations)
     assert any("within 1 standard error of the best" in sentence for sentence in offered.sentences())

@@ -9,7 +9,8 @@ charge took a true tyre compliance's name away on the ground (a front load named
 the noise charge named a tyre compliance in 7 of 30 effect-free trials of the controlled
 bicycles, where the fast extra modes absorb what starts each window
 (``benchmarks/results/diagnosis-log.md``). Where the two charges rank the causes differently,
-the data do not decide between them, and the verdict should not be a confident name.
+the data do not decide between them: the verdict should not be a confident name, and an
+ambiguous verdict should list the cause the other charge puts first among its rivals.
 
 The check is symmetric: each fit's evidence is also computed under the charge the options do
 not use (the other of :data:`~whipple.diagnosis.options.AMPLITUDE_CHARGES`). The BIC's charge
@@ -41,7 +42,7 @@ def other_charge(how: str) -> str:
 
 def charge_checked(verdict: Verdict, scored: Sequence[CauseFit], recharged: Sequence[CauseFit],
                    rules: VerdictRules, how: str) -> Verdict:
-    """Return the verdict, made ``ambiguous`` where a ``named`` cause depends on the amplitude charge.
+    """Return the verdict, made ``ambiguous`` (or given more rivals) where the leader depends on the amplitude charge.
 
     Parameters
     ----------
@@ -107,7 +108,7 @@ def charge_rivals(scored: Sequence[CauseFit], other: Mapping[str, CauseFit], mar
 
 
 def charge_reason(leader: CauseFit, rivals: Sequence[CauseFit], how: str) -> str:
-    """Say in words why the named leader depends on the charge ``how`` the options use.
+    """Say in words why the leader depends on the charge ``how`` the options use.
 
     ``leader`` and ``rivals``: their fits under the other charge (:func:`charge_rivals`).
     """

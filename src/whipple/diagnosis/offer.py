@@ -241,8 +241,3 @@ def held_out_errors(bicycle: Model, cause: Cause | None, fit: CauseFit | None, d
         errors.append(np.abs(measured - predicted_weave(model, held)))
     return errors
 
-
-def prediction_rms(bicycle: Model, cause: Cause | None, fit: CauseFit | None, diagnosis: Diagnosis,
-                   groups: Sequence[Sequence[int]], instrument: InstrumentErrors | None = None) -> float:
-    """Return the RMS [1/s] of a candidate's :func:`held_out_errors` over every left-out window."""
-    return rms(np.concatenate(held_out_errors(bicycle, cause, fit, diagnosis, groups, instrument)))

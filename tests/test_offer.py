@@ -162,3 +162,18 @@ def test_the_rules_multiplier_is_a_number_from_0():
         with pytest.raises(InputError, match="prediction_standard_errors"):
             DiagnosisOptions(prediction_standard_errors=bad)
     assert DiagnosisOptions().to_dict()["prediction_standard_errors"] == 1.0
+
+
+def test_the_reports_prediction_table_names_the_best_predictor_and_the_choice():
+    from whipple.diagnosis.markdown import _prediction_table
+
+    diagnosis = _diagnosis(5 * STD)
+    offered = offer(BICYCLE, diagnosis, CAUSES, DiagnosisOptions())
+    chosen = offered.fit.cause if offered.fit is not None else "none"
+    table = _prediction_table({p.name: p.to_dict() for p in offered.predictions}, 1.0, chosen)
+    rows = {line.split("|")[1].strip(): line for line in table if line.startswith("| ") and "---" not in line}
+    best = min(offered.predictions, key=lambda p: p.rms)
+    # The best predictor's row says so rather than "0 +/- 0"; the chosen model's row is marked.
+    assert "the best predictor" in next(line for name, line in rows.items() if best.name in name)
+    assert sum("(chosen)" in name for name in rows) == 1 and f"**{chosen}** (chosen)" in rows
+    assert not any("0 +/- 0 |" in line for line in table)

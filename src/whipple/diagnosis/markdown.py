@@ -105,7 +105,8 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
                   for name, e in data["estimate"].items()]
         if report.open_values is not None and (offered is None or offered["cause"] == diagnosis.best.cause):
             lines += ["", f"The data leave open: {report.open_values.sentence()}."]
-        lines += _prediction_table(data["offer_predictions"], report.options.prediction_standard_errors)
+        lines += _prediction_table(data["offer_predictions"], report.options.prediction_standard_errors,
+                                   offered["cause"] if offered is not None else "none")
         lines += ["", f"- base model: {_speeds(report.base_critical)}",
                   f"- extended model: {_speeds(report.extended_critical)}"]
         if "matrices" in data["extended_model"]:
@@ -183,7 +184,8 @@ def _gain_table(gain: Gain) -> list[str]:
     return lines
 
 
-def _prediction_table(predictions: dict[str, dict[str, float]] | None, standard_errors: float) -> list[str]:
+def _prediction_table(predictions: dict[str, dict[str, float]] | None, standard_errors: float,
+                      offered: str) -> list[str]:
     """Return the choice by prediction as a table: each model's error on the speeds left out in turn."""
     if not predictions:
         return []
@@ -191,6 +193,10 @@ def _prediction_table(predictions: dict[str, dict[str, float]] | None, standard_
              f"speeds left out in turn is within {standard_errors:g} standard error(s) of the best predictor's "
              "(the standard error of the excess over the speeds):", "",
              "| model | fitted values | RMS [1/s] | mean squared error above the best [1/s^2] |", "|---|---|---|---|"]
-    lines += [f"| {name} | {p['values']} | {p['rms']:.3g} | "
-              f"{p['mse_above_best']:.3g} +/- {p['standard_error']:.2g} |" for name, p in predictions.items()]
+    for name, p in predictions.items():
+        # The best predictor's excess over itself is 0 by definition: say what it is instead.
+        excess = ("the best predictor" if p["mse_above_best"] == 0.0 and p["standard_error"] == 0.0
+                  else f"{p['mse_above_best']:.3g} +/- {p['standard_error']:.2g}")
+        label = f"**{name}** (chosen)" if name == offered else name
+        lines.append(f"| {label} | {p['values']} | {p['rms']:.3g} | {excess} |")
     return lines

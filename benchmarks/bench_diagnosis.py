@@ -80,7 +80,7 @@ from hidden_effects import (  # noqa: E402
 
 from whipple.cli.measurement_arguments import signal_names  # noqa: E402
 from whipple.diagnosis.fitting import COMPARISONS  # noqa: E402
-from whipple.diagnosis.options import OCCAM_CHARGES, DiagnosisOptions, PairRules, VerdictRules  # noqa: E402
+from whipple.diagnosis.options import OCCAM_CHARGES, DiagnosisOptions, PairRules  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
 from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
@@ -215,13 +215,6 @@ def main() -> None:
                         help="how models are compared with the windows (diagnose_observations(comparison=...); "
                              "default: with their samples)")
     defaults = DiagnosisOptions()
-    parser.add_argument("--amplitude-charge", choices=("bic", "noise"), default=defaults.amplitude_charge,
-                        help="experiment: how an extra state's modal amplitudes are charged when the samples are "
-                             "compared (DiagnosisOptions.amplitude_charge)")
-    parser.add_argument("--charge-sensitivity", action=argparse.BooleanOptionalAction,
-                        default=defaults.verdict.charge_sensitivity,
-                        help="leave a name open when the other amplitude charge would put a cause with another "
-                             "number of states first (VerdictRules.charge_sensitivity)")
     parser.add_argument("--combine-dispersion", type=float, default=defaults.pairs.dispersion,
                         help="experiment: the dispersion of the best single cause above which pairs are tried "
                              f"(PairRules.dispersion, {defaults.pairs.dispersion:g}; 0: always)")
@@ -281,9 +274,7 @@ def main() -> None:
         options = DiagnosisOptions(
             measurement=measurement_options(args.signals or "auto", args.cycles_above_noise),
             comparison=args.compare, rigid_loads=args.rigid_loads, occam=args.occam,
-            amplitude_charge=args.amplitude_charge, fixed_point_start=args.fixed_point_start,
-            pairs=PairRules(dispersion=args.combine_dispersion),
-            verdict=VerdictRules(charge_sensitivity=args.charge_sensitivity))
+            fixed_point_start=args.fixed_point_start, pairs=PairRules(dispersion=args.combine_dispersion))
         tasks = [(*job, args.size_scale, args.twin, options, args.conditions) for job in jobs]
         started = time.perf_counter()
         results = []

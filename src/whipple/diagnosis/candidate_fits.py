@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.fit_bias import fitting_bias
-from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, model_states, robust_chi2
+from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2
 from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.starts import GRID_MAX_VALUES, refinement_starts
 from whipple.measurement.measure import Progress
@@ -122,5 +122,4 @@ def refit_through_bias(bicycle: Model, causes: Sequence[Cause], fits: Sequence[C
 def _evaluated(model: Model, fit: CauseFit, observations: Sequence[Observation], whitening: Whitening) -> CauseFit:
     """Return `fit` with its residuals and chi-square those of `model` under `whitening` (no refit)."""
     residual, predicted, block_chi2 = model_residuals(model, observations, whitening)
-    return replace(fit, chi2=robust_chi2(residual), predicted=predicted, block_chi2=block_chi2, residuals=residual,
-                   states=model_states(model))
+    return replace(fit, chi2=robust_chi2(residual), predicted=predicted, block_chi2=block_chi2, residuals=residual)

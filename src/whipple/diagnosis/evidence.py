@@ -27,8 +27,7 @@ alike). ``none`` has evidence 0. The verdict:
 ``none`` when no cause reaches ``named_threshold``; ``ambiguous`` when the runner-up is within
 ``margin`` of the best, when a runner-up within ``close_evidence`` predicts the observations
 within ``separation`` of the best (:func:`separation`), or when even the best model leaves the
-typical window far off (:func:`typical_dispersion` above ``high_dispersion``), or when the
-name depends on how extra modal amplitudes are charged (:mod:`whipple.diagnosis.charge_sensitivity`);
+typical window far off (:func:`typical_dispersion` above ``high_dispersion``);
 otherwise ``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
 (:mod:`whipple.diagnosis.families`; which pairs: :mod:`whipple.diagnosis.pair_search`) and
 kept only when they beat every single cause by ``margin``; a leading pair is reported, never
@@ -50,7 +49,6 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples
 from whipple.diagnosis.causes import Cause
-from whipple.diagnosis.charge_sensitivity import charge_checked, other_charge
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
@@ -219,7 +217,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
                          [quick_starts(cause) if cause.refines is None else None for cause in causes]
                          if quick else None, progress=progress)
     biases: list[NDArray[np.complex128]] | None = None
-    direct = [fit.evidence for fit in _scored(causes, base, fits, n, options=options)]
+    direct = [fit.evidence for fit in _scored(causes, base, fits, n, options)]
     # In units of the data's dispersion: where no model explains the windows, every difference
     # of chi-square is that many times larger.
     dispersion = max(_dispersions([base, *fits], counts))
@@ -246,7 +244,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
     scales = _dispersions([base, *fits], counts)
     single_scales = typical_dispersion(fits, whitening)
     pairs: list[Cause] = []
-    leader = max(_scored(causes, base, fits, n, whitening.samples, options), key=lambda fit: fit.evidence,
+    leader = max(_scored(causes, base, fits, n, options), key=lambda fit: fit.evidence,
                  default=None)
     # The quick fits of the held-out gain's folds choose a cause to predict with, where a
     # verdict's confidence is not at stake: there the pairs would only add time.
@@ -259,7 +257,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         pairable = [k for k, cause in enumerate(causes) if not is_term(cause.name) and cause.refines is None
                     and cause.name != CALIBRATION]
         members, member_fits = [causes[k] for k in pairable], [fits[k] for k in pairable]
-        started = leading_pairs(members, _scored(members, base, member_fits, n, whitening.samples, options),
+        started = leading_pairs(members, _scored(members, base, member_fits, n, options),
                                 options.pairs.leading)
         eigen_whitening, eigen_base, eigen_fits = eigen
         screen_scales = _dispersions([eigen_base, *eigen_fits], eigen_whitening.counts)
@@ -300,7 +298,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         again = [[fit.values] if n_cause >= single else None for n_cause, fit in enumerate(fits)]
         base, fits = fit_all(bicycle, causes, observations, whitening, again, biases)
     scored, rival_pairs = _clearly_better_pairs(
-        _merge_forms(_scored(causes, base, fits, n, whitening.samples, options)), rules.margin)
+        _merge_forms(_scored(causes, base, fits, n, options)), rules.margin)
     chosen = None
     compared: Sequence[Observation] = observations
     if scored:
@@ -325,13 +323,6 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
                                       options.instrument)
         if dependence is not None and dependence.evidence > rules.speed_dependence:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
-    if verdict != "none" and rules.charge_sensitivity and whitening.samples is not None:
-        # Checked last, so that only a name or the rivals change: were the extra modal
-        # amplitudes charged the other defensible way, would another lead?
-        other = replace(options, amplitude_charge=other_charge(options.amplitude_charge))
-        recharged = _merge_forms(_scored(causes, base, fits, n, whitening.samples, other))
-        verdict, name, rivals, reasons = charge_checked((verdict, name, rivals, reasons), scored, recharged, rules,
-                                                        options.amplitude_charge)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
                      observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index),
                      chosen=chosen if verdict != "none" else None, rivals=rivals,
@@ -490,22 +481,16 @@ def _windows_to_tell(best: CauseFit, rivals: Sequence[CauseFit], needed: float) 
 
 
 def _scored(causes: Sequence[Cause], base: CauseFit, fits: Sequence[CauseFit], n: int,
-            samples: SampleComparison | None = None, options: DiagnosisOptions | None = None) -> list[CauseFit]:
+            options: DiagnosisOptions | None = None) -> list[CauseFit]:
     """Each fit with its evidence against the base model (see the module docstring).
 
-    ``samples``: the fits were compared with the windows' samples, and a model with more states
-    than the base model is charged for its extra modal amplitudes
-    (:meth:`~whipple.diagnosis.samples.SampleComparison.amplitude_charge`); ``options``: the
-    evidence's charges (``occam``, ``amplitude_charge``).
+    ``options``: the evidence's charge of fitted values (``occam``). Compared with the samples,
+    every model fits as many modal amplitudes per window as the base model
+    (:func:`~whipple.diagnosis.slow_modes.slowest_modes`): none is charged for them.
     """
     options = options or DiagnosisOptions()
-
-    def charge(fit: CauseFit) -> float:
-        return 0.0 if samples is None else samples.amplitude_charge(fit.states - base.states,
-                                                                    options.amplitude_charge)
-
     return [replace(fit, evidence=float((base.chi2 - fit.chi2) / 2.0 + occam_factor(cause, fit, n, options.occam)
-                                        + np.log(cause.prior) - charge(fit)))
+                                        + np.log(cause.prior)))
             for cause, fit in zip(causes, fits, strict=True)]
 
 
@@ -561,5 +546,5 @@ def _merge_forms(scored: list[CauseFit]) -> list[CauseFit]:
         merged[fit.cause] = CauseFit(general.cause, general.parameters, general.units, general.values,
                                      general.std, general.chi2, evidence, general.predicted,
                                      residuals=supported.residuals, pinned=supported.pinned,
-                                     covariance=general.covariance, states=supported.states)
+                                     covariance=general.covariance)
     return sorted(merged.values(), key=lambda fit: -fit.evidence)

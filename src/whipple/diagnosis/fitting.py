@@ -22,9 +22,7 @@ from whipple.diagnosis.priors import robust_prior_residuals
 from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
-from whipple.model.assembly import linear_model
 from whipple.model.fleet import Model
-from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import nearest_modes_of_models
 
 #: Whitened residuals beyond about this many standard deviations count less than quadratically
@@ -65,9 +63,6 @@ class CauseFit:
     #: Derivative of the whitened residuals by each value at the fit (a column each; SciPy's
     #: Jacobian for the robust loss), for the Occam factor (:func:`~whipple.diagnosis.evidence.occam_factor`).
     jacobian: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 0)), repr=False, compare=False)
-    #: States of the fitted model (4 for the Whipple form; tyres and a controller's actuator
-    #: add theirs): compared with the samples, each state is one more modal amplitude per window.
-    states: int = 4
 
 
 #: How models are compared with the windows: ``"samples"``, each model's free response fitted to
@@ -357,14 +352,7 @@ def fit_cause(bicycle: Model, cause: Cause, observations: Sequence[Observation],
     final, predicted, block_chi2 = model_residuals(model, observations, whitening)
     return CauseFit(cause.name, cause.parameters, cause.units, tuple(float(v) for v in values),
                     tuple(float(s) for s in std), robust_chi2(final), predicted=predicted, block_chi2=block_chi2,
-                    residuals=final, pinned=pinned_values(cause, values), covariance=covariance, jacobian=jacobian,
-                    states=model_states(model))
-
-
-def model_states(bicycle: Model) -> int:
-    """Return the number of states of a bicycle's linear model (of a fleet: the most of any group's)."""
-    members = [bicycle] if isinstance(bicycle, Bicycle) else [member for _, member in bicycle.members]
-    return max(int(linear_model(member).A.shape[-1]) for member in members)
+                    residuals=final, pinned=pinned_values(cause, values), covariance=covariance, jacobian=jacobian)
 
 
 def _floats(values: NDArray[np.float64]) -> list[float]:

@@ -22,13 +22,11 @@ from whipple.errors import InputError
 from whipple.measurement.measure import MeasurementOptions
 from whipple.model.fleet import Model
 
-__all__ = ["OCCAM_CHARGES", "AMPLITUDE_CHARGES", "FIXED_POINT_STARTS", "GAIN_BY_CAUSE", "VerdictRules", "PairRules",
+__all__ = ["OCCAM_CHARGES", "FIXED_POINT_STARTS", "GAIN_BY_CAUSE", "VerdictRules", "PairRules",
            "DiagnosisOptions"]
 
 #: How the evidence charges a cause's fitted values (:attr:`DiagnosisOptions.occam`).
 OCCAM_CHARGES = ("bic", "laplace", "prior")
-#: How the evidence charges a model's extra modal amplitudes (:attr:`DiagnosisOptions.amplitude_charge`).
-AMPLITUDE_CHARGES = ("bic", "noise")
 #: Where the fitting bias' fixed point starts (:attr:`DiagnosisOptions.fixed_point_start`).
 FIXED_POINT_STARTS = ("measured", "model")
 #: What ``gain_by_cause`` may ask for (:attr:`DiagnosisOptions.gain_by_cause`).
@@ -64,18 +62,6 @@ class VerdictRules:
         Evidence for values that differ between the low and the high speeds above which a
         leading cause is not named: its form does not follow how the error changes with speed
         (default 2, the margin's odds).
-    charge_sensitivity : bool
-        Where the models are compared with the samples, also score every cause with its extra
-        modal amplitudes charged the other defensible way (``DiagnosisOptions.amplitude_charge``:
-        ``"noise"`` where the options say ``"bic"``, and ``"bic"`` where they say ``"noise"``); a
-        named cause that a cause with another number of states would then lead, or come within
-        ``margin`` of, is not named: the verdict is ``ambiguous`` with that cause among the rivals
-        (:mod:`whipple.diagnosis.charge_sensitivity`). Default True: with the BIC's charge a
-        true tyre compliance lost its name to a front load on the ground, with the noise charge
-        effect-free controlled bicycles were named a tyre compliance (7 of 30), so a name that
-        depends on the choice is a guess; an ``ambiguous`` verdict keeps its leader and gains
-        such a cause among its rivals. False: the verdict of the options' charge alone. ``none``
-        never changes.
     """
 
     named_threshold: float = 3.0
@@ -84,11 +70,8 @@ class VerdictRules:
     separation: float = 2.0
     high_dispersion: float = 5.0
     speed_dependence: float = 2.0
-    charge_sensitivity: bool = True
 
     def __post_init__(self) -> None:
-        if not isinstance(self.charge_sensitivity, bool):
-            raise InputError(f"verdict rule charge_sensitivity must be True or False, got {self.charge_sensitivity!r}")
         for name in ("named_threshold", "margin", "close_evidence", "separation", "high_dispersion",
                      "speed_dependence"):
             value = getattr(self, name)
@@ -174,13 +157,10 @@ class DiagnosisOptions:
         prior, a measured parameter's uncertainty or a cause's documented physical range
         (:mod:`whipple.diagnosis.priors`), so that a value pressed against a bound pays what it
         should; the calibration candidate (every measured parameter within its prior) competes
-        only in this mode. Not the default yet: on the benchmark bicycle the calibration took the
-        name from a hidden tyre compliance in 4 of 6 trials (the tyre model pays for its extra
-        modal amplitudes, the calibration does not). ``"laplace"``: the share of a cause's
+        only in this mode. Not the default: on the benchmark bicycle the calibration took the
+        name from a hidden tyre compliance in 4 of 6 trials (measured when the tyre model still
+        paid for its fast modes' amplitudes in every window). ``"laplace"``: the share of a cause's
         bounds its fit leaves open.
-    amplitude_charge : {"bic", "noise"}
-        How a model with more states than the base model is charged for its extra modal
-        amplitudes per window: ln(n_w)/2 each (``"bic"``, default) or 1/2 (``"noise"``).
     samples_screen : float
         Evidence (times the dispersion) by which a cause may trail the best and still be
         refitted to the samples (default 50: further behind it is evaluated at its fit to the
@@ -231,7 +211,6 @@ class DiagnosisOptions:
     verdict: VerdictRules = field(default_factory=VerdictRules)
     pairs: PairRules = field(default_factory=PairRules)
     occam: str = "bic"
-    amplitude_charge: str = "bic"
     samples_screen: float = 50.0
     bias_screen: float = 100.0
     fixed_point_start: str = "measured"
@@ -246,7 +225,6 @@ class DiagnosisOptions:
     def __post_init__(self) -> None:
         _choice("comparison", self.comparison, COMPARISONS)
         _choice("occam", self.occam, OCCAM_CHARGES)
-        _choice("amplitude_charge", self.amplitude_charge, AMPLITUDE_CHARGES)
         _choice("fixed_point_start", self.fixed_point_start, FIXED_POINT_STARTS)
         if self.gain_by_cause is not None:
             _choice("gain_by_cause", self.gain_by_cause, GAIN_BY_CAUSE)
@@ -292,7 +270,7 @@ class DiagnosisOptions:
         return {"measurement": self.measurement.to_dict(), "comparison": self.comparison,
                 "parameters": self.parameters, "model_terms": self.model_terms, "rigid_loads": self.rigid_loads,
                 "causes": [cause.name for cause in self.causes], "verdict": vars(self.verdict).copy(),
-                "pairs": vars(self.pairs).copy(), "occam": self.occam, "amplitude_charge": self.amplitude_charge,
+                "pairs": vars(self.pairs).copy(), "occam": self.occam,
                 "samples_screen": self.samples_screen, "bias_screen": self.bias_screen,
                 "fixed_point_start": self.fixed_point_start, "held_out_gain": self.held_out_gain,
                 "gain_by_cause": self.gain_by_cause, "prediction_shortlist": self.prediction_shortlist,

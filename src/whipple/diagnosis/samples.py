@@ -11,8 +11,10 @@ model's residual on every sample.
 On the ground, where a window's speed changes (its measured acceleration), the bicycle is a
 linear time-varying system along the window's speed profile: the model's response
 ``x(t) = Phi(t, 0) x0`` follows that profile, with the window's initial state ``x0`` fitted in
-place of the modal amplitudes (:meth:`SampleComparison._changing_residuals`). Windows at constant
-speed keep the modal response, to the last bit.
+place of the modal amplitudes (:meth:`SampleComparison._changing_designs`). Windows at constant
+speed keep the modal response, to the last bit. A model with more states than the bicycle's four
+starts every window on its four slowest modes (:func:`slowest_modes`): each window fits as many
+amplitudes for every model.
 
 This uses every mode the samples hold (the weave, and the castering and capsize modes the
 seed paper's function leaves out) and ties the signals together through the model's mode
@@ -39,6 +41,7 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.instrument import InstrumentErrors, profiled_residuals, yaw_gains, yaw_row
 from whipple.diagnosis.observations import Observation, WindowSignals, friction_gains, noise_free
+from whipple.diagnosis.slow_modes import FITTED_MODES, slowest_modes
 from whipple.diagnosis.window_speed import window_speeds
 from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
@@ -143,7 +146,7 @@ class SampleComparison:
     profiles : ndarray, shape (W, 2), or None
         Where the speed changes, each window's measured speed profile ``v(t) = v_c + v' (t - t_c)``:
         the regression's speed at its centre ``v_c`` [m/s] and that centre ``t_c`` from the
-        window's first sample [s]; the model follows it (:meth:`_changing_residuals`). None where
+        window's first sample [s]; the model follows it (:meth:`_changing_designs`). None where
         every window's speed is constant.
     instrument : InstrumentErrors or None
         The roll gyro's scale and misalignment fitted with every model, shared by all windows
@@ -226,7 +229,7 @@ class SampleComparison:
         Per window, the model's free response at the window's speed (``speed_scale`` applied),
         fitted by least squares with each signal's offset: at constant speed its modal
         amplitudes, where the speed changes its initial state, the response following the
-        window's speed profile with ``v' Ka q`` (:meth:`_changing_residuals`).
+        window's speed profile with ``v' Ka q`` (:meth:`_changing_designs`).
         ``linear``: the models' linear models where they are not the bicycles' own (a
         hidden-effect trial's true model); None entries are the bicycles'. A window where the
         model's response overflows (a mode growing beyond the arithmetic) gets residuals of
@@ -282,6 +285,8 @@ class SampleComparison:
                                       for k in members])
                 rows = self._signal_rows(vectors, speeds, yaw) * repeated._bin_factors(values)[:, None, :]
                 design = repeated._modal_design(values, rows)
+                if states > FITTED_MODES:
+                    design = np.take_along_axis(design, slowest_modes(values)[:, None, None, :], axis=-1)
             result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]))
         return result
 
@@ -398,6 +403,14 @@ class SampleComparison:
         design = np.real(np.einsum("mwpkj,mwpgj,mwpjc->mwkpgc", rows, growth, modal))
         length = self.mask.shape[1]
         design = design.reshape(models, windows, rows.shape[-2], -1, states)[:, :, :, :length]
+        if states > FITTED_MODES:
+            # The initial states on the slowest modes of the window's first piece: a real basis of
+            # them (a complex pair's eigenvector's real and imaginary parts), as the modal columns.
+            first, shapes = values[:, :, 0], vectors[:, :, 0]
+            lower = first.imag < -REAL_MODE * np.maximum(np.abs(first), np.finfo(float).tiny)
+            columns = np.where(lower[..., None, :], shapes.imag, shapes.real)
+            basis = np.take_along_axis(columns, slowest_modes(first)[..., None, :], axis=-1)
+            design = np.einsum("mwklc,mwcf->mwklf", design, basis)
         return design * self.mask[None, :, None, :, None] / self._row_noise()[None, :, :, None, None]
 
     def _state_matrices(self, bicycle: Bicycle, model: LinearModel) -> NDArray[np.float64]:
@@ -537,21 +550,6 @@ class SampleComparison:
         residual[self._residual_mask()] = self.residuals([bicycle], [model])[0]
         curves = (self.targets - residual) * self.noise[:, :, None]
         return [curve[:, :size] for curve, size in zip(curves, self.mask.sum(axis=1), strict=True)]
-
-    def amplitude_charge(self, extra_states: int, how: str = "bic") -> float:
-        """Return the evidence's charge for ``extra_states`` more modal amplitudes in every window.
-
-        A model with more states (tyres, a controller's actuator) has that many more amplitudes
-        fitted to each window's samples: free values that fit some of the noise (its fast modes
-        the first samples of every window) whatever the model's values. Each is charged as a
-        fitted value is, ln(n)/2 with n the window's residuals (``how="bic"``), or 1/2 each
-        (``how="noise"``: what one amplitude fitted to pure noise gains on average); negative
-        ``extra_states`` (a model with fewer states than the base) is credited alike.
-        """
-        if how == "noise":
-            return float(extra_states * 0.5 * self.mask.shape[0])
-        residuals = self.mask.sum(axis=1) * len(self.states)
-        return float(extra_states * 0.5 * np.sum(np.log(np.maximum(residuals, 1))))
 
     def chi2_per_sample(self, bicycle: Model, model: LinearModel | None = None) -> float:
         """Return a model's chi-square per sample (1 where it leaves only the noise)."""

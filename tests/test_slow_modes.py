@@ -1,0 +1,103 @@
+"""Models with more states than the bicycle's four start each window on their slowest modes.
+
+A window holds free coasting some time after its push; a tyre's relaxation or a controller's lag
+adds modes tens of times faster than the weave, which have died out by the window's first
+sample. Compared with a window's samples, such a model fits the amplitudes of its four slowest
+modes only (:func:`whipple.diagnosis.slow_modes.slowest_modes`), as many as the Whipple model, so
+that no model gains on the noise of every window's first samples through free fast amplitudes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from scipy.linalg import expm
+
+from whipple.diagnosis.observations import Observation, WindowSignals
+from whipple.diagnosis.samples import SampleComparison
+from whipple.diagnosis.slow_modes import FITTED_MODES, slowest_modes
+from whipple.measurement.weavefit import fit_weave
+from whipple.model.assembly import linear_model
+from whipple.model.parameters import TyreCompliance, load_bicycle
+
+NOISE = (0.002, 0.0005)  # rad/s, rad: a weave of 0.2 rad/s a hundred times its noise
+SPEED = 5.0  # m/s
+RATE = 100.0  # samples per second
+
+
+def _tyred():
+    # A bicycle tyre's values (shared spec tyre-model.md): its relaxation modes decay at about
+    # speed / relaxation length, 33 1/s at 5 m/s, against the weave's 1 1/s or so.
+    return load_bicycle("benchmark").with_extensions(tyre_compliance=TyreCompliance(11.5, 0.57, 0.15))
+
+
+def _window(bicycle, fast_share=0.0, seed=0, duration=3.0):
+    """A constant-speed window of the model's free response from its weave (and capsize) plus
+    ``fast_share`` of the weave's size in its fastest mode, with white noise (roll rate, steer angle)."""
+    matrix = linear_model(bicycle).state_matrix(np.array([SPEED]))[0]
+    values, vectors = np.linalg.eig(matrix)
+    weave = int(np.argmax(np.where(values.imag > 0, -np.abs(values.imag - 4.0), -np.inf)))
+    state = np.real(vectors[:, weave] / vectors[2, weave]) * 0.2
+    capsize = int(np.argmin(np.where(np.abs(values.imag) < 1e-9, np.abs(values.real), np.inf)))
+    state += 0.02 * np.real(vectors[:, capsize] / np.max(np.abs(vectors[:2, capsize])))
+    fastest = int(np.argmax(np.abs(values)))
+    state += fast_share * 0.2 * np.real(vectors[:, fastest] / np.max(np.abs(vectors[:4, fastest])))
+    time = np.arange(0.0, duration + 1e-9, 1.0 / RATE)
+    step = expm(matrix / RATE)
+    states = [state]
+    for _ in time[1:]:
+        states.append(step @ states[-1])
+    clean = np.array(states)[:, [2, 1]].T
+    values = clean + np.asarray(NOISE)[:, None] * np.random.default_rng(seed).standard_normal(clean.shape)
+    fit = fit_weave(time, values, ("roll_rate", "steer_angle"))
+    return Observation("run", 0.0, float(time[-1]), SPEED, (SPEED, SPEED), complex(fit.eigenvalue),
+                       np.eye(2) * 1e-4, signals=WindowSignals(time, values, ("roll_rate", "steer_angle"), "none",
+                                                               noise=np.asarray(NOISE, dtype=float)))
+
+
+def test_the_slowest_modes_are_those_of_the_longest_time_scale():
+    # The benchmark with tyres at 5 m/s: capsize, weave, castering, and the tyres' two lightly
+    # damped oscillations; by the real part alone a tyre oscillation (-11.8 1/s) would come
+    # before the castering mode (-15.1 1/s) and split its pair.
+    values = np.linalg.eigvals(linear_model(_tyred()).state_matrix(np.array([SPEED]))[0])
+    kept = values[slowest_modes(values[None, :])[0]]
+    assert FITTED_MODES == 4
+    assert np.all(np.abs(kept) < 20.0) and np.all(np.abs(np.delete(values, slowest_modes(values[None, :])[0])) > 50.0)
+    whipple = np.linalg.eigvals(linear_model(load_bicycle("benchmark")).state_matrix(np.array([SPEED]))[0])
+    # Continuous with the Whipple model's four (soft tyres move them by up to about 1 1/s).
+    assert np.all(np.min(np.abs(kept[:, None] - whipple[None, :]), axis=1) < 1.5)
+
+
+def test_a_conjugate_pair_is_kept_together():
+    values = np.array([-30.0 + 0j, -1.0 + 5.0j, -1.0 - 5.0j, 0.2 + 0j, -15.0 + 0j, -28.0 + 3.0j, -28.0 - 3.0j])
+    assert slowest_modes(values[None, :])[0].tolist() == [3, 1, 2, 4]
+
+
+def test_a_model_with_tyres_leaves_its_own_window_at_the_noise():
+    bicycle = _tyred()
+    assert linear_model(bicycle).n_states > FITTED_MODES
+    comparison = SampleComparison.of([_window(bicycle)], binned=False)
+    spread = np.sqrt(2.0 / comparison.samples)
+    assert abs(comparison.chi2_per_sample(bicycle) - 1.0) < 4 * spread
+
+
+def test_the_fast_modes_amplitudes_are_not_fitted():
+    # The same window with the tyres' fastest oscillation excited at its first sample as much as
+    # the weave: fitted freely, that mode would take it up; on the slow modes it is left in the
+    # first samples' residuals.
+    bicycle = _tyred()
+    comparison = SampleComparison.of([_window(bicycle, fast_share=1.0)], binned=False)
+    assert comparison.chi2_per_sample(bicycle) > 2.0
+
+
+def test_the_speed_profile_response_starts_on_the_same_slow_modes():
+    # Along a speed profile the initial state takes the place of the modal amplitudes: restricted
+    # to the slow modes of the window's start it spans the same responses, so that a window whose
+    # acceleration is negligible keeps the modal residuals.
+    bicycle = _tyred()
+    window = _window(bicycle, seed=1)
+    modal = SampleComparison.of([window]).residuals([bicycle])[0]
+    followed = SampleComparison.of([replace(window, acceleration=1e-12)])
+    assert followed.profiles is not None
+    np.testing.assert_allclose(followed.residuals([bicycle])[0], modal, rtol=1e-6, atol=1e-6)

@@ -284,9 +284,10 @@ class SampleComparison:
                 yaw = np.concatenate([np.broadcast_to(yaw_gains(bicycles[k]), (self.speeds.size, 2))
                                       for k in members])
                 rows = self._signal_rows(vectors, speeds, yaw) * repeated._bin_factors(values)[:, None, :]
+                if states > FITTED_MODES:  # each mode's column is its own: build the slowest alone
+                    kept = slowest_modes(values)
+                    values, rows = np.take_along_axis(values, kept, -1), np.take_along_axis(rows, kept[:, None], -1)
                 design = repeated._modal_design(values, rows)
-                if states > FITTED_MODES:
-                    design = np.take_along_axis(design, slowest_modes(values)[:, None, None, :], axis=-1)
             result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]))
         return result
 
@@ -396,21 +397,18 @@ class SampleComparison:
         for piece in range(1, count):
             start[:, :, piece] = transitions[:, :, piece - 1] @ start[:, :, piece - 1]
         modal = inverse @ start  # each piece's modal amplitudes per unit initial state
+        if states > FITTED_MODES:  # initial states on a real basis of the first piece's slowest modes
+            first, shapes = values[:, :, 0], vectors[:, :, 0]
+            columns = np.where(_lower_members(first)[..., None, :], shapes.imag, shapes.real)
+            basis = np.take_along_axis(columns, slowest_modes(first)[..., None, :], axis=-1)
+            modal = modal @ basis[:, :, None]
         factors = self._bin_factors(np.moveaxis(values, 1, 0).reshape(windows, -1))
         factors = np.moveaxis(factors.reshape(windows, models, count, states), 0, 1)
         rows = self._signal_rows(vectors, speeds, yaw) * factors[..., None, :]  # (M, W, P, k', n)
         growth = np.exp(values[:, :, :, None, :] * pieces.offsets[None, :, :, :, None])  # (M, W, P, g, n)
         design = np.real(np.einsum("mwpkj,mwpgj,mwpjc->mwkpgc", rows, growth, modal))
         length = self.mask.shape[1]
-        design = design.reshape(models, windows, rows.shape[-2], -1, states)[:, :, :, :length]
-        if states > FITTED_MODES:
-            # The initial states on the slowest modes of the window's first piece: a real basis of
-            # them (a complex pair's eigenvector's real and imaginary parts), as the modal columns.
-            first, shapes = values[:, :, 0], vectors[:, :, 0]
-            lower = first.imag < -REAL_MODE * np.maximum(np.abs(first), np.finfo(float).tiny)
-            columns = np.where(lower[..., None, :], shapes.imag, shapes.real)
-            basis = np.take_along_axis(columns, slowest_modes(first)[..., None, :], axis=-1)
-            design = np.einsum("mwklc,mwcf->mwklf", design, basis)
+        design = design.reshape(models, windows, rows.shape[-2], -1, modal.shape[-1])[:, :, :, :length]
         return design * self.mask[None, :, None, :, None] / self._row_noise()[None, :, :, None, None]
 
     def _state_matrices(self, bicycle: Bicycle, model: LinearModel) -> NDArray[np.float64]:
@@ -488,8 +486,7 @@ class SampleComparison:
         conjugate), so that every mode gives one real column, n in all; in units of each row's noise.
         """
         noise = self._row_noise()
-        magnitude = np.maximum(np.abs(values), np.finfo(float).tiny)
-        lower = values.imag < -REAL_MODE * magnitude
+        lower = _lower_members(values)
         # design[w, k, l, j] = first[w, k, j] Re(e^{lambda_j t_l}) + second[w, k, j] Im(e^{lambda_j t_l}).
         first = np.where(lower[:, None, :], rows.imag, rows.real) / noise[:, :, None]
         second = np.where(lower[:, None, :], rows.real, -rows.imag) / noise[:, :, None]
@@ -555,6 +552,11 @@ class SampleComparison:
         """Return a model's chi-square per sample (1 where it leaves only the noise)."""
         residual = self.residuals([bicycle], [model])[0]
         return float(np.mean(residual**2))
+
+
+def _lower_members(values: NDArray[np.complex128]) -> NDArray[np.bool_]:
+    """Return which eigenvalues are a complex pair's lower member (its column: the imaginary part)."""
+    return values.imag < -REAL_MODE * np.maximum(np.abs(values), np.finfo(float).tiny)
 
 
 def _binned(signals: WindowSignals, duration: float = BIN_DURATION

@@ -16,7 +16,7 @@ from scipy.linalg import expm
 
 from whipple.diagnosis.observations import Observation, WindowSignals
 from whipple.diagnosis.samples import SampleComparison
-from whipple.diagnosis.slow_modes import FITTED_MODES, slowest_modes
+from whipple.diagnosis.slow_modes import FITTED_MODES, slowest_modes, unseen_growth
 from whipple.measurement.weavefit import fit_weave
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import TyreCompliance, load_bicycle
@@ -101,3 +101,26 @@ def test_the_speed_profile_response_starts_on_the_same_slow_modes():
     followed = SampleComparison.of([replace(window, acceleration=1e-12)])
     assert followed.profiles is not None
     np.testing.assert_allclose(followed.residuals([bicycle])[0], modal, rtol=1e-6, atol=1e-6)
+
+
+def test_a_growing_mode_beyond_the_slowest_is_unseen_growth():
+    # A growing weave among the slowest modes is fitted; a growing fast mode is not.
+    slow_growth = np.array([-30.0 + 0j, 0.5 + 5.0j, 0.5 - 5.0j, -0.2 + 0j, -15.0 + 0j, -28.0 + 3.0j, -28.0 - 3.0j])
+    fast_growth = np.array([-0.3 + 0j, -1.0 + 5.0j, -1.0 - 5.0j, -12.0 + 0j, 3.0 + 21.0j, 3.0 - 21.0j])
+    assert unseen_growth(np.stack([slow_growth[:6], fast_growth])).tolist() == [False, True]
+    assert not unseen_growth(fast_growth[None, :4])[0]  # no mode beyond the four
+
+
+def test_a_model_whose_dropped_modes_grow_cannot_hold_a_window():
+    # A tyre relaxing over 1 m at 5 m/s: its slowest four are the bicycle's, barely moved, but one
+    # of its tyre oscillations grows (+3 1/s); started at rest it would cost nothing, yet no
+    # bounded window can have come from it. Both the modal and the speed-profile response say so.
+    soft = load_bicycle("benchmark").with_extensions(tyre_compliance=TyreCompliance(6.4, 0.57, 1.0))
+    assert unseen_growth(np.linalg.eigvals(linear_model(soft).state_matrix(np.array([SPEED]))))[0]
+    window = _window(_tyred(), seed=2)
+    modal = SampleComparison.of([window], binned=False)
+    followed = SampleComparison.of([replace(window, acceleration=1e-12)], binned=False)
+    for comparison in (modal, followed):
+        residuals = comparison.residuals([soft, _tyred()])
+        assert np.all(residuals[0] == 1e3)
+        assert np.all(np.abs(residuals[1]) < 1e2)

@@ -13,8 +13,8 @@ linear time-varying system along the window's speed profile: the model's respons
 ``x(t) = Phi(t, 0) x0`` follows that profile, with the window's initial state ``x0`` fitted in
 place of the modal amplitudes (:meth:`SampleComparison._changing_designs`). Windows at constant
 speed keep the modal response, to the last bit. A model with more states than the bicycle's four
-starts every window on its four slowest modes (:func:`slowest_modes`): each window fits as many
-amplitudes for every model.
+starts every window on its four slowest modes (:func:`slowest_modes`), as many amplitudes as every
+model fits, and cannot hold a window where another of its modes grows (:func:`unseen_growth`).
 
 This uses every mode the samples hold (the weave, and the castering and capsize modes the
 seed paper's function leaves out) and ties the signals together through the model's mode
@@ -41,7 +41,7 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.instrument import InstrumentErrors, profiled_residuals, yaw_gains, yaw_row
 from whipple.diagnosis.observations import Observation, WindowSignals, friction_gains, noise_free
-from whipple.diagnosis.slow_modes import FITTED_MODES, slowest_modes
+from whipple.diagnosis.slow_modes import FITTED_MODES, lower_members, slowest_modes, unseen_growth
 from whipple.diagnosis.window_speed import window_speeds
 from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
@@ -50,8 +50,6 @@ from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, window_state_matrices, window_steer_damping
 
-#: Eigenvalues whose imaginary part is below this fraction of their magnitude are real modes.
-REAL_MODE = 1e-9
 #: Samples are averaged in bins of about this duration [s] before models are compared with
 #: them. A model's response averaged over a bin is its response at the bin's first sample times
 #: a factor per mode (``mean_q e^{lambda q dt}``), so the comparison stays exact for every
@@ -284,10 +282,11 @@ class SampleComparison:
                 yaw = np.concatenate([np.broadcast_to(yaw_gains(bicycles[k]), (self.speeds.size, 2))
                                       for k in members])
                 rows = self._signal_rows(vectors, speeds, yaw) * repeated._bin_factors(values)[:, None, :]
+                growing = unseen_growth(values)
                 if states > FITTED_MODES:  # each mode's column is its own: build the slowest alone
                     kept = slowest_modes(values)
                     values, rows = np.take_along_axis(values, kept, -1), np.take_along_axis(rows, kept[:, None], -1)
-                design = repeated._modal_design(values, rows)
+                design = np.where(growing[:, None, None, None], np.nan, repeated._modal_design(values, rows))
             result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]))
         return result
 
@@ -379,8 +378,8 @@ class SampleComparison:
 
         ``matrices`` (models, R, n, n): the constant state matrix of each of the R pieces the
         windows hold (:attr:`_Pieces.real`, in order); ``speeds`` (models, W, P) and ``yaw``
-        (models, W, P, 2): each piece's model speed [m/s] and yaw-rate gains (:meth:`_signal_rows`).
-        Each signal is divided by its noise; padded bins are 0.
+        (models, W, P, 2): each piece's model speed [m/s] and yaw-rate gains (:meth:`_signal_rows`),
+        each signal divided by its noise, padded bins 0; NaN where a dropped mode grows in a piece.
         """
         models, states = matrices.shape[0], matrices.shape[-1]
         windows, count = pieces.real.shape
@@ -399,9 +398,10 @@ class SampleComparison:
         modal = inverse @ start  # each piece's modal amplitudes per unit initial state
         if states > FITTED_MODES:  # initial states on a real basis of the first piece's slowest modes
             first, shapes = values[:, :, 0], vectors[:, :, 0]
-            columns = np.where(_lower_members(first)[..., None, :], shapes.imag, shapes.real)
+            columns = np.where(lower_members(first)[..., None, :], shapes.imag, shapes.real)
             basis = np.take_along_axis(columns, slowest_modes(first)[..., None, :], axis=-1)
-            modal = modal @ basis[:, :, None]
+            grows = np.asarray(unseen_growth(values).any(axis=-1), dtype=bool)  # in any piece
+            modal = np.where(grows[..., None, None, None], np.nan, modal @ basis[:, :, None])
         factors = self._bin_factors(np.moveaxis(values, 1, 0).reshape(windows, -1))
         factors = np.moveaxis(factors.reshape(windows, models, count, states), 0, 1)
         rows = self._signal_rows(vectors, speeds, yaw) * factors[..., None, :]  # (M, W, P, k', n)
@@ -486,7 +486,7 @@ class SampleComparison:
         conjugate), so that every mode gives one real column, n in all; in units of each row's noise.
         """
         noise = self._row_noise()
-        lower = _lower_members(values)
+        lower = lower_members(values)
         # design[w, k, l, j] = first[w, k, j] Re(e^{lambda_j t_l}) + second[w, k, j] Im(e^{lambda_j t_l}).
         first = np.where(lower[:, None, :], rows.imag, rows.real) / noise[:, :, None]
         second = np.where(lower[:, None, :], rows.real, -rows.imag) / noise[:, :, None]
@@ -552,11 +552,6 @@ class SampleComparison:
         """Return a model's chi-square per sample (1 where it leaves only the noise)."""
         residual = self.residuals([bicycle], [model])[0]
         return float(np.mean(residual**2))
-
-
-def _lower_members(values: NDArray[np.complex128]) -> NDArray[np.bool_]:
-    """Return which eigenvalues are a complex pair's lower member (its column: the imaginary part)."""
-    return values.imag < -REAL_MODE * np.maximum(np.abs(values), np.finfo(float).tiny)
 
 
 def _binned(signals: WindowSignals, duration: float = BIN_DURATION

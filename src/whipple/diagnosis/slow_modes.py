@@ -11,11 +11,18 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["FITTED_MODES", "slowest_modes"]
+__all__ = ["FITTED_MODES", "REAL_MODE", "lower_members", "slowest_modes", "unseen_growth"]
 
 #: Modes whose amplitudes each window fits: as many as the bicycle has mechanical states (roll,
 #: steer and their rates).
 FITTED_MODES = 4
+#: Eigenvalues whose imaginary part is below this fraction of their magnitude are real modes.
+REAL_MODE = 1e-9
+
+
+def lower_members(values: NDArray[np.complex128]) -> NDArray[np.bool_]:
+    """Return which eigenvalues (...) are a complex pair's lower member (its real response: the imaginary part)."""
+    return np.asarray(values.imag < -REAL_MODE * np.maximum(np.abs(values), np.finfo(float).tiny), dtype=bool)
 
 
 def slowest_modes(values: NDArray[np.complex128], count: int = FITTED_MODES) -> NDArray[np.intp]:
@@ -35,3 +42,17 @@ def slowest_modes(values: NDArray[np.complex128], count: int = FITTED_MODES) -> 
     falls between them, when one real response of the pair is kept.
     """
     return np.argsort(np.abs(values), axis=-1, kind="stable")[..., :count]
+
+
+def unseen_growth(values: NDArray[np.complex128], count: int = FITTED_MODES) -> NDArray[np.bool_]:
+    """Return where (...) a mode beyond the ``count`` slowest grows: a model no window can hold.
+
+    A window starts such a mode at rest (:func:`slowest_modes`), which a free response can only
+    do if it decays: a growing mode, however fast, is excited by the least disturbance and
+    would swamp the window. A model with one (a tyre whose relaxation is unstable at the
+    window's speed) cannot have produced a window that stayed bounded, and is treated as a
+    response that overflows. ``values`` (..., n): eigenvalues [1/s].
+    """
+    dropped = np.ones(values.shape, dtype=bool)
+    np.put_along_axis(dropped, slowest_modes(values, count), False, axis=-1)
+    return np.asarray(np.any(dropped & (values.real > 0), axis=-1), dtype=bool)

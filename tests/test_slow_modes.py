@@ -14,8 +14,11 @@ from dataclasses import replace
 import numpy as np
 from scipy.linalg import expm
 
+from whipple.diagnosis.candidate_fits import refit_to_samples
+from whipple.diagnosis.fitting import CauseFit, window_whitening
 from whipple.diagnosis.observations import Observation, WindowSignals
-from whipple.diagnosis.samples import SampleComparison
+from whipple.diagnosis.registry import candidate_causes
+from whipple.diagnosis.samples import OVERFLOW_MISFIT, SampleComparison
 from whipple.diagnosis.slow_modes import FITTED_MODES, slowest_modes, unseen_growth
 from whipple.measurement.weavefit import fit_weave
 from whipple.model.assembly import linear_model
@@ -124,3 +127,19 @@ def test_a_model_whose_dropped_modes_grow_cannot_hold_a_window():
         residuals = comparison.residuals([soft, _tyred()])
         assert np.all(residuals[0] == 1e3)
         assert np.all(np.abs(residuals[1]) < 1e2)
+
+
+def test_a_cause_whose_values_cannot_hold_a_window_is_refitted_to_the_samples():
+    # A cause far from the best is evaluated on the samples at its values fitted to the
+    # eigenvalues; a tyre relaxing over 1 m has a growing mode there, and its evidence at those
+    # values would say nothing of tyres: it is refitted to the samples over its bounds instead.
+    bicycle = load_bicycle("benchmark")
+    window = _window(_tyred(), seed=3)
+    observations = [window, replace(window, run="again")]
+    whitening = window_whitening(observations, bicycle, comparison="samples")
+    tyre = next(cause for cause in candidate_causes(bicycle) if cause.name == "tyre_compliance")
+    held = CauseFit("tyre_compliance", tyre.parameters, tyre.units, (6.4, 1.0), (0.0, 0.0), 0.0)
+    _, (refitted,) = refit_to_samples(bicycle, [tyre], [held], observations, whitening, near=[False])
+    assert refitted.values != held.values
+    assert np.all(np.abs(refitted.residuals) < OVERFLOW_MISFIT)
+    assert refitted.chi2 < 2.0 * refitted.residuals.size

@@ -24,6 +24,7 @@ from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.fit_bias import fitting_bias
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2
 from whipple.diagnosis.observations import Observation
+from whipple.diagnosis.samples import OVERFLOW_MISFIT
 from whipple.diagnosis.starts import GRID_MAX_VALUES, refinement_starts
 from whipple.measurement.measure import Progress
 from whipple.model.fleet import Model
@@ -64,7 +65,8 @@ def refit_to_samples(bicycle: Model, causes: Sequence[Cause], fits: Sequence[Cau
     ``search``, one of two or three values (a payload's mass and position, the tyres) also from
     the best points of a coarse grid over its bounds evaluated on the samples, since the
     samples may favour another part of the bounds than the eigenvalues did. Any other cause is
-    evaluated at its values.
+    evaluated at its values, and refitted so where they leave a window the samples cannot hold
+    (:data:`~whipple.diagnosis.samples.OVERFLOW_MISFIT`).
 
     Returns
     -------
@@ -79,9 +81,14 @@ def refit_to_samples(bicycle: Model, causes: Sequence[Cause], fits: Sequence[Cau
     compared = []
     for cause, fit, is_near in zip(causes, fits, near, strict=True):
         if not is_near:
-            compared.append(_evaluated(cause.apply(bicycle, list(fit.values)), fit, observations, whitening))
-            continue
-        grid = search and cause.refines is None and 2 <= len(cause.parameters) <= GRID_MAX_VALUES
+            evaluated = _evaluated(cause.apply(bicycle, list(fit.values)), fit, observations, whitening)
+            if np.all(np.abs(evaluated.residuals) * np.sqrt(whitening.scales[0]) < OVERFLOW_MISFIT):
+                compared.append(evaluated)
+                continue
+        # Near the best, or values fitted to the eigenvalues that leave a window the samples
+        # cannot hold (a mode the windows do not fit grows there: a tyre relaxing slowly at a
+        # low speed): such a cause's evidence at those values would say nothing of the cause.
+        grid = not is_near or (search and cause.refines is None and 2 <= len(cause.parameters) <= GRID_MAX_VALUES)
         compared.append(fit_cause(bicycle, cause, observations, whitening, [fit.values], grid=grid))
     return base, compared
 

@@ -50,6 +50,9 @@ from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, window_state_matrices, window_steer_damping
 
+#: A window's residual on every sample [noise standard deviations] where a model cannot hold it:
+#: its response overflows, or a mode it does not fit grows (:func:`unseen_growth`).
+OVERFLOW_MISFIT = 1e3
 #: Samples are averaged in bins of about this duration [s] before models are compared with
 #: them. A model's response averaged over a bin is its response at the bin's first sample times
 #: a factor per mode (``mean_q e^{lambda q dt}``), so the comparison stays exact for every
@@ -520,7 +523,7 @@ class SampleComparison:
         design = self._centred(design).reshape(windows, count * length, -1)
         targets = self._centred(self.targets[..., None])[..., 0].reshape(windows, count * length)
         finite = np.isfinite(design).all(axis=(1, 2))
-        residual = np.full((windows, count * length), 1e3)
+        residual = np.full((windows, count * length), OVERFLOW_MISFIT)
         if finite.any():
             q, _ = np.linalg.qr(design[finite])
             fitted = np.einsum("wsc,wc->ws", q, np.einsum("wsc,ws->wc", q, targets[finite]))
@@ -539,7 +542,7 @@ class SampleComparison:
         design, yaw = np.where(finite[..., None, None, None], design, 0.0), np.where(finite[..., None, None], yaw, 0.0)
         residual = profiled_residuals(design, yaw, self._centred(self.targets[..., None])[..., 0], row, finite,
                                       self.instrument)
-        return np.where(finite[..., None, None], residual, 1e3)
+        return np.where(finite[..., None, None], residual, OVERFLOW_MISFIT)
 
     def fitted(self, bicycle: Model, model: LinearModel | None = None) -> list[NDArray[np.float64]]:
         """Return each window's free response of a model fitted to its samples, (k, bins) in signal units."""

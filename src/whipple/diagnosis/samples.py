@@ -285,11 +285,13 @@ class SampleComparison:
                 yaw = np.concatenate([np.broadcast_to(yaw_gains(bicycles[k]), (self.speeds.size, 2))
                                       for k in members])
                 rows = self._signal_rows(vectors, speeds, yaw) * repeated._bin_factors(values)[:, None, :]
-                growing = unseen_growth(values)
+                growing = unseen_growth(values) if states > FITTED_MODES else None
                 if states > FITTED_MODES:  # each mode's column is its own: build the slowest alone
                     kept = slowest_modes(values)
                     values, rows = np.take_along_axis(values, kept, -1), np.take_along_axis(rows, kept[:, None], -1)
-                design = np.where(growing[:, None, None, None], np.nan, repeated._modal_design(values, rows))
+                design = repeated._modal_design(values, rows)
+                if growing is not None:
+                    design[growing] = np.nan
             result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]))
         return result
 

@@ -3,7 +3,7 @@
 A window holds free coasting some time after its push; a tyre's relaxation or a controller's lag
 adds modes tens of times faster than the weave, which have died out by the window's first
 sample. Compared with a window's samples, such a model fits the amplitudes of its four slowest
-modes only (:func:`whipple.diagnosis.slow_modes.slowest_modes`), as many as the Whipple model, so
+modes only (:func:`whipple.stability.slow_modes.slowest_modes`), as many as the Whipple model, so
 that no model gains on the noise of every window's first samples through free fast amplitudes.
 """
 
@@ -15,14 +15,16 @@ import numpy as np
 from scipy.linalg import expm
 
 from whipple.diagnosis.candidate_fits import refit_to_samples
-from whipple.diagnosis.fitting import CauseFit, window_whitening
+from whipple.diagnosis.fitting import CauseFit, models_residuals, window_whitening
 from whipple.diagnosis.observations import Observation, WindowSignals
 from whipple.diagnosis.registry import candidate_causes
 from whipple.diagnosis.samples import OVERFLOW_MISFIT, SampleComparison
-from whipple.diagnosis.slow_modes import FITTED_MODES, slowest_modes, unseen_growth
 from whipple.measurement.weavefit import fit_weave
 from whipple.model.assembly import linear_model
+from whipple.model.fleet import Fleet
 from whipple.model.parameters import TyreCompliance, load_bicycle
+from whipple.stability.nearest_modes import nearest_modes_and_holds
+from whipple.stability.slow_modes import FITTED_MODES, slowest_modes, unseen_growth
 
 NOISE = (0.002, 0.0005)  # rad/s, rad: a weave of 0.2 rad/s a hundred times its noise
 SPEED = 5.0  # m/s
@@ -143,3 +145,25 @@ def test_a_cause_whose_values_cannot_hold_a_window_is_refitted_to_the_samples():
     assert refitted.values != held.values
     assert np.all(np.abs(refitted.residuals) < OVERFLOW_MISFIT)
     assert refitted.chi2 < 2.0 * refitted.residuals.size
+
+
+def test_the_eigenvalue_comparison_applies_the_same_rule():
+    # Compared with the windows' eigenvalues, the soft tyre's weave lies near the measured one:
+    # without the rule it would fit them; with it, every window is a misfit, as on the samples.
+    soft = load_bicycle("benchmark").with_extensions(tyre_compliance=TyreCompliance(6.4, 0.57, 1.0))
+    window = _window(_tyred(), seed=4)
+    observations = [window, replace(window, run="again")]
+    whitening = window_whitening(observations, load_bicycle("benchmark"), comparison="eigenvalues")
+    residuals, predicted, _ = models_residuals([soft, _tyred()], observations, whitening)
+    assert np.all(residuals[0] == 1e3) and np.all(np.abs(residuals[1]) < 10)
+    # What the model predicts is still reported: the rule is about the windows, not the modes.
+    assert np.all(np.isfinite(predicted)) and np.all(np.abs(predicted[0] - window.eigenvalue) < 1.0)
+
+
+def test_a_fleet_is_checked_on_each_group_s_windows():
+    soft = load_bicycle("benchmark").with_extensions(tyre_compliance=TyreCompliance(6.4, 0.57, 1.0))
+    fleets = [Fleet((("a", bicycle), ("b", bicycle))) for bicycle in (soft, _tyred())]
+    speeds, targets = np.full(3, SPEED), np.full(3, -1.0 + 4.0j)
+    unheld = nearest_modes_and_holds([*fleets, load_bicycle("benchmark")], speeds, targets, [None] * 3,
+                                     ["b", "a", "b"])[2]
+    assert unheld.tolist() == [[True, True, True], [False, False, False], [False, False, False]]

@@ -486,7 +486,7 @@ def _scored(causes: Sequence[Cause], base: CauseFit, fits: Sequence[CauseFit], n
 
     ``options``: the evidence's charge of fitted values (``occam``). Compared with the samples,
     every model fits as many modal amplitudes per window as the base model
-    (:func:`~whipple.diagnosis.slow_modes.slowest_modes`): none is charged for them.
+    (:func:`~whipple.stability.slow_modes.slowest_modes`): none is charged for them.
     """
     options = options or DiagnosisOptions()
     return [replace(fit, evidence=float((base.chi2 - fit.chi2) / 2.0 + occam_factor(cause, fit, n, options.occam)

@@ -23,7 +23,7 @@ from whipple.diagnosis.samples import SampleComparison
 from whipple.diagnosis.starts import default_starts, grid_starts
 from whipple.errors import AnalysisError, InputError
 from whipple.model.fleet import Model
-from whipple.stability.nearest_modes import nearest_modes_of_models
+from whipple.stability.nearest_modes import nearest_modes_and_holds, nearest_modes_of_models
 
 #: Whitened residuals beyond about this many standard deviations count less than quadratically
 #: (soft L1 loss): a few windows at very unstable speeds are fitted far worse than their stated
@@ -225,9 +225,13 @@ def _residual_blocks(models: Sequence[Model], observations: Sequence[Observation
         predicted = (nearest_modes_of_models(models, *whitening.targets)[0] if predict
                      else np.full((len(models), len(observations)), np.nan, dtype=complex))
         return whitening.samples.residuals(models), np.zeros((len(models), 0)), predicted
-    predicted, shapes = nearest_modes_of_models(models, *whitening.targets)
+    predicted, shapes, unheld = nearest_modes_and_holds(models, *whitening.targets)
     targets = whitening.targets[1] if whitening.bias is None else whitening.targets[1] - whitening.bias
     difference = np.stack([targets.real - predicted.real, targets.imag - predicted.imag], axis=-1)
+    # A model that cannot hold a window (a mode it does not fit grows there) misfits it, as in
+    # the comparison with the samples: NaN, which models_residuals counts as a large misfit.
+    difference = np.where(unheld[..., None], np.nan, difference)
+    shapes = np.where(unheld, np.nan, shapes)
     eigenvalue = np.einsum("nij,knj->kni", whitening.eigenvalue, difference).reshape(len(models), -1)
     shape_difference = whitening.measured_shapes - shapes[:, whitening.shape_index]
     shape_difference = np.stack([shape_difference.real, shape_difference.imag], axis=-1)

@@ -41,7 +41,6 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.instrument import InstrumentErrors, profiled_residuals, yaw_gains, yaw_row
 from whipple.diagnosis.observations import Observation, WindowSignals, friction_gains, noise_free
-from whipple.diagnosis.slow_modes import FITTED_MODES, lower_members, slowest_modes, unseen_growth
 from whipple.diagnosis.window_speed import window_speeds
 from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
@@ -49,6 +48,7 @@ from whipple.model.fleet import Model, members_of
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, window_state_matrices, window_steer_damping
+from whipple.stability.slow_modes import FITTED_MODES, lower_members, slowest_modes, unseen_growth
 
 #: A window's residual on every sample [noise standard deviations] where a model cannot hold it:
 #: its response overflows, or a mode it does not fit grows (:func:`unseen_growth`).

@@ -19,6 +19,7 @@ from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.model.speed_change import acceleration_stiffness
 from whipple.stability.quartic import second_order_eigenvalues, second_order_eigenvectors
+from whipple.stability.slow_modes import unseen_growth
 
 #: Model states a mode shape can relate: the first four states of every model.
 MODE_SHAPE_STATES = {"roll_angle": 0, "steer_angle": 1, "roll_rate": 2, "steer_rate": 3}
@@ -141,6 +142,25 @@ def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float6
                             ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
     """:func:`nearest_modes` of several models at the same windows; each result (models, windows).
 
+    As :func:`nearest_modes_and_holds`, without whether each model holds each window.
+    """
+    chosen, shapes, _ = nearest_modes_and_holds(bicycles, speeds, targets, signals, groups, friction, accelerations)
+    return chosen, shapes
+
+
+def nearest_modes_and_holds(bicycles: Sequence[Model], speeds: NDArray[np.float64],
+                            targets: NDArray[np.complex128], signals: Sequence[tuple[str, str] | None],
+                            groups: Sequence[str] | None = None, friction: NDArray[np.float64] | None = None,
+                            accelerations: NDArray[np.float64] | None = None
+                            ) -> tuple[NDArray[np.complex128], NDArray[np.complex128], NDArray[np.bool_]]:
+    """:func:`nearest_modes` of several models at the same windows, and where each cannot hold a window.
+
+    Each result has the shape (models, windows): the eigenvalues [1/s], the mode shapes, and
+    ``unheld``, True where a mode beyond the model's four slowest grows at the window
+    (:func:`~whipple.stability.slow_modes.unseen_growth`). A window holds free coasting, which
+    starts such modes at rest; one that grows would have swamped the window. A model with the
+    states ``[q, q']`` alone has no other modes and holds every window.
+
     Models with the states ``[q, q']`` only are solved together: one closed-form solve of all
     their quartics costs little more than one model's, whose many small array operations are
     what an evaluation costs (a fit's finite-difference Jacobian evaluates several models at
@@ -161,20 +181,22 @@ def nearest_modes_of_models(bicycles: Sequence[Model], speeds: NDArray[np.float6
     if all(m is not None for m in matrices):
         M, C, K = (np.stack([m[k] for m in matrices if m is not None]) for k in range(3))
         chosen, vectors = _nearest_second_order(M[:, None], C, K, targets, rows)
+        unheld = np.zeros(chosen.shape, dtype=bool)
     else:
         # Each model once, those with the states [q, q'] from the matrices already built.
-        solved = [_nearest_second_order(*m, targets, rows) if m is not None
+        solved = [(*_nearest_second_order(*m, targets, rows), np.zeros(len(targets), dtype=bool)) if m is not None
                   else _nearest_by_eig(bicycle, v, targets, rows, damping, accelerations)
                   for bicycle, v, m, damping in zip(plain, true_speeds, matrices, dampings, strict=True)]
-        chosen = np.stack([values for values, _ in solved])
-        vectors = np.stack([vector[:, :4] for _, vector in solved])
+        chosen = np.stack([values for values, _, _ in solved])
+        vectors = np.stack([vector[:, :4] for _, vector, _ in solved])
+        unheld = np.stack([held for _, _, held in solved])
     shapes = np.full(chosen.shape, np.nan, dtype=complex)
     if len(rows):
         numerator = [MODE_SHAPE_STATES[signals[n][0]] for n in rows]  # type: ignore[index]
         denominator = [MODE_SHAPE_STATES[signals[n][1]] for n in rows]  # type: ignore[index]
         along = np.arange(len(rows))
         shapes[:, rows] = vectors[:, along, numerator] / vectors[:, along, denominator]
-    return chosen, shapes
+    return chosen, shapes, unheld
 
 
 def _with_window_damping(matrices: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None,
@@ -193,8 +215,8 @@ def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], tar
                        signals: Sequence[tuple[str, str] | None], groups: Sequence[str] | None,
                        friction: NDArray[np.float64] | None = None,
                        accelerations: NDArray[np.float64] | None = None
-                       ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """:func:`nearest_modes_of_models` of models some of which are fleets: each member on its windows.
+                       ) -> tuple[NDArray[np.complex128], NDArray[np.complex128], NDArray[np.bool_]]:
+    """:func:`nearest_modes_and_holds` of models some of which are fleets: each member on its windows.
 
     The members of every model that evaluate the same windows are solved together, as plain
     models are (a fit's finite-difference Jacobian evaluates many models at once).
@@ -202,19 +224,20 @@ def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], tar
     speeds, targets = np.asarray(speeds, dtype=float), np.asarray(targets, dtype=complex)
     chosen = np.full((len(models), len(speeds)), np.nan, dtype=complex)
     shapes = np.full((len(models), len(speeds)), np.nan, dtype=complex)
+    unheld = np.zeros((len(models), len(speeds)), dtype=bool)
     batches: dict[tuple[int, ...] | None, list[tuple[int, Bicycle]]] = {}
     for k, model in enumerate(models):
         for bicycle, index in members_of(model, groups):
             batches.setdefault(None if index is None else tuple(int(n) for n in index), []).append((k, bicycle))
     for key, members in batches.items():
         rows = list(range(len(speeds))) if key is None else list(key)
-        found, shape = nearest_modes_of_models([bicycle for _, bicycle in members], speeds[rows], targets[rows],
+        found, shape, held = nearest_modes_and_holds([bicycle for _, bicycle in members], speeds[rows], targets[rows],
                                                [signals[n] for n in rows], None,
                                                None if friction is None else np.asarray(friction)[rows],
                                                None if accelerations is None else np.asarray(accelerations)[rows])
         for row, (k, _) in enumerate(members):
-            chosen[k, rows], shapes[k, rows] = found[row], shape[row]
-    return chosen, shapes
+            chosen[k, rows], shapes[k, rows], unheld[k, rows] = found[row], shape[row], held[row]
+    return chosen, shapes, unheld
 
 
 def nearest_eigen(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: ArrayLike,
@@ -230,29 +253,31 @@ def nearest_eigen(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: A
     if matrices is not None:
         # The closed form of the 4-state models: a fraction of eig's cost at this size.
         return _nearest_second_order(*matrices, np.asarray(targets), rows)
-    return _nearest_by_eig(bicycle, true_speeds, targets, rows)
+    return _nearest_by_eig(bicycle, true_speeds, targets, rows)[:2]
 
 
 def _nearest_by_eig(bicycle: Bicycle, true_speeds: NDArray[np.float64], targets: ArrayLike,
                     rows: NDArray[np.intp], damping: NDArray[np.float64] | None = None,
                     accelerations: NDArray[np.float64] | None = None
-                    ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+                    ) -> tuple[NDArray[np.complex128], NDArray[np.complex128], NDArray[np.bool_]]:
     """:func:`nearest_eigen` by ``numpy.linalg.eig`` of the state matrices (a model with more states).
 
     ``damping``: a steer damping [N m s/rad] per speed added (:func:`with_steer_damping`);
     ``accelerations``: the measured forward accelerations [m/s^2] (None: constant speed).
+    Also returns where a mode beyond the four slowest grows (:func:`nearest_modes_and_holds`).
     """
     values, vectors = np.linalg.eig(window_state_matrices(bicycle, linear_model(bicycle), true_speeds, damping,
                                                           accelerations))
+    unheld = unseen_growth(values.astype(complex))
     lower = values.imag < 0
     values = np.where(lower, np.conj(values), values)
     nearest = np.argmin(np.abs(values - np.asarray(targets)[:, None]), axis=1)
     chosen = np.asarray(values[np.arange(len(nearest)), nearest], dtype=complex)
     if not len(rows):
-        return chosen, np.zeros((0, vectors.shape[-1]), dtype=complex)
+        return chosen, np.zeros((0, vectors.shape[-1]), dtype=complex), unheld
     vector = vectors[rows, :, nearest[rows]]
     # The eigenvector of the upper-half-plane eigenvalue: conjugated where eig gave the lower.
-    return chosen, np.where(lower[rows, nearest[rows]][:, None], np.conj(vector), vector)
+    return chosen, np.where(lower[rows, nearest[rows]][:, None], np.conj(vector), vector), unheld
 
 
 def _nearest_second_order(M: NDArray[np.float64], C: NDArray[np.float64], K: NDArray[np.float64],

@@ -158,6 +158,12 @@ class Whitening:
 _MEDIAN_CHI2_2 = 2.0 * np.log(2.0)
 
 
+#: Whitened residual [standard deviations] of an eigenvalue or a mode shape a model cannot give:
+#: its weave vanishes at the window's speed, or it cannot hold the window (a mode it does not fit
+#: grows there). Large and finite, so that a fit steps away from it instead of stopping.
+EIGENVALUE_MISFIT = 1e3
+
+
 def _inverse_cholesky(covariance: NDArray[np.float64] | None, observation: Observation,
                       what: str) -> NDArray[np.float64]:
     where = f"window {observation.run} {observation.start:.2f}-{observation.stop:.2f} s"
@@ -229,7 +235,7 @@ def _residual_blocks(models: Sequence[Model], observations: Sequence[Observation
     targets = whitening.targets[1] if whitening.bias is None else whitening.targets[1] - whitening.bias
     difference = np.stack([targets.real - predicted.real, targets.imag - predicted.imag], axis=-1)
     # A model that cannot hold a window (a mode it does not fit grows there) misfits it, as in
-    # the comparison with the samples: NaN, which models_residuals counts as a large misfit.
+    # the comparison with the samples: NaN, which models_residuals counts as EIGENVALUE_MISFIT.
     difference = np.where(unheld[..., None], np.nan, difference)
     shapes = np.where(unheld, np.nan, shapes)
     eigenvalue = np.einsum("nij,knj->kni", whitening.eigenvalue, difference).reshape(len(models), -1)
@@ -264,7 +270,8 @@ def models_residuals(models: Sequence[Model], observations: Sequence[Observation
         eigenvalue, shape, predicted = _residual_blocks(models, observations, whitening, predict)
     # A model whose weave vanishes at a window's speed has no shape to compare: count it as a
     # large, finite misfit rather than stopping the fit.
-    eigenvalue, shape = (np.nan_to_num(block, nan=1e3, posinf=1e3, neginf=-1e3) for block in (eigenvalue, shape))
+    eigenvalue, shape = (np.nan_to_num(block, nan=EIGENVALUE_MISFIT, posinf=EIGENVALUE_MISFIT,
+                                       neginf=-EIGENVALUE_MISFIT) for block in (eigenvalue, shape))
     scaled = np.concatenate([eigenvalue / np.sqrt(whitening.scales[0]), shape / np.sqrt(whitening.scales[1])],
                             axis=1)
     return scaled, predicted, [(robust_chi2(e), robust_chi2(s)) for e, s in zip(eigenvalue, shape, strict=True)]

@@ -232,9 +232,9 @@ def _nearest_of_fleets(models: Sequence[Model], speeds: NDArray[np.float64], tar
     for key, members in batches.items():
         rows = list(range(len(speeds))) if key is None else list(key)
         found, shape, held = nearest_modes_and_holds([bicycle for _, bicycle in members], speeds[rows], targets[rows],
-                                               [signals[n] for n in rows], None,
-                                               None if friction is None else np.asarray(friction)[rows],
-                                               None if accelerations is None else np.asarray(accelerations)[rows])
+                                                     [signals[n] for n in rows], None,
+                                                     None if friction is None else np.asarray(friction)[rows],
+                                                     None if accelerations is None else np.asarray(accelerations)[rows])
         for row, (k, _) in enumerate(members):
             chosen[k, rows], shapes[k, rows], unheld[k, rows] = found[row], shape[row], held[row]
     return chosen, shapes, unheld

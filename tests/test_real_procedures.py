@@ -141,6 +141,37 @@ def test_a_catch_just_before_a_window_end_is_seen_in_the_samples_after_it():
     assert "cut before a catch" in inside[0].window.notes[-1]
 
 
+@pytest.mark.parametrize(("seed", "piece", "ending"), [(1, 0, "its last swing left out"), (5, 0, "")])
+def test_a_segment_cut_just_after_its_catch_is_fitted_up_to_the_catch(seed, piece, ending):
+    # kooijman2008 at 4.5 m/s, where the weave barely decays: segments cut 0.10 s (seed 1) and
+    # 0.03 s (seed 5) after the hand's catch, while the motion had sunk near the background.
+    # The hand's mark on those samples is 3-5 noise standard deviations, which no swing rule
+    # and no test of the residual can tell; the windows ran to the record's end, across the
+    # catch. The record's last margin of samples, and an unfinished last swing in the tail
+    # after the last clear extreme, are left out.
+    fitted, run = _windows_and_catches("kooijman2008", "cut", 4.5, seed, piece)
+    (start, catch), = run.segments
+    assert catch in run.catches and 0.0 < run.time[-1] - catch < 0.11
+    inside = [m for m in fitted if start - 0.01 <= m.fit.start < catch]
+    assert len(inside) == 1 and inside[0].usable
+    assert inside[0].fit.stop < catch
+    assert ending in inside[0].window.reason
+
+
+def test_a_free_motion_to_the_record_end_keeps_all_but_the_filter_margin():
+    # A segment cut in free motion, 1.6 s before the catch, as the motion sinks into the
+    # noise: the window keeps the record's last swing and leaves out only the last samples
+    # that the low-pass filter spreads a hand's mark over.
+    bicycle, model = _bicycle("benchmark")
+    simulated = simulate_run(bicycle, scenario("sharp", 6.0, 0), model)
+    start, stop = simulated.segments[0]
+    piece = run_from_simulation(cut_run(simulated, start + 0.1, start + 1.8))
+    assert stop - piece.time[-1] > 1.5
+    measured = next(m for m in measure_run(piece) if m.fit is not None)
+    assert measured.usable and measured.window.reason.endswith("decayed into the noise")
+    assert 0.0 < piece.time[-1] - measured.window.stop < 0.1
+
+
 def test_a_catch_and_its_return_are_no_window_and_the_growth_before_them_is():
     # The Browser at +0.75 1/s (seed 2): a small push at 7.38 s grows until the hand catches
     # the bicycle at 12.38 s. The catch and the hand's return are two swings of 0.4 s where the

@@ -350,7 +350,7 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
         The run's speed at every sample [m/s] (default ``run.speed()``), to save recomputing it.
     stills : sequence of int
         Sample indices where the roll rate comes to rest
-        (:attr:`~whipple.measurement.windows.WindowSearch.stills`). A window that runs on past
+        (:attr:`~whipple.measurement.window_search.WindowSearch.stills`). A window that runs on past
         the first of them inside it is cut there when the bicycle is held still from there
         (:func:`~whipple.measurement.catches.hold_evidence`), or rejected when too little free
         motion comes before it; none given: no such test.

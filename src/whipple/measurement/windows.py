@@ -24,6 +24,11 @@ alike; pushes and catches break that pattern. From the swings:
   hand), when a swing collapses far below the trend or is halfway through its height at once
   (a catch), when the signal saturates, or
   at the end of the record.
+* The **record's end** may be where a segment was cut as a hand took hold: a window that
+  reaches it leaves out its last samples, the low-pass filter's spread (in which a hand's
+  mark cannot be told from the noise with no swing after it). A record that ends within the
+  period after the last clear extreme of a dying oscillation ends that window at its last
+  turn, less the same spread: its unfinished last swing is left out.
 * A **grab**: the first swing after a push that is over in under half the record's half
   period and half the push's time, starting while the bicycle moves fast, is a hand catching
   the falling bicycle, not a free swing; it ends the window and starts none itself. A swing
@@ -50,7 +55,7 @@ bicycle's controller also applies) is not detected.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -60,6 +65,7 @@ from whipple.measurement.record_gaps import gap_reason, parts_between, record_ga
 from whipple.measurement.rejections import no_oscillation
 from whipple.measurement.runs import Run
 from whipple.measurement.swings import Swings, swings_of
+from whipple.measurement.window_search import Window, WindowSearch
 
 __all__ = ["PUSH_RATIO", "TREND_TOLERANCE", "GROWTH", "STIR", "QUICK_PUSH", "SLOW_SWING_BACK", "ALIKE", "EARLY",
            "FIRST_GROWTH", "Window", "WindowSearch", "find_windows"]
@@ -84,69 +90,6 @@ EARLY = 0.25
 #: Before a free oscillation's swing ratio is known, a swing may outgrow the one before by this
 #: factor (a weave growing at +1 1/s with a period of 2.5 s grows 3.5 times a swing).
 FIRST_GROWTH = PUSH_RATIO**2
-
-
-@dataclass(frozen=True)
-class Window:
-    """A stretch of a run to fit.
-
-    Attributes
-    ----------
-    run : str
-        Name of the run.
-    start, stop : float
-        First and last sample time [s].
-    start_index, stop_index : int
-        Sample indices: ``run.time[start_index:stop_index]`` (stop exclusive).
-    reason : str
-        Why the window starts and ends (or, for a rejected stretch, why it was rejected).
-    notes : tuple of str
-        Quality notes (growing oscillation, saturation, ...).
-    """
-
-    run: str
-    start: float
-    stop: float
-    start_index: int
-    stop_index: int
-    reason: str = ""
-    notes: tuple[str, ...] = ()
-
-    @property
-    def duration(self) -> float:
-        """Length of the window [s]."""
-        return self.stop - self.start
-
-
-@dataclass(frozen=True)
-class WindowSearch:
-    """Result of :func:`find_windows`.
-
-    Attributes
-    ----------
-    run : str
-        Name of the run.
-    windows : tuple of Window
-        Accepted free-coasting windows, in time order.
-    rejected : tuple of Window
-        Candidate stretches that were rejected, with the reason.
-    noise : float
-        Standard deviation of the roll rate's noise [rad/s].
-    background : float
-        Median swing of the low-passed roll rate [rad/s].
-    frequency : float
-        Dominant frequency of the roll rate [Hz].
-    stills : tuple of int
-        Where each still stretch of the roll rate begins, with or without a wake (sample indices).
-    """
-
-    run: str
-    windows: tuple[Window, ...]
-    rejected: tuple[Window, ...]
-    noise: float
-    background: float
-    frequency: float
-    stills: tuple[int, ...] = ()
 
 
 def find_windows(run: Run, signal: str = "roll_rate", valid: NDArray[np.bool_] | None = None) -> WindowSearch:
@@ -568,6 +511,17 @@ class _Finder:
         if tail and later is not None and self.onset(later) < end:
             end = self.onset(later)
             why = f"next push at {self.run.time[end]:.2f} s"
+        elif tail and end > self.x.size:
+            # The record ends inside the tail: a segment cut where the bicycle was caught, as
+            # the motion died out. Its last swing is unfinished, and no rule can tell a hand on
+            # it (one that holds the bicycle turns the roll rate at the record's last turn); the
+            # tail ends before that turn, by the filter's spread, as at a catch, or at the last
+            # clear extreme when the roll rate does not turn again.
+            turns = self.extremes[(self.extremes > self.extremes[j]) & (self.extremes < self.x.size - 1)]
+            end = int(self.extremes[j]) + 1
+            if turns.size:
+                end = max(int(turns[-1]) - self.margin, end)
+            why += f" (the record ends at {self.run.time[-1]:.2f} s: its last swing left out)"
         # Nothing moves while the bicycle is held: a still stretch ends the window.
         held = int(np.searchsorted(self.rests, start, side="right"))
         if held < self.rests.size and self.rests[held] < end:
@@ -587,6 +541,11 @@ class _Finder:
         began = (f"perturbation at {time[self.extremes[push]]:.2f} s" if not at_start
                  else f"free motion from the record's first sample at {time[0]:.2f} s (no push in it)")
         reason = f"{began}; ends: {why}"
+        if end == self.x.size:
+            # A segment is cut where its author saw the coast end, often as the hand took hold:
+            # the filter spreads a hand's mark over the record's last margin samples, and with
+            # no swing after them no rule can tell it. (The swing they end still counts above.)
+            end -= self.margin
         # One swing back and then stillness is a push (or a catch) and its return, unless the
         # swing back overshoots where the push began: a heavily damped oscillation.
         still = why.startswith(("decayed", "came to rest")) or self.held(j)

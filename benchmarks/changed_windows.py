@@ -5,7 +5,7 @@ unchanged windows are unchanged), so after a change of ``whipple.measurement.win
 trials with some other window need to run again; the rest of an earlier log stands.
 
 Run: ``python benchmarks/changed_windows.py OLD_WINDOWS.py [--seeds 50] [--first-seed 0]
-[--workers 2] > trials.jsonl``, where OLD_WINDOWS.py is the earlier
+[--workers 2] [--conditions ground+faults] > trials.jsonl``, where OLD_WINDOWS.py is the earlier
 ``src/whipple/measurement/windows.py`` (e.g. ``git show REV:src/whipple/measurement/windows.py``).
 Prints one JSON line ``[bicycle, family, seed]`` per touched trial, for
 ``bench_diagnosis.py --trials``; on stderr the count and the touched speeds.
@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from hidden_effects import BICYCLES, CONTROLLED, families, trial_options, trial_runs  # noqa: E402
+from hidden_effects import BICYCLES, CONDITIONS, CONTROLLED, families, trial_options, trial_runs  # noqa: E402
 
 from whipple.measurement import windows as current  # noqa: E402
 from whipple.measurement.experiment import FitOptions, diagnosis_signals, measure_run  # noqa: E402
@@ -46,11 +46,11 @@ def _load(path: str):
     return module
 
 
-def _touched(job: tuple[str, str, str, int]) -> tuple[str, str, int, list[float]]:
+def _touched(job: tuple[str, str, str, int, str]) -> tuple[str, str, int, list[float]]:
     """The speeds [m/s] of a trial whose runs the two finders cut differently."""
-    old_path, bicycle, family, seed = job
+    old_path, bicycle, family, seed, conditions = job
     earlier = _load(old_path)
-    _, _, runs = trial_runs(family, seed, bicycle)
+    _, _, runs = trial_runs(family, seed, bicycle, conditions=conditions)
     speeds = []
     for run in runs:
         # The samples measure_run lets a window use.
@@ -63,20 +63,20 @@ def _touched(job: tuple[str, str, str, int]) -> tuple[str, str, int, list[float]
     return bicycle, family, seed, speeds
 
 
-def _short_above_noise(job: tuple[float, str, str, int]) -> tuple[str, str, int, list[float]]:
+def _short_above_noise(job: tuple[float, str, str, int, str]) -> tuple[str, str, int, list[float]]:
     """The speeds [m/s] of a trial's runs with a usable window of fewer than the given cycles above the noise."""
-    minimum, bicycle, family, seed = job
-    base, _, runs = trial_runs(family, seed, bicycle)
+    minimum, bicycle, family, seed, conditions = job
+    base, _, runs = trial_runs(family, seed, bicycle, conditions=conditions)
     return bicycle, family, seed, [
         float(np.median(run.speed())) for run in runs
         if any(m.skipped is None and m.fit is not None and m.fit.cycles_above_noise < minimum
                for m in measure_run(run, None, trial_options(base, min_cycles_above_noise=0.0)))]
 
 
-def _set_aside(job: tuple[None, str, str, int]) -> tuple[str, str, int, list[float]]:
+def _set_aside(job: tuple[None, str, str, int, str]) -> tuple[str, str, int, list[float]]:
     """The speeds [m/s] of a trial's windows that no one free motion follows (set aside)."""
-    _, bicycle, family, seed = job
-    base, _, runs = trial_runs(family, seed, bicycle)
+    _, bicycle, family, seed, conditions = job
+    base, _, runs = trial_runs(family, seed, bicycle, conditions=conditions)
     options = trial_options(base, signals=diagnosis_signals(runs))
     measured = [m for run in runs for m in measure_run(run, None, options)]
     return bicycle, family, seed, [m.speed.mean for m, kept in zip(measured, set_aside_outlying(measured), strict=True)
@@ -94,11 +94,13 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=50)
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--conditions", choices=list(CONDITIONS), default="treadmill",
+                        help="where the trials' runs are made (as bench_diagnosis.py --conditions)")
     args = parser.parse_args()
     if sum([args.old_windows is not None, args.cycles_above_noise is not None, args.set_aside]) != 1:
         parser.error("give one of OLD_WINDOWS.py, --cycles-above-noise and --set-aside")
     first = args.cycles_above_noise if args.cycles_above_noise is not None else args.old_windows
-    jobs = [(first, bicycle, family, seed)
+    jobs = [(first, bicycle, family, seed, args.conditions)
             for seed in range(args.first_seed, args.first_seed + args.seeds)
             for bicycle in args.bicycles for family in families(bicycle)]
     touched = 0

@@ -203,13 +203,11 @@ def test_most_coasts_of_a_weave_cycle_give_a_window_on_four_bicycles():
     """At least 85 % of the coasts that hold a weave cycle give a fitted window, over four
     bicycles, speeds of decaying and growing weave (up to +1 1/s) and the four procedures.
 
-    Windows fitted across a catch: the aim is none, and it is not met. Measured (seeds 0-3,
-    2026-12-06, benchmarks/bench_window_finder.py, with the catch test's second look and the
-    hold test): 1 of 1,056 coasts, usable, kooijman2008 at 4.5 m/s, a cut segment whose record
-    ends 0.1 s after a catch (the hand's mark 3.3 noise standard deviations at most, 1.6 RMS
-    over those 10 samples, which no test of the residual tells from noise; eigenvalue error
-    1.8 %, as the clean windows of that run; see docs/measured-runs.md). Here at most 1 % of
-    the coasts.
+    Windows fitted across a catch: the aim is none. Measured (2026-12-07,
+    benchmarks/bench_window_finder.py, with the catch test's two looks, the hold test and the
+    record-end rule): none of 1,056 coasts of seeds 0-3, 3 of 2,108 of seeds 0-7 (kooijman2008
+    at 4.5 m/s, 2-9 samples past the catch; see docs/measured-runs.md, "Known
+    limitations"). Here at most 1 % of the coasts.
     """
     total = fitted = across = before_push = 0
     for name in BICYCLES:

@@ -13,7 +13,11 @@ catch the hand's mark on its samples is measured: the largest difference, over t
 fit holds after the catch, between the true roll rate and the free motion that would have
 followed without the hand (the model's state at the catch propagated freely), in standard
 deviations of the roll rate's noise. Under 1 the catch came while the motion had sunk into the
-noise, and the fit cannot tell it.
+noise, and the fit cannot tell it. The mark is taken sample by sample, so it holds the held
+bicycle's own jitter (``hold_std``) as well as the hand's pull; what crossing the catch does to
+the measurement is printed too: how far the window's eigenvalue moves when the same window ends
+at the last sample before the catch, in its fit's standard errors (the larger of the damping's
+and the frequency's shifts).
 
 Procedures (``whipple.simulation``):
 
@@ -66,6 +70,7 @@ def main() -> None:
     short_errors: list[float] = []
     reasons: Counter[str] = Counter()
     marks: list[float] = []
+    shifts: list[float] = []
     for name in args.bicycles:
         for procedure in args.procedures:
             tally = procedure_tally(name, procedure, range(args.seeds), args.speeds, short=True)
@@ -74,6 +79,7 @@ def main() -> None:
             short.update(tally.short)
             short_errors.extend(tally.short_errors)
             marks.extend(tally.marks)
+            shifts.extend(tally.shifts)
             reasons.update(_short(why) for why in tally.reasons)
             print(f"{name:13s} {procedure:6s} coasts {count['coasts']:4d}  fitted {count['fitted']:4d} "
                   f"({_rate(count, 'fitted')})  usable {count['usable']:4d} ({_rate(count, 'usable')})  "
@@ -96,6 +102,8 @@ def main() -> None:
     if marks:
         print(f"the hand's mark on the windows fitted across a catch (noise standard deviations): "
               f"{', '.join(f'{m:.2f}' for m in sorted(marks))}; {sum(m >= 1 for m in marks)} of them at 1 or more")
+        print(f"how far their eigenvalue moves when each ends at its catch (its fit's standard errors): "
+              f"{', '.join(f'{s:.2f}' for s in sorted(shifts))}")
     if reasons:
         print("why the coasts without a window gave none (the rejected stretches' reasons):")
         for reason, n in reasons.most_common(12):

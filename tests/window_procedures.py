@@ -9,14 +9,14 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 from scipy.linalg import expm
 
 from whipple.errors import InputError
-from whipple.measurement.experiment import measure_run
+from whipple.measurement.experiment import measure_run, measure_window
 from whipple.measurement.runs import MIN_DURATION, run_from_simulation
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
@@ -105,11 +105,12 @@ def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict
     def relative_error(measured_window) -> float:
         return abs(complex(measured_window.fit.damping, measured_window.fit.frequency) - eigenvalue) / abs(eigenvalue)
 
+    run = run_from_simulation(simulated)
     try:
-        measured = measure_run(run_from_simulation(simulated))
+        measured = measure_run(run)
     except InputError as error:
         return [{"fitted": False, "usable": False, "across_catch": 0, "usable_across_catch": 0, "across_push": 0,
-                 "hand_mark": [],
+                 "hand_mark": [], "catch_shift": [],
                  "errors": [], "errors_across_catch": [], "why": [str(error)], "short": is_short(start, stop)}
                 for start, stop in simulated.segments]
     records = []
@@ -129,12 +130,31 @@ def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict
             "across_catch": len(across),
             "usable_across_catch": sum(m.usable for m in across),
             "hand_mark": [_hand_mark(simulated, model, stop, m.fit.stop) for m in across],
+            "catch_shift": [_catch_shift(run, m, stop) for m in across],
             "across_push": sum(pushed and m.fit.start < start - 0.5 / fs for m in inside),
             "errors": [relative_error(m) for m in inside if m.usable],
             "errors_across_catch": [relative_error(m) for m in across if m.usable],
             "why": why if not inside else [],
         })
     return records
+
+
+def _catch_shift(run, measured, catch: float) -> float:
+    """How far a window's eigenvalue moves when it ends at the catch [standard errors]: the larger of
+    |d - d_c| / sd(d) and |w - w_c| / sd(w), with d + iw fitted to the window as measured and
+    d_c + iw_c to the same window ended at the last sample before the catch (nan when that
+    window gives no fit).
+
+    The hand's mark (:func:`_hand_mark`) is sample by sample and holds the hold's own jitter;
+    this is what fitting past the catch does to the measurement.
+    """
+    last = int(np.searchsorted(run.time, catch - 1e-9))
+    cut = measure_window(run, replace(measured.window, stop=float(run.time[last - 1]), stop_index=last)).fit
+    if cut is None:
+        return float("nan")
+    fit = measured.fit
+    sd = np.sqrt(np.diag(fit.covariance))
+    return float(max(abs(fit.damping - cut.damping) / sd[0], abs(fit.frequency - cut.frequency) / sd[1]))
 
 
 def _hand_mark(simulated: SimulatedRun, model, catch: float, stop: float) -> float:
@@ -159,7 +179,8 @@ class Tally:
     usable one (``usable``), windows fitted across a catch (``across_catch``; those usable:
     ``usable_across_catch``) or a push (``across_push``); ``growing``: the same for
     the coasts of a growing weave; ``errors``: the usable windows' |fitted - model| / |model|;
-    ``marks``: the hand's mark on each window fitted across a catch [noise std]; ``reasons``:
+    ``marks``: the hand's mark on each window fitted across a catch [noise std]; ``shifts``: how
+    far each such window's eigenvalue moves when it ends at the catch [standard errors]; ``reasons``:
     the rejected stretches' reasons of the coasts without a window. ``short``: the same counts
     for the coasts shorter than a weave cycle (not in the rates), and ``short_errors`` the
     eigenvalue errors of their usable windows fitted across a catch.
@@ -169,6 +190,7 @@ class Tally:
     growing: Counter[str] = field(default_factory=Counter)
     errors: list[float] = field(default_factory=list)
     marks: list[float] = field(default_factory=list)
+    shifts: list[float] = field(default_factory=list)
     reasons: list[str] = field(default_factory=list)
     short: Counter[str] = field(default_factory=Counter)
     short_errors: list[float] = field(default_factory=list)
@@ -209,5 +231,6 @@ def procedure_tally(name: str, procedure: str, seeds: Iterable[int], speeds: Ite
                     if not record["fitted"]:
                         tally.reasons.extend(record["why"] or ["(nothing listed)"])
                     tally.marks.extend(record["hand_mark"])
+                    tally.shifts.extend(record["catch_shift"])
                     tally.errors.extend(record["errors"])
     return tally

@@ -8,7 +8,8 @@ below and measured as ``whipple fit`` measures them (window finder, fit, cut bef
 A coast counts when it holds at least one weave cycle of the model at its speed (its length
 times the weave frequency over 2 pi). It gives a window when a fitted window starts inside
 it; that window is fitted across the catch when its fit runs more than one sample past the
-catch, and across the push when it starts before the push's end. For a window fitted across a
+catch. A fitted window that starts before a push's end (in the hold before it) and runs on past
+it is fitted across the push, and is not the coast's window. For a window fitted across a
 catch the hand's mark on its samples is measured: the largest difference, over the samples the
 fit holds after the catch, between the true roll rate and the free motion that would have
 followed without the hand (the model's state at the catch propagated freely), in standard
@@ -41,7 +42,11 @@ coasts without a window. The coasts shorter than a weave cycle are counted apart
 rates): a window starting in one can run on past its catch into the held bicycle, so those
 fitted across a catch, the usable ones among them and their eigenvalue errors are printed.
 
-Run: ``python benchmarks/bench_window_finder.py [--seeds 3] [--bicycles ...] [--procedures ...]``
+Field conditions: ``--sample-rate`` (Hz, default 100) and ``--noise-scale`` (a factor on every
+sensor's noise per sample).
+
+Run: ``python benchmarks/bench_window_finder.py [--seeds 3] [--bicycles ...] [--procedures ...]
+[--sample-rate 100] [--noise-scale 1]``
 """
 
 from __future__ import annotations
@@ -64,6 +69,9 @@ def main() -> None:
     parser.add_argument("--bicycles", nargs="+", default=list(BICYCLES), choices=list(BICYCLES))
     parser.add_argument("--procedures", nargs="+", default=list(PROCEDURES), choices=PROCEDURES)
     parser.add_argument("--speeds", type=float, nargs="+", default=list(SPEEDS))
+    parser.add_argument("--sample-rate", type=float, default=100.0, help="sample rate of the runs [Hz]")
+    parser.add_argument("--noise-scale", type=float, default=1.0,
+                        help="factor on every sensor's noise per sample (default sensors: 1)")
     args = parser.parse_args()
     total: Counter[str] = Counter()
     short: Counter[str] = Counter()
@@ -73,7 +81,8 @@ def main() -> None:
     shifts: list[float] = []
     for name in args.bicycles:
         for procedure in args.procedures:
-            tally = procedure_tally(name, procedure, range(args.seeds), args.speeds, short=True)
+            tally = procedure_tally(name, procedure, range(args.seeds), args.speeds, short=True,
+                                    sample_rate=args.sample_rate, noise=args.noise_scale)
             count, growing = tally.count, tally.growing
             total.update(count)
             short.update(tally.short)

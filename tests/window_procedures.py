@@ -21,7 +21,7 @@ from whipple.measurement.runs import MIN_DURATION, run_from_simulation
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
 from whipple.simulation.procedure import SimulatedRun, cut_run
-from whipple.simulation.scenario import RunScenario
+from whipple.simulation.scenario import RunScenario, Sensors
 from whipple.simulation.simulator import simulate_run
 
 BICYCLES = {
@@ -62,15 +62,21 @@ def growing_speeds(model) -> list[float]:
     return speeds
 
 
-def scenario(procedure: str, speed: float, seed: int) -> RunScenario:
-    """The scenario of a run of `procedure` ("seed", "sharp" or "growing"; "cut" cuts "sharp" runs)."""
+def scenario(procedure: str, speed: float, seed: int, sample_rate: float = 100.0,
+             noise: float = 1.0) -> RunScenario:
+    """The scenario of a run of `procedure` ("seed", "sharp" or "growing"; "cut" cuts "sharp" runs).
+
+    `sample_rate` [Hz] and `noise` (a factor on every sensor's noise per sample): field
+    conditions other than the default 100 Hz and sensors.
+    """
+    field = {"sample_rate": sample_rate, "sensors": Sensors().scaled(noise)}
     if procedure == "seed":
-        return RunScenario(speed=speed, seed=seed)
+        return RunScenario(speed=speed, seed=seed, **field)
     if procedure == "growing":
         return RunScenario(speed=speed, seed=seed, push_duration=0.04, push_roll_rate=0.15, push_signs="random",
-                           push_spread=0.4)
+                           push_spread=0.4, **field)
     return RunScenario(speed=speed, seed=seed, push_duration=0.04, push_roll_rate=0.8, push_signs="random",
-                       push_spread=0.4, coast_spread=0.7)
+                       push_spread=0.4, coast_spread=0.7, **field)
 
 
 def pieces(simulated: SimulatedRun, procedure: str, seed: int) -> list[SimulatedRun]:
@@ -116,12 +122,16 @@ def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict
     records = []
     caught = set(simulated.catches)
     for start, stop in simulated.segments:
-        inside = [m for m in measured if m.fit is not None and start - 0.5 / fs <= m.fit.start < stop]
+        fitted = [m for m in measured if m.fit is not None]
+        inside = [m for m in fitted if start - 0.5 / fs <= m.fit.start < stop]
         # Coasts cut by the record's end have no catch to cross.
         ends_in_catch = any(abs(stop - t) < 1e-6 for t in caught)
         pushed = simulated.time[0] < start - 0.5 / fs
         why = [m.window.reason for m in measured if m.fit is None and m.window.start < stop
                and m.window.stop > start]
+        # A window that starts before the push's end and runs on past it is fitted across the push.
+        over_push = [m for m in fitted if pushed and m.fit.start < start - 0.5 / fs < m.fit.stop]
+        why += [f"fitted across the push: a window from {m.fit.start:.2f} s" for m in over_push]
         across = [m for m in inside if ends_in_catch and m.fit.stop > stop + 1.01 / fs]
         records.append({
             "short": is_short(start, stop),
@@ -131,7 +141,7 @@ def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict
             "usable_across_catch": sum(m.usable for m in across),
             "hand_mark": [_hand_mark(simulated, model, stop, m.fit.stop) for m in across],
             "catch_shift": [_catch_shift(run, m, stop) for m in across],
-            "across_push": sum(pushed and m.fit.start < start - 0.5 / fs for m in inside),
+            "across_push": len(over_push),
             "errors": [relative_error(m) for m in inside if m.usable],
             "errors_across_catch": [relative_error(m) for m in across if m.usable],
             "why": why if not inside else [],
@@ -197,10 +207,11 @@ class Tally:
 
 
 def procedure_tally(name: str, procedure: str, seeds: Iterable[int], speeds: Iterable[float] = SPEEDS,
-                    short: bool = False) -> Tally:
+                    short: bool = False, sample_rate: float = 100.0, noise: float = 1.0) -> Tally:
     """Simulate and measure the runs of bicycle `name` (a key of BICYCLES) by `procedure`.
 
-    `short`: count the coasts shorter than a weave cycle too (``Tally.short``).
+    `short`: count the coasts shorter than a weave cycle too (``Tally.short``). `sample_rate`
+    [Hz] and `noise`: as :func:`scenario`'s.
     """
     bicycle = load_bicycle(BICYCLES[name])
     model = linear_model(bicycle)
@@ -211,7 +222,7 @@ def procedure_tally(name: str, procedure: str, seeds: Iterable[int], speeds: Ite
         if eigenvalue is None or eigenvalue.real > MAX_GROWTH:
             continue
         for seed in seeds:
-            simulated = simulate_run(bicycle, scenario(procedure, speed, seed), model)
+            simulated = simulate_run(bicycle, scenario(procedure, speed, seed, sample_rate, noise), model)
             for piece in pieces(simulated, procedure, seed):
                 records = all_coasts(piece, eigenvalue, model)
                 for record in (r for r in records if short and r["short"]):

@@ -2,8 +2,10 @@
 
 The signal is low-passed (a zero-phase Bessel filter at five times its dominant frequency,
 which barely rings), its noise estimated from the median absolute deviation of what the filter
-removes, and its extremes found by a zig-zag rule: an extreme counts once the signal has
-retreated from it by more than five noise standard deviations (of the low-passed signal).
+removes (what the low-passed signal keeps of it as read in the band of a record sampled at
+:data:`ANALYSIS_RATE`), and its extremes found by a zig-zag rule: an extreme counts once the
+signal has retreated from it by more than five noise standard deviations (of the low-passed
+signal).
 Where the signal stays still for half a period (the bicycle held, or at rest before a
 release), the moment it moves again also counts as an extreme, a "wake", so that no swing
 reaches back across a still stretch. Where each still stretch begins is kept too, whether or
@@ -18,6 +20,10 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 from scipy.signal import bessel, sosfiltfilt, welch
+
+#: The rate [Hz] at whose band the noise is read (:func:`swings_of`): the levels that tell a
+#: swing from the noise and a still stretch from motion were set on records sampled at it.
+ANALYSIS_RATE = 100.0
 
 
 @dataclass(frozen=True)
@@ -76,6 +82,20 @@ def swings_of(x: NDArray[np.float64], fs: float) -> Swings:
     # The filter keeps a fraction cutoff / Nyquist of white noise and removes the rest.
     noise = high_noise / np.sqrt(max(1 - cutoff / (0.5 * fs), 1e-3))
     smooth_noise = noise * np.sqrt(cutoff / (0.5 * fs))
+    # What the low-passed signal keeps of the noise is read in the band from the cutoff up to
+    # about half of ANALYSIS_RATE, as a record sampled at that rate shows it: there a held
+    # bicycle's wobble counts with the sensor's noise. Sampled several times faster, white noise
+    # spread up to half the sample rate would swamp the wobble's share, and a hold that wobbles
+    # more than the noise would never be still (simulated runs at 500 Hz). The band's top: half
+    # the sample rate divided by the whole number of times ANALYSIS_RATE goes into it (below
+    # twice ANALYSIS_RATE, the whole band). The larger of the two readings counts: for white
+    # noise alone they agree but for the filter's gradual roll-off, which reads the band's a
+    # little low.
+    band = 0.5 * fs / max(1, int(fs / ANALYSIS_RATE + 1e-9))
+    if band < 0.5 * fs:
+        seen = sosfiltfilt(bessel(4, band, fs=fs, output="sos", norm="mag"), x) - smooth
+        in_band = 1.4826 * np.median(np.abs(seen - np.median(seen))) / np.sqrt(max(1 - cutoff / band, 1e-3))
+        smooth_noise = max(smooth_noise, in_band * np.sqrt(cutoff / band))
     scale = np.percentile(np.abs(smooth - np.median(smooth)), 99)
     threshold = max(5 * smooth_noise, 1e-2 * scale)
     half = max(3, int(0.5 * fs / frequency))

@@ -12,7 +12,10 @@ alike; pushes and catches break that pattern. From the swings:
 * A **push from rest** (out of a still stretch, quicker and lower than the swing back) need
   only stand out of the noise; its swing back is free whatever its height (a sharp push,
   blunted by the low-pass filter, looks far smaller than the 1 + r times its swing back), and
-  the swing factor is read from the swings after it.
+  the swing factor is read from the swings after it. Where the held bicycle's wobble stands
+  out of the noise (a quiet sensor), a swing from rest no higher than twice the hold's own
+  swings, followed by one higher than any free swing back that does not go on growing, is a
+  wobble: the hand's push is the next swing.
 * A weave **growing out of the noise** with no push seen (two swings each growing 1.2 to 4
   times, at the record's pace) starts a window too; so does the first sample of a record that
   starts in free motion (a segment cut after its push).
@@ -47,8 +50,9 @@ alike; pushes and catches break that pattern. From the swings:
   catch and its return), is rejected: no oscillation.
 
 Every level comes from the record itself: the noise from the median absolute deviation of the
-high-passed roll rate, the background from its typical swing, the filter and the periods from
-its dominant frequency. Nothing depends on the sample rate or the bicycle. The rules use only
+high-passed roll rate (read in the band of a record sampled at 100 Hz too, so that a record
+sampled faster is read alike), the background from its typical swing, the filter and the
+periods from its dominant frequency. Nothing depends on the bicycle. The rules use only
 the roll rate; outside forcing that leaves no mark on it (e.g. a steer torque that the
 bicycle's controller also applies) is not detected.
 """
@@ -283,9 +287,21 @@ class _Finder:
         # the same.
         if self.swings[j + 1] < self.swings[j] or not self.at_pace(float(self.durations[j + 1])):
             return False
+        # Where the sensor is quiet, the held bicycle's wobble stands out of the noise. A swing
+        # from the still stretch no higher than STIR times the wobble in it, followed by one
+        # higher than any free swing back (1 + r times the push, r at most FIRST_GROWTH) that
+        # does not go on growing, is a wobble and the hand's push after it.
+        if (self.swings[j] < STIR * self.wobble(j) and self.swings[j + 1] > (1 + FIRST_GROWTH) * self.swings[j]
+                and not self.sustained(j + 1)):
+            return False
         # A swing back slower than the swing after it is still pushed (a hand that hits, then
         # pushes on): the push ends with it.
         return j + 2 >= self.swings.size or bool(self.durations[j + 1] <= SLOW_SWING_BACK * self.durations[j + 2])
+
+    def wobble(self, j: int) -> float:
+        """Return the largest swing inside the still stretch that wake swing j leaves (0 if none)."""
+        inside = (self.extremes[:-1] >= self.rest[j]) & (self.extremes[1:] <= self.extremes[j])
+        return float(self.swings[inside].max(initial=0.0))
 
     def starts_growth(self, j: int) -> bool:
         """Whether swing j starts a weave growing out of the noise, with no push to be seen.

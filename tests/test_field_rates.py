@@ -1,0 +1,79 @@
+"""Runs sampled faster than 100 Hz: a quiet sensor, and a held bicycle's wobble clear of its noise."""
+
+import numpy as np
+import pytest
+from scipy.signal import butter, sosfilt
+from window_procedures import BICYCLES, coasts, scenario, weave
+
+from whipple.measurement.catches import ONSET_MARGIN, TAIL_VARIANCE, catch_onset
+from whipple.measurement.swings import ANALYSIS_RATE
+from whipple.model.assembly import linear_model
+from whipple.model.parameters import load_bicycle
+from whipple.simulation.simulator import simulate_run
+
+FAST = 1000.0
+
+
+def _wobbling(n, onset, seed, rate=FAST, noise=0.015, wobble=0.025):
+    """White noise per sample, and from ``onset`` on a held bicycle's wobble: noise low-passed at 4 Hz."""
+    rng = np.random.default_rng(seed)
+    time = np.arange(n) / rate
+    residual = noise * rng.standard_normal((1, n))
+    if onset is not None:
+        slow = sosfilt(butter(2, 4.0, fs=rate, output="sos"), rng.standard_normal(n))
+        residual[0, onset:] += wobble * slow[onset:] / np.std(slow[onset:])
+    return time, residual
+
+
+def test_a_wobble_within_each_samples_noise_is_found_averaged():
+    # Per sample the wobble adds less than TAIL_VARIANCE times the noise's variance (the test
+    # on raw samples cannot see it); averaged to ANALYSIS_RATE its variance stands far out.
+    assert (0.015**2 + 0.025**2) / 0.015**2 < TAIL_VARIANCE
+    for seed in range(5):
+        time, residual = _wobbling(4000, 3000, seed)
+        found = catch_onset(time, residual)
+        assert found is not None, seed
+        # Found in whole bins, the margin before where the wobble stands out.
+        margin = int(np.ceil(ONSET_MARGIN * FAST))
+        assert 3000 - margin - 2 * FAST / ANALYSIS_RATE <= found <= 3000 + 4 * FAST / ANALYSIS_RATE, (seed, found)
+
+
+def test_fast_white_noise_alone_holds_no_catch():
+    # 100 windows of white noise at 1000 Hz (1-4 s): averaging finds no tail in any.
+    found = [catch_onset(*_wobbling(n, None, seed)) for seed, n in enumerate(np.linspace(1000, 4000, 100).astype(int))]
+    assert found == [None] * 100
+
+
+def test_up_to_the_catch_rate_every_sample_is_its_own_bin():
+    # At ANALYSIS_RATE the samples are tested as they are: the index found is that of the samples.
+    time, residual = _wobbling(600, 450, 0, rate=ANALYSIS_RATE, noise=0.01, wobble=0.1)
+    found = catch_onset(time, residual)
+    assert found is not None and 450 - int(np.ceil(ONSET_MARGIN * ANALYSIS_RATE)) - 1 <= found <= 452
+
+
+@pytest.mark.parametrize("rate", [500.0, 1000.0])
+def test_a_coast_caught_in_the_wobble_ends_at_its_catch(rate):
+    # kooijman2008 at 4.5 m/s, simulated with the default sensors, whose noise per sample
+    # leaves the held bicycle's wobble (about 0.025 rad/s) clear of the noise once low-passed.
+    # Each coast lasts 5 s and is caught where its weave has decayed to the wobble's size: the
+    # test of the residual on raw samples found no change, and two windows ran on through the
+    # hold to the next push (their eigenvalues 1.3-1.8 standard errors off).
+    bicycle = load_bicycle(BICYCLES["kooijman2008"])
+    model = linear_model(bicycle)
+    records = coasts(simulate_run(bicycle, scenario("seed", 4.5, 0, rate), model), weave(model, 4.5), model)
+    assert len(records) == 3
+    assert all(record["fitted"] for record in records)
+    assert sum(record["across_catch"] + record["across_push"] for record in records) == 0
+
+
+def test_a_wobble_in_the_hold_is_no_push_from_rest():
+    # The benchmark at 6 m/s and 500 Hz: in the hold before the second push a wobble of
+    # 0.054 rad/s (the hold's own swings reached 0.047) left the still stretch, and the hand's
+    # push after it gave a swing ten times higher, more than any free swing back. Read as a
+    # push from rest and its swing back, the push fell inside the window (from 7.09 s, the
+    # push ending at 7.38 s); the window now starts after the push.
+    bicycle = load_bicycle(BICYCLES["benchmark"])
+    model = linear_model(bicycle)
+    records = coasts(simulate_run(bicycle, scenario("sharp", 6.0, 0, 500.0), model), weave(model, 6.0), model)
+    assert all(record["fitted"] and record["usable"] for record in records)
+    assert sum(record["across_catch"] + record["across_push"] for record in records) == 0

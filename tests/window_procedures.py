@@ -121,8 +121,8 @@ def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict
                 for start, stop in simulated.segments]
     records = []
     caught = set(simulated.catches)
+    fitted = [m for m in measured if m.fit is not None]
     for start, stop in simulated.segments:
-        fitted = [m for m in measured if m.fit is not None]
         inside = [m for m in fitted if start - 0.5 / fs <= m.fit.start < stop]
         # Coasts cut by the record's end have no catch to cross.
         ends_in_catch = any(abs(stop - t) < 1e-6 for t in caught)
@@ -150,10 +150,11 @@ def all_coasts(simulated: SimulatedRun, eigenvalue: complex, model) -> list[dict
 
 
 def _catch_shift(run, measured, catch: float) -> float:
-    """How far a window's eigenvalue moves when it ends at the catch [standard errors]: the larger of
-    |d - d_c| / sd(d) and |w - w_c| / sd(w), with d + iw fitted to the window as measured and
-    d_c + iw_c to the same window ended at the last sample before the catch (nan when that
-    window gives no fit).
+    """How far a window's eigenvalue moves when it ends at the catch [standard errors].
+
+    The larger of |d - d_c| / sd(d) and |w - w_c| / sd(w), with d + iw fitted to the window as
+    measured and d_c + iw_c to the same window ended at the last sample before the catch (nan
+    when that window gives no fit).
 
     The hand's mark (:func:`_hand_mark`) is sample by sample and holds the hold's own jitter;
     this is what fitting past the catch does to the measurement.

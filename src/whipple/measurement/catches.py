@@ -54,7 +54,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.measurement.swings import ANALYSIS_RATE
+from whipple.measurement.noise import robust_scale
+from whipple.measurement.swings import analysis_bin
 
 #: A catch's residual variance is at least this many times the rest of the window's.
 TAIL_VARIANCE = 4.0
@@ -89,12 +90,6 @@ def look_past_samples(frequency: float, sample_rate: float) -> int:
     return int(np.ceil(LOOK_PAST * 2 * np.pi / max(frequency, 1e-9) * sample_rate))
 
 
-def robust_scale(values: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Return each row's standard deviation from its median absolute deviation (robust to a tail)."""
-    centre = np.median(values, axis=-1, keepdims=True)
-    return np.asarray(1.4826 * np.median(np.abs(values - centre), axis=-1), dtype=float)
-
-
 def catch_onset(time: NDArray[np.float64], residual: NDArray[np.float64], after: int = 0,
                 terms: NDArray[np.float64] | None = None) -> int | None:
     """Return the index of the first sample of a catch at the window's end, or None.
@@ -111,7 +106,7 @@ def catch_onset(time: NDArray[np.float64], residual: NDArray[np.float64], after:
     time = np.asarray(time, dtype=float)
     residual = np.atleast_2d(np.asarray(residual, dtype=float))
     step = float(np.median(np.diff(time))) if time.size > 1 else 0.0
-    size = int(np.floor(1.0 / (step * ANALYSIS_RATE) + 1e-9)) if step > 0 else 1
+    size = analysis_bin(1.0 / step) if step > 0 else 1
     if size <= 1:
         return _catch_onset_binned(time, residual, after, terms)
     inside = residual.shape[1] - after

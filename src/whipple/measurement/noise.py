@@ -44,3 +44,9 @@ def second_difference_noise(values: NDArray[np.float64]) -> NDArray[np.float64]:
 def noise_floor(values: NDArray[np.float64]) -> NDArray[np.float64]:
     """Return the least noise of each signal (k, n): ``NOISE_FLOOR`` times its spread."""
     return NOISE_FLOOR * np.maximum(values.std(axis=1), np.finfo(float).tiny)
+
+
+def robust_scale(values: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return each row's standard deviation from its median absolute deviation (robust to a tail)."""
+    centre = np.median(values, axis=-1, keepdims=True)
+    return np.asarray(1.4826 * np.median(np.abs(values - centre), axis=-1), dtype=float)

@@ -21,6 +21,8 @@ from numpy.typing import NDArray
 from scipy.ndimage import maximum_filter1d, minimum_filter1d
 from scipy.signal import bessel, sosfiltfilt, welch
 
+from whipple.measurement.noise import robust_scale
+
 #: The rate [Hz] at whose band the noise is read (:func:`swings_of`): the levels that tell a
 #: swing from the noise and a still stretch from motion were set on records sampled at it.
 ANALYSIS_RATE = 100.0
@@ -77,10 +79,7 @@ def swings_of(x: NDArray[np.float64], fs: float) -> Swings:
     frequency = _dominant_frequency(x, fs)
     cutoff = min(5 * frequency, 0.4 * fs)
     smooth = sosfiltfilt(bessel(4, cutoff, fs=fs, output="sos", norm="mag"), x)
-    residual = x - smooth
-    high_noise = 1.4826 * np.median(np.abs(residual - np.median(residual)))
-    # The filter keeps a fraction cutoff / Nyquist of white noise and removes the rest.
-    noise = high_noise / np.sqrt(max(1 - cutoff / (0.5 * fs), 1e-3))
+    noise = _band_noise(x - smooth, cutoff, 0.5 * fs)
     smooth_noise = noise * np.sqrt(cutoff / (0.5 * fs))
     # What the low-passed signal keeps of the noise is read in the band from the cutoff up to
     # about half of ANALYSIS_RATE, as a record sampled at that rate shows it: there a held
@@ -91,11 +90,10 @@ def swings_of(x: NDArray[np.float64], fs: float) -> Swings:
     # twice ANALYSIS_RATE, the whole band). The larger of the two readings counts: for white
     # noise alone they agree but for the filter's gradual roll-off, which reads the band's a
     # little low.
-    band = 0.5 * fs / max(1, int(fs / ANALYSIS_RATE + 1e-9))
+    band = 0.5 * fs / analysis_bin(fs)
     if band < 0.5 * fs:
         seen = sosfiltfilt(bessel(4, band, fs=fs, output="sos", norm="mag"), x) - smooth
-        in_band = 1.4826 * np.median(np.abs(seen - np.median(seen))) / np.sqrt(max(1 - cutoff / band, 1e-3))
-        smooth_noise = max(smooth_noise, in_band * np.sqrt(cutoff / band))
+        smooth_noise = max(smooth_noise, _band_noise(seen, cutoff, band) * np.sqrt(cutoff / band))
     scale = np.percentile(np.abs(smooth - np.median(smooth)), 99)
     threshold = max(5 * smooth_noise, 1e-2 * scale)
     half = max(3, int(0.5 * fs / frequency))
@@ -117,6 +115,20 @@ def swings_of(x: NDArray[np.float64], fs: float) -> Swings:
     loud = max(2 * threshold, min(2 * typical, 0.25 * np.percentile(heights, 95)))
     return Swings(smooth, extremes, rest, stills, heights, float(noise), float(threshold),
                   float(background), float(loud), frequency, cutoff)
+
+
+def analysis_bin(fs: float) -> int:
+    """Return how many samples at `fs` [Hz] make one at :data:`ANALYSIS_RATE` (at least 1; whole samples)."""
+    return max(1, int(fs / ANALYSIS_RATE + 1e-9))
+
+
+def _band_noise(removed: NDArray[np.float64], cutoff: float, band: float) -> float:
+    """Return the white noise's standard deviation from what a low-pass at `cutoff` removed below `band` [Hz].
+
+    The filter keeps a fraction cutoff / band of white noise in the band and removes the rest;
+    the median absolute deviation keeps the signal's own sharp moves from setting the estimate.
+    """
+    return float(robust_scale(removed)) / np.sqrt(max(1 - cutoff / band, 1e-3))
 
 
 def _dominant_frequency(x: NDArray[np.float64], fs: float) -> float:

@@ -10,6 +10,12 @@ Run: ``python benchmarks/changed_windows.py OLD_WINDOWS.py [--seeds 50] [--first
 Prints one JSON line ``[bicycle, family, seed]`` per touched trial, for
 ``bench_diagnosis.py --trials``; on stderr the count and the touched speeds.
 
+A change elsewhere in the measurement (the cut before a catch in ``measure_window``, say) is
+compared on the windows as the trials' diagnosis measures them: ``--dump FILE`` writes every
+trial's measured windows (first and last sample, and whether usable) to FILE, run once with the
+earlier code and once with the current (``PYTHONPATH=OLD_TREE/src`` for the earlier), and
+``--compare OLD NEW`` prints the trials whose windows differ, as above.
+
 ``--set-aside`` (instead of OLD_WINDOWS.py) lists the trials in which
 ``whipple.measurement.free_motion.set_aside_outlying`` sets some window aside (the trials that
 rule touches, run as ``hidden_effects.run_trial`` measures them). ``--cycles-above-noise C`` lists the trials that the
@@ -83,6 +89,33 @@ def _set_aside(job: tuple[None, str, str, int, str]) -> tuple[str, str, int, lis
                                    if m.usable and not kept.usable]
 
 
+def _measured(job: tuple[None, str, str, int, str]) -> tuple[str, str, int, list[list]]:
+    """A trial's windows as its diagnosis measures them: [speed, first, last, usable] per fitted window."""
+    _, bicycle, family, seed, conditions = job
+    base, _, runs = trial_runs(family, seed, bicycle, conditions=conditions)
+    options = trial_options(base, signals=diagnosis_signals(runs))
+    return bicycle, family, seed, [
+        [round(float(np.median(run.speed())), 6), m.fit.start, m.fit.stop, bool(m.usable)]
+        for run in runs for m in measure_run(run, None, options) if m.fit is not None]
+
+
+def _compare(old: str, new: str) -> None:
+    """Print the trials whose measured windows differ between two ``--dump`` files."""
+    def read(path: str) -> dict[tuple, list]:
+        with open(path) as lines:
+            return {tuple(entry[:3]): entry[3] for entry in map(json.loads, lines)}
+
+    before, after = read(old), read(new)
+    touched = 0
+    for key in sorted(set(before) & set(after), key=lambda k: (k[2], k[0], k[1])):
+        if before[key] != after[key]:
+            touched += 1
+            print(json.dumps(list(key)), flush=True)
+            speeds = sorted({w[0] for w in {tuple(w) for w in before[key]} ^ {tuple(w) for w in after[key]}})
+            print(f"{' '.join(map(str, key))}: {speeds}", file=sys.stderr)
+    print(f"{touched} of {len(set(before) & set(after))} trials touched", file=sys.stderr)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("old_windows", nargs="?", help="the earlier windows.py")
@@ -96,13 +129,25 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--conditions", choices=list(CONDITIONS), default="treadmill",
                         help="where the trials' runs are made (as bench_diagnosis.py --conditions)")
+    parser.add_argument("--dump", help="instead: write every trial's measured windows to this file")
+    parser.add_argument("--compare", nargs=2, metavar=("OLD", "NEW"),
+                        help="instead: the trials whose windows differ between two --dump files")
     args = parser.parse_args()
-    if sum([args.old_windows is not None, args.cycles_above_noise is not None, args.set_aside]) != 1:
-        parser.error("give one of OLD_WINDOWS.py, --cycles-above-noise and --set-aside")
+    if args.compare:
+        _compare(*args.compare)
+        return
+    if sum([args.old_windows is not None, args.cycles_above_noise is not None, args.set_aside,
+            args.dump is not None]) != 1:
+        parser.error("give one of OLD_WINDOWS.py, --cycles-above-noise, --set-aside, --dump and --compare")
     first = args.cycles_above_noise if args.cycles_above_noise is not None else args.old_windows
     jobs = [(first, bicycle, family, seed, args.conditions)
             for seed in range(args.first_seed, args.first_seed + args.seeds)
             for bicycle in args.bicycles for family in families(bicycle)]
+    if args.dump:
+        with ProcessPoolExecutor(args.workers) as pool, open(args.dump, "w") as out:
+            for entry in pool.map(_measured, jobs, chunksize=4):
+                out.write(json.dumps(list(entry)) + "\n")
+        return
     touched = 0
     check = (_set_aside if args.set_aside else _touched if args.cycles_above_noise is None else _short_above_noise)
     with ProcessPoolExecutor(args.workers) as pool:

@@ -6,6 +6,7 @@ from scipy.signal import butter, sosfilt
 from window_procedures import BICYCLES, coasts, scenario, weave
 
 from whipple.measurement.catches import ONSET_MARGIN, TAIL_VARIANCE, catch_onset
+from whipple.measurement.rejections import no_oscillation
 from whipple.measurement.swings import ANALYSIS_RATE
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
@@ -77,3 +78,23 @@ def test_a_wobble_in_the_hold_is_no_push_from_rest():
     records = coasts(simulate_run(bicycle, scenario("sharp", 6.0, 0, 500.0), model), weave(model, 6.0), model)
     assert all(record["fitted"] and record["usable"] for record in records)
     assert sum(record["across_catch"] + record["across_push"] for record in records) == 0
+
+
+def test_a_decay_into_a_wobbling_hold_ends_where_the_hand_takes_over():
+    # kooijman2008 at 4.5 m/s and 200 Hz, seed 1: a coast caught after 5 s, its weave decayed to
+    # the size of the held bicycle's wobble, which stands out of the noise at this rate. The
+    # window's tail (a period after the last clear extreme) ran on through the hold to the next
+    # push, 1.2 s past the catch (its eigenvalue 1.0 standard error off); the wobble's swings are
+    # quick, and the tail now ends where the first of them starts.
+    bicycle = load_bicycle(BICYCLES["kooijman2008"])
+    model = linear_model(bicycle)
+    records = coasts(simulate_run(bicycle, scenario("seed", 4.5, 1, 200.0), model), weave(model, 4.5), model)
+    assert len(records) == 3
+    assert all(record["fitted"] and record["usable"] for record in records)
+    assert sum(record["across_catch"] + record["across_push"] for record in records) == 0
+
+
+def test_a_stretch_ended_by_the_hand_says_so():
+    # The reason a push gave no window names the hand's hold where the quick swing ended it.
+    assert (no_oscillation(0, "quick swing at 57.40 s (a hand?)", False)
+            == "no free swing before a hand holds the bicycle from 57.40 s")

@@ -21,6 +21,7 @@ _ENDINGS = (
     ("decayed into the noise", "the motion sinks into the noise"),
     ("oscillation stops (slow swing)", "the motion stops swinging back"),
     ("next push at", "the next push at"),
+    ("quick swing at", "a hand holds the bicycle from"),
     ("signal saturates", "the signal saturates"),
     ("end of record", "the record ends"),
 )
@@ -35,7 +36,7 @@ def no_oscillation(free: int, why: str, short: bool) -> str:
     for start, words in _ENDINGS:
         if why.startswith(start):
             # The words say it was a catch; the end reason's doubt is not repeated.
-            ending = (words + why[len(start):]).replace(" (a catch?)", "")
+            ending = (words + why[len(start):]).replace(" (a catch?)", "").replace(" (a hand?)", "")
             break
     else:
         ending = why

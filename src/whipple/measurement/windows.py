@@ -21,12 +21,13 @@ alike; pushes and catches break that pattern. From the swings:
   starts in free motion (a segment cut after its push).
 * The **window** starts at the extreme that ends the push (the roll rate turns back: the push
   is over) and runs while the swings follow one decay (or growth) factor. It ends when the
-  oscillation sinks below the background (one period after its last clear extreme), comes to
-  rest, stops oscillating (a swing lasting over two half periods), when a swing outgrows the
-  trend or is over in under half the time of its neighbours (outside forcing: a new push, a
-  hand), when a swing collapses far below the trend or is halfway through its height at once
-  (a catch), when the signal saturates, or
-  at the end of the record.
+  oscillation sinks below the background (one period after its last clear extreme, or where a
+  quick swing in that period starts: a held bicycle's wobble, plain above a quiet sensor's
+  noise), comes to rest, stops oscillating (a swing lasting over two half periods), when a
+  swing outgrows the trend or is over in under half the time of its neighbours (outside
+  forcing: a new push, a hand), when a swing collapses far below the trend or is halfway
+  through its height at once (a catch), when the signal saturates, or at the end of the
+  record.
 * The **record's end** may be where a segment was cut as a hand took hold: a window that
   reaches it leaves out its last samples, the low-pass filter's spread (in which a hand's
   mark cannot be told from the noise with no swing after it). A record that ends within the
@@ -522,9 +523,17 @@ class _Finder:
             spans = np.diff(self.extremes[max(push, 0):])
             half = np.median(spans) if spans.size else self.half_period
             end, why = int(self.extremes[-1] + 2 * half), "decayed into the noise"
-        # A tail added after the last clear extreme must not reach into the next push.
+        # A tail added after the last clear extreme must not reach into the next push, nor into a
+        # hand's hold: a swing there that stands out of the noise but is quick (over in under
+        # half the record's half period) is no free swing of the decay. (A swing the record's
+        # end cuts short is no quicker than the cut.)
         later = next((i for i in range(j, self.swings.size) if self.is_push(i)), None)
-        if tail and later is not None and self.onset(later) < end:
+        hand = next((i for i in range(j, self.swings.size) if self.extremes[i] < end and self.quick(i)
+                     and self.extremes[i + 1] < self.x.size - 1), None) if tail else None
+        if hand is not None and self.onset(hand) < end and (later is None or hand < later):
+            end = self.onset(hand)
+            why = f"quick swing at {self.run.time[end]:.2f} s (a hand?)"
+        elif tail and later is not None and self.onset(later) < end:
             end = self.onset(later)
             why = f"next push at {self.run.time[end]:.2f} s"
         elif tail and end > self.x.size:
@@ -564,7 +573,7 @@ class _Finder:
             end -= self.margin
         # One swing back and then stillness is a push (or a catch) and its return, unless the
         # swing back overshoots where the push began: a heavily damped oscillation.
-        still = why.startswith(("decayed", "came to rest")) or self.held(j)
+        still = why.startswith(("decayed", "came to rest", "quick swing")) or self.held(j)
         overshoot = self.swings[push + 1] - self.swings[push] if 0 <= push < self.swings.size - 1 else 0
         if free < 1 or (free == 1 and still and overshoot <= 2 * self.noise) or end - start < 3:
             after = time[self.extremes[push]] if not at_start else time[0]

@@ -21,11 +21,13 @@ from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import fit_cause, model_residuals, window_whitening
 from whipple.diagnosis.observations import Observation, predicted_modes, predicted_weave
 from whipple.diagnosis.registry import cause_by_name
-from whipple.diagnosis.report import ShapeComparison, caveats
+from whipple.diagnosis.report import ShapeComparison, caveats, evidence_definition
+from whipple.diagnosis.samples import OVERFLOW_MISFIT
 from whipple.measurement.runs import read_run
 from whipple.model.parameters import Payload, load_bicycle
 from whipple.simulation.scenario import RunScenario
 from whipple.simulation.simulator import simulate_run, write_run_csv
+from whipple.stability.slow_modes import FITTED_MODES
 
 SPEEDS = np.repeat([4.5, 5.5, 6.5, 7.5], 3)
 STD = 0.05  # 1/s, of both parts
@@ -280,3 +282,12 @@ def test_diagnose_gives_every_candidates_held_out_gain_when_asked(damped_runs, t
     assert data["prediction_model"]["values"]["steer_damping"]["unit"] == "N m s/rad"
     assert "### Every candidate on the held-out speeds" in (report / "report.md").read_text()
 
+
+
+def test_the_evidence_definition_describes_the_samples_comparison_the_code_makes():
+    # Every model fits its slowest modes' amplitudes, as many as the base model's: no charge per
+    # extra amplitude (removed on 2026-12-06) is described.
+    text = evidence_definition("samples")
+    assert f"its {FITTED_MODES} slowest modes' amplitudes" in text
+    assert f"{OVERFLOW_MISFIT:g} noise standard deviations off" in text
+    assert "per extra state" not in text

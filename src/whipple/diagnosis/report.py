@@ -33,7 +33,7 @@ from whipple.diagnosis.offer import offer as offered
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.priors import prior_shifts
 from whipple.diagnosis.registry import CALIBRATION
-from whipple.diagnosis.samples import BIN_DURATION
+from whipple.diagnosis.samples import BIN_DURATION, OVERFLOW_MISFIT
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
 from whipple.measurement.measure import MeasuredRuns, Progress
@@ -42,6 +42,7 @@ from whipple.model.assembly import extended_matrices, linear_model
 from whipple.model.fleet import Fleet, Model, first_bicycle
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
 from whipple.stability.nearest_modes import near_oscillation
+from whipple.stability.slow_modes import FITTED_MODES
 
 __all__ = ["evidence_definition", "ShapeComparison", "DiagnosisReport", "describe_residuals", "compare_shapes",
            "describe_mode_shapes", "assemble", "DISPERSION_WARNING", "shapes_flipped", "caveats", "report_json",
@@ -52,9 +53,10 @@ _CHI2_OF = {
     "samples": ("the samples' residuals, each window's samples averaged in bins of "
                 f"{BIN_DURATION:g} s and each signal divided by its noise, left by the model's free response at the "
                 "window's speed with its modal amplitudes and each signal's offset fitted (a model with more "
-                "states than the base model also charged ln(n_w)/2 per extra state and window, n_w the window's "
-                "residuals), divided by s^2 >= 1, the best model's reduced chi2; n the windows' eigenvalue and "
-                "mode-shape residuals"),
+                f"states than the bicycle's {FITTED_MODES} fits its {FITTED_MODES} slowest modes' amplitudes, as "
+                "many as every model, and leaves a window where another of its modes grows "
+                f"{OVERFLOW_MISFIT:g} noise standard deviations off on every sample), divided by s^2 >= 1, the "
+                "best model's reduced chi2; n the windows' eigenvalue and mode-shape residuals"),
     "eigenvalues": ("the weave eigenvalue (its covariance with a floor of "
                     f"{100 * EIGENVALUE_FLOOR:g}% of |eigenvalue| for the fitting function's bias) and, where a steer "
                     "signal was measured, of the weave mode shape (steer per roll rate), each kind divided by its own "

@@ -21,7 +21,9 @@ earlier code and once with the current (``PYTHONPATH=OLD_TREE/src`` for the earl
 rule touches, run as ``hidden_effects.run_trial`` measures them). ``--cycles-above-noise C`` lists the trials that the
 window check ``FitOptions(min_cycles_above_noise=C)`` touches, measured without it: those with a
 usable window holding fewer than C weave cycles above the noise. ``--bicycles`` chooses the
-bicycles (default: the uncontrolled ones and sbw2024).
+bicycles (default: those of ``bench_diagnosis.py``, the uncontrolled ones, sbw2024 and its
+controlled variants; before 2026-12-07 the variants were left out, and so were their trials
+from the lists of touched trials).
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from hidden_effects import BICYCLES, CONDITIONS, CONTROLLED, families, trial_options, trial_runs  # noqa: E402
+from hidden_effects import BICYCLES, CONDITIONS, CONTROLLED_BICYCLES, families, trial_options, trial_runs  # noqa: E402
 
 from whipple.measurement import windows as current  # noqa: E402
 from whipple.measurement.experiment import FitOptions, diagnosis_signals, measure_run  # noqa: E402
@@ -123,7 +125,8 @@ def main() -> None:
                         help="instead: the trials with a window of fewer weave cycles above the noise")
     parser.add_argument("--set-aside", action="store_true",
                         help="instead: the trials with a window that free_motion.set_aside_outlying sets aside")
-    parser.add_argument("--bicycles", nargs="*", default=[*BICYCLES, CONTROLLED])
+    parser.add_argument("--bicycles", nargs="*", default=[*BICYCLES, *CONTROLLED_BICYCLES],
+                        help="default: those of bench_diagnosis.py, the controlled variants included")
     parser.add_argument("--seeds", type=int, default=50)
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--workers", type=int, default=2)

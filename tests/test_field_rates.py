@@ -98,3 +98,17 @@ def test_a_stretch_ended_by_the_hand_says_so():
     # The reason a push gave no window names the hand's hold where the quick swing ended it.
     assert (no_oscillation(0, "quick swing at 57.40 s (a hand?)", False)
             == "no free swing before a hand holds the bicycle from 57.40 s")
+
+
+def test_a_growth_does_not_reach_back_into_the_push_from_rest():
+    # The Browser at 3.5 m/s (weave +0.64 1/s) and 200 Hz, seed 1: each coast is a weave growing
+    # out of a 0.1 s push from rest until the catch. The swing out of the still stretch (the
+    # push, 0.10 rad/s) is followed by one 4.6 times higher, where the growth's next swing grows
+    # 2.3 times: the push's swing outgrows the growth's own trend, and the window reached back
+    # into the push (from 1.04 s, the push ending at 1.10 s). It now starts after it.
+    bicycle = load_bicycle(BICYCLES["browser"])
+    model = linear_model(bicycle)
+    records = coasts(simulate_run(bicycle, scenario("seed", 3.5, 1, 200.0), model), weave(model, 3.5), model)
+    assert len(records) == 3
+    assert all(record["fitted"] for record in records)
+    assert sum(record["across_catch"] + record["across_push"] for record in records) == 0

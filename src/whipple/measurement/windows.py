@@ -46,7 +46,8 @@ alike; pushes and catches break that pattern. From the swings:
 * An unstable run may grow out of the noise and be caught within a swing or two, with no
   visible push: the swings that grew up to the catch form the window. They swing at the
   record's pace: the growth reaches back across no quick swing (a hand's catch out of a still
-  stretch looks like a push from rest).
+  stretch looks like a push from rest), nor to a swing that grows into the next by more than
+  the growth's trend allows (``TREND_TOLERANCE`` times the next swing's growth: a push).
 * A stretch with no free swing, or a single swing back followed by stillness (a push or a
   catch and its return), is rejected: no oscillation.
 
@@ -416,10 +417,15 @@ class _Finder:
         # Back through the swings that grew clearly (by half at least), down to twice the
         # background and four times the noise floor. A growing weave swings at the pace of the
         # record's oscillation: a quick swing is a hand (a catch out of a still stretch, which
-        # looks like a push, or a push), and the growth does not reach back across it.
+        # looks like a push, or a push), and the growth does not reach back across it. Nor to a
+        # swing that grows into the next by more than the growth's own trend (the next swing's
+        # growth) allows: that swing was pushed. (Sampled fast, a push from rest is not always
+        # quick; a fixed bound such as FIRST_GROWTH would cut weaves growing faster than +1 1/s.)
         floor = max(2 * self.quiet, 4 * self.noise)
         while (first > 0 and self.extremes[first - 1] >= earliest and not self.quick(first - 1)
-               and floor <= self.swings[first - 1] < self.swings[first] / 1.5):
+               and floor <= self.swings[first - 1] < self.swings[first] / 1.5
+               and (first + 1 >= catch or self.swings[first] / self.swings[first - 1]
+                    <= TREND_TOLERANCE * self.swings[first + 1] / self.swings[first])):
             first -= 1
         if first == catch - 1:
             return None

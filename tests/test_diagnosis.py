@@ -283,7 +283,6 @@ def test_diagnose_gives_every_candidates_held_out_gain_when_asked(damped_runs, t
     assert "### Every candidate on the held-out speeds" in (report / "report.md").read_text()
 
 
-
 def test_the_evidence_definition_describes_the_samples_comparison_the_code_makes():
     # Every model fits its slowest modes' amplitudes, as many as the base model's: no charge per
     # extra amplitude (removed on 2026-12-06) is described.

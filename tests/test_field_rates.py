@@ -26,6 +26,18 @@ def _wobbling(n, onset, seed, rate=FAST, noise=0.015, wobble=0.025):
     return time, residual
 
 
+def _coasts(name, procedure, speed, seed, rate):
+    """The records of the coasts holding a weave cycle of one simulated run (window_procedures.coasts)."""
+    bicycle = load_bicycle(BICYCLES[name])
+    model = linear_model(bicycle)
+    return coasts(simulate_run(bicycle, scenario(procedure, speed, seed, rate), model), weave(model, speed), model)
+
+
+def _crossings(records):
+    """Windows fitted across a catch or a push, over the records."""
+    return sum(record["across_catch"] + record["across_push"] for record in records)
+
+
 def test_a_wobble_within_each_samples_noise_is_found_averaged():
     # Per sample the wobble adds less than TAIL_VARIANCE times the noise's variance (the test
     # on raw samples cannot see it); averaged to ANALYSIS_RATE its variance stands far out.
@@ -59,12 +71,10 @@ def test_a_coast_caught_in_the_wobble_ends_at_its_catch(rate):
     # Each coast lasts 5 s and is caught where its weave has decayed to the wobble's size: the
     # test of the residual on raw samples found no change, and two windows ran on through the
     # hold to the next push (their eigenvalues 1.3-1.8 standard errors off).
-    bicycle = load_bicycle(BICYCLES["kooijman2008"])
-    model = linear_model(bicycle)
-    records = coasts(simulate_run(bicycle, scenario("seed", 4.5, 0, rate), model), weave(model, 4.5), model)
+    records = _coasts("kooijman2008", "seed", 4.5, 0, rate)
     assert len(records) == 3
     assert all(record["fitted"] for record in records)
-    assert sum(record["across_catch"] + record["across_push"] for record in records) == 0
+    assert _crossings(records) == 0
 
 
 def test_a_wobble_in_the_hold_is_no_push_from_rest():
@@ -73,11 +83,9 @@ def test_a_wobble_in_the_hold_is_no_push_from_rest():
     # push after it gave a swing ten times higher, more than any free swing back. Read as a
     # push from rest and its swing back, the push fell inside the window (from 7.09 s, the
     # push ending at 7.38 s); the window now starts after the push.
-    bicycle = load_bicycle(BICYCLES["benchmark"])
-    model = linear_model(bicycle)
-    records = coasts(simulate_run(bicycle, scenario("sharp", 6.0, 0, 500.0), model), weave(model, 6.0), model)
+    records = _coasts("benchmark", "sharp", 6.0, 0, 500.0)
     assert all(record["fitted"] and record["usable"] for record in records)
-    assert sum(record["across_catch"] + record["across_push"] for record in records) == 0
+    assert _crossings(records) == 0
 
 
 def test_a_decay_into_a_wobbling_hold_ends_where_the_hand_takes_over():
@@ -86,12 +94,10 @@ def test_a_decay_into_a_wobbling_hold_ends_where_the_hand_takes_over():
     # window's tail (a period after the last clear extreme) ran on through the hold to the next
     # push, 1.2 s past the catch (its eigenvalue 1.0 standard error off); the wobble's swings are
     # quick, and the tail now ends where the first of them starts.
-    bicycle = load_bicycle(BICYCLES["kooijman2008"])
-    model = linear_model(bicycle)
-    records = coasts(simulate_run(bicycle, scenario("seed", 4.5, 1, 200.0), model), weave(model, 4.5), model)
+    records = _coasts("kooijman2008", "seed", 4.5, 1, 200.0)
     assert len(records) == 3
     assert all(record["fitted"] and record["usable"] for record in records)
-    assert sum(record["across_catch"] + record["across_push"] for record in records) == 0
+    assert _crossings(records) == 0
 
 
 def test_a_stretch_ended_by_the_hand_says_so():
@@ -106,9 +112,7 @@ def test_a_growth_does_not_reach_back_into_the_push_from_rest():
     # push, 0.10 rad/s) is followed by one 4.6 times higher, where the growth's next swing grows
     # 2.3 times: the push's swing outgrows the growth's own trend, and the window reached back
     # into the push (from 1.04 s, the push ending at 1.10 s). It now starts after it.
-    bicycle = load_bicycle(BICYCLES["browser"])
-    model = linear_model(bicycle)
-    records = coasts(simulate_run(bicycle, scenario("seed", 3.5, 1, 200.0), model), weave(model, 3.5), model)
+    records = _coasts("browser", "seed", 3.5, 1, 200.0)
     assert len(records) == 3
     assert all(record["fitted"] for record in records)
-    assert sum(record["across_catch"] + record["across_push"] for record in records) == 0
+    assert _crossings(records) == 0

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from scipy.optimize import least_squares
 
 from whipple.measurement.experiment import WindowMeasurement
-from whipple.measurement.noise import second_difference_noise
+from whipple.measurement.noise import robust_scale, second_difference_noise
 from whipple.measurement.weavefit import WeaveFit
 
 #: A window is set aside when its misfit is at least this many times the data set's median.
@@ -108,7 +108,7 @@ def outlying(misfits: Sequence[float] | NDArray[np.float64]) -> NDArray[np.bool_
         return np.zeros(values.shape, dtype=bool)
     logs = np.log(np.maximum(np.where(finite, values, 1.0), np.finfo(float).tiny))
     centre = float(np.median(logs[finite]))
-    spread = 1.4826 * float(np.median(np.abs(logs[finite] - centre)))
+    spread = float(robust_scale(logs[finite]))
     return np.asarray(finite & (logs - centre > max(np.log(OUTLIER_RATIO), OUTLIER_SPREAD * spread)), dtype=bool)
 
 

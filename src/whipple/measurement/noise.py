@@ -31,8 +31,7 @@ def second_difference_noise(values: NDArray[np.float64]) -> NDArray[np.float64]:
     """
     values = np.atleast_2d(np.asarray(values, dtype=float))
     second = values[:, 2:] - 2.0 * values[:, 1:-1] + values[:, :-2]
-    centre = np.median(second, axis=1, keepdims=True)
-    noise = 1.4826 * np.median(np.abs(second - centre), axis=1) / np.sqrt(6.0)
+    noise = robust_scale(second) / np.sqrt(6.0)
     steps = np.abs(np.diff(values, axis=1))
     for k, row in enumerate(steps):
         moved = row[row > 0]

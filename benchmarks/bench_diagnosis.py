@@ -18,8 +18,12 @@ realistic size and position, diagnose them blind, and count the outcomes:
 
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
 [--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--compare C] [--size-scale S] [--occam laplace]
-[--no-rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate] [--twin]``;
+[--no-rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate] [--twin]
+[--conditions ground+faults] [--sample-rate 500]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
+``--sample-rate`` samples every run at another rate than the simulator's 100 Hz (the effects,
+their sizes and the field conditions drawn stay those of the trials at 100 Hz; write each rate
+to its own log);
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
 hides two different effects together (run only when asked; its outcomes are counted apart:
@@ -59,6 +63,7 @@ import argparse
 import json
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
@@ -68,7 +73,9 @@ from hidden_effects import (  # noqa: E402
     CONTROLLED_BICYCLES,
     EXPECTED,
     TWO,
+    FieldConditions,
     families,
+    field_conditions,
     given_data,
     hidden_bicycle,
     hidden_causes,
@@ -88,7 +95,7 @@ from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-Arguments = tuple[str, str, int, float, bool, DiagnosisOptions, str]
+Arguments = tuple[str, str, int, float, bool, DiagnosisOptions, FieldConditions]
 
 
 def _trial(arguments: Arguments) -> tuple:
@@ -235,6 +242,8 @@ def main() -> None:
     parser.add_argument("--conditions", choices=CONDITIONS, default="treadmill",
                         help="where the trials' runs are made and the sensors' faults (hidden_effects.CONDITIONS; "
                              "default treadmill, the rates of record)")
+    parser.add_argument("--sample-rate", type=float, default=None,
+                        help="every run's sample rate [Hz] (default: the simulator's, 100 Hz, the rates of record)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
@@ -275,7 +284,8 @@ def main() -> None:
             measurement=measurement_options(args.signals or "auto", args.cycles_above_noise),
             comparison=args.compare, rigid_loads=args.rigid_loads, occam=args.occam,
             fixed_point_start=args.fixed_point_start, pairs=PairRules(dispersion=args.combine_dispersion))
-        tasks = [(*job, args.size_scale, args.twin, options, args.conditions) for job in jobs]
+        conditions = replace(field_conditions(args.conditions), sample_rate=args.sample_rate)
+        tasks = [(*job, args.size_scale, args.twin, options, conditions) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

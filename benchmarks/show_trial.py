@@ -7,24 +7,25 @@ leave open (:func:`whipple.diagnosis.identifiability.open_values`). Used to attr
 trials whose outcome changes between two versions (run it with each version on the path).
 
 Run: ``python benchmarks/show_trial.py BICYCLE:FAMILY:SEED [...] [--size-scale S] [--twin]
-[--signals roll_rate] [--conditions ground+faults]``
+[--signals roll_rate] [--conditions ground+faults] [--sample-rate 500]``
 (``S``: as in ``bench_diagnosis.py``, the hidden effect's size multiplied
 by S; ``--twin``: also the verdict on the same windows without noise,
 :func:`hidden_effects.noise_free_twin`; ``--signals``: as in ``bench_diagnosis.py``, by default
 what ``whipple diagnose`` chooses, the roll rate with the steer angle, and ``roll_rate`` for the
 logs of the roll rate alone; ``--conditions``: as in ``bench_diagnosis.py``, where the runs are
-made and the sensors' faults).
+made and the sensors' faults; ``--sample-rate``: every run's, in Hz).
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from hidden_effects import CONDITIONS, measurement_options, run_trial  # noqa: E402
+from hidden_effects import CONDITIONS, field_conditions, measurement_options, run_trial  # noqa: E402
 
 from whipple.cli.measurement_arguments import signal_names  # noqa: E402
 from whipple.diagnosis.identifiability import open_values  # noqa: E402
@@ -42,13 +43,16 @@ def main() -> None:
                              "diagnose chooses, roll_rate,steer_angle for the trials' runs)")
     parser.add_argument("--conditions", choices=sorted(CONDITIONS), default="treadmill",
                         help="where the trials' runs are made and the sensors' faults (default treadmill)")
+    parser.add_argument("--sample-rate", type=float, default=None,
+                        help="every run's sample rate [Hz] (default: the simulator's, 100 Hz)")
     args = parser.parse_args()
+    conditions = replace(field_conditions(args.conditions), sample_rate=args.sample_rate)
     for trial_name in args.trials:
         try:
             bicycle, family, seed = trial_name.split(":")
             options = DiagnosisOptions(measurement=measurement_options(args.signals or "auto"))
             trial = run_trial(family, int(seed), bicycle, scale=args.size_scale, twin=args.twin, options=options,
-                              conditions=args.conditions)
+                              conditions=conditions)
         except ValueError as error:
             parser.error(f"{trial_name}: {error}")
         diagnosis = trial.diagnosis

@@ -479,7 +479,8 @@ class FieldConditions:
     sign), a steer offset up to ``steer_offset`` [rad] either way and, with probability
     ``no_steer``, no steer angle at all (the same for every run of the trial); and per run a
     roll-rate bias drift up to ``bias_drift`` [rad/s^2] either way and a random walk of density
-    up to ``bias_walk`` [rad/s/sqrt(s)].
+    up to ``bias_walk`` [rad/s/sqrt(s)]. ``sample_rate`` [Hz]: every run's, in any setting (None:
+    the simulator's default, 100 Hz).
     """
 
     setting: str = "treadmill"
@@ -492,6 +493,7 @@ class FieldConditions:
     no_steer: float = 0.25
     bias_drift: float = 2e-4
     bias_walk: float = 1e-3
+    sample_rate: float | None = None
 
     def __post_init__(self) -> None:
         if self.setting not in ("treadmill", "ground"):
@@ -560,6 +562,8 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None,
         speeds = trial_speeds(base)
     truth_bicycle, truth, model = hidden_bicycle(base, cause, rng, scale)
     changes = [{} for _ in speeds] if field.setting == "treadmill" else draw_field(field, rng.spawn(1)[0], speeds)
+    if field.sample_rate is not None:
+        changes = [{**change, "sample_rate": field.sample_rate} for change in changes]
     runs = []
     for k, speed in enumerate(speeds):
         scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES, **changes[k])

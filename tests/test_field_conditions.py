@@ -369,6 +369,21 @@ def test_ground_trials_with_faults_draw_them_in_their_ranges():
     assert 0 < without_steer < 8
 
 
+def test_trials_at_another_sample_rate_keep_the_draws():
+    """A sample rate in the field conditions changes the runs' rate and nothing drawn."""
+    _, truth, runs = trial_runs("rack", 3, "benchmark", speeds=(4.0,), conditions="ground+faults")
+    fast = FieldConditions("ground", faults=True, sample_rate=250.0)
+    _, fast_truth, fast_runs = trial_runs("rack", 3, "benchmark", speeds=(4.0,), conditions=fast)
+    assert fast_truth == truth
+    assert fast_runs[0].sample_rate == pytest.approx(250.0)
+    assert runs[0].sample_rate == pytest.approx(100.0)
+    for key in ("seed", "deceleration", "imu_misalignment", "gyro_scale", "steer_offset"):
+        assert fast_runs[0].metadata[key] == runs[0].metadata[key]
+    _, _, treadmill = trial_runs("none", 0, "benchmark", speeds=(4.0,),
+                                 conditions=FieldConditions(sample_rate=50.0))
+    assert treadmill[0].sample_rate == pytest.approx(50.0)
+
+
 def test_field_conditions_are_checked():
     with pytest.raises(ValueError, match="ground"):
         FieldConditions("treadmill", faults=True)

@@ -317,6 +317,10 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
     best = scored[0] if scored else None
     typical = typical_dispersion(scored[:1], whitening)
     verdict, name, rivals, reasons = _verdict(scored, typical, rules, rival_pairs, whitening.samples is not None)
+    if verdict != "none" and best is not None and chosen is not None and estimate_spread:
+        unsupported = _near_null(best, chosen, rules.null_distance)
+        if unsupported is not None:
+            verdict, name, rivals, reasons = "none", "none", (), (unsupported,)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
         dependence = speed_dependence(bicycle, chosen, compared, best.values, scales, whitening.comparison,
@@ -330,6 +334,25 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
                      reasons=reasons, combinations=tuple(pair.name for pair in pairs),
                      single_scales=single_scales, typical_scales=typical, speed_dependence=dependence,
                      comparison="fitting-function" if biases is not None else whitening.comparison)
+
+
+def _near_null(best: CauseFit, cause: Cause, distance: float) -> str | None:
+    """Say why a leading cause of one value is no cause when it lies within ``distance`` standard deviations of no effect.
+
+    None where it lies farther, or the cause has no value at which it changes nothing, or more
+    values than one: their standard deviations are each value's alone, and values that trade
+    off (a load's mass and position) each spread far more than their joint effect does.
+    ``best.std`` includes the spread of the values refitted with each speed's windows left out.
+    """
+    if cause.null is None or len(cause.null) != 1 or len(best.values) != 1:
+        return None
+    (name,), (unit,), (value,), (spread,), (null,) = best.parameters, best.units, best.values, best.std, cause.null
+    if not (np.isfinite(spread) and abs(value - null) < distance * spread):
+        return None
+    return (f"{best.cause} leads (evidence {best.evidence:.1f}), but its value lies within {distance:g} standard "
+            f"deviations of no effect ({name} = {value:.4g} +/- {spread:.2g}{' ' + unit if unit else ''}, no effect "
+            f"at {null:.4g}; the windows of each speed left out in turn included): its evidence rests on errors some "
+            "windows share, not on a cause")
 
 
 def _speed_dependence_reason(best: CauseFit, dependence: SpeedDependence) -> str:

@@ -337,7 +337,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
 
 
 def _near_null(best: CauseFit, cause: Cause, distance: float) -> str | None:
-    """Say why a leading cause of one value is no cause when it lies within ``distance`` standard deviations of no effect.
+    """Say why a leading cause of one value within ``distance`` standard deviations of no effect is no cause.
 
     None where it lies farther, or the cause has no value at which it changes nothing, or more
     values than one: their standard deviations are each value's alone, and values that trade

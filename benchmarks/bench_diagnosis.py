@@ -19,11 +19,12 @@ realistic size and position, diagnose them blind, and count the outcomes:
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
 [--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--compare C] [--size-scale S] [--occam laplace]
 [--no-rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate] [--twin]
-[--conditions ground+faults] [--sample-rate 500]``;
+[--conditions ground+faults] [--sample-rate 500] [--speeds 2.5 4 6]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
 ``--sample-rate`` samples every run at another rate than the simulator's 100 Hz (the effects,
 their sizes and the field conditions drawn stay those of the trials at 100 Hz; write each rate
-to its own log);
+to its own log); ``--speeds`` gives every bicycle's trials these speeds instead of their own
+(fewer speeds than the trials': fewer windows, and a jackknife over fewer speed groups);
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
 hides two different effects together (run only when asked; its outcomes are counted apart:
@@ -95,13 +96,14 @@ from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE  # noqa: E402
 OUTCOMES = ("right", "ambiguous_truth", "none", "wrong")
 
 
-Arguments = tuple[str, str, int, float, bool, DiagnosisOptions, FieldConditions]
+Arguments = tuple[str, str, int, float, bool, DiagnosisOptions, FieldConditions, tuple[float, ...] | None]
 
 
 def _trial(arguments: Arguments) -> tuple:
-    bicycle, family, seed, scale, twin, options, conditions = arguments
+    bicycle, family, seed, scale, twin, options, conditions, speeds = arguments
     try:
-        trial = run_trial(family, seed, bicycle, scale=scale, twin=twin, options=options, conditions=conditions)
+        trial = run_trial(family, seed, bicycle, speeds=speeds, scale=scale, twin=twin, options=options,
+                          conditions=conditions)
     except InputError as error:  # e.g. an effect so large that too few windows were usable
         return (bicycle, family, seed, "error", error.problem, "error", False, float("nan"))
     outcome = trial.outcome
@@ -242,6 +244,9 @@ def main() -> None:
     parser.add_argument("--conditions", choices=CONDITIONS, default="treadmill",
                         help="where the trials' runs are made and the sensors' faults (hidden_effects.CONDITIONS; "
                              "default treadmill, the rates of record)")
+    parser.add_argument("--speeds", type=float, nargs="+", default=None,
+                        help="the runs' speeds [m/s], one run each, for every bicycle (default: the trials' own, "
+                             "hidden_effects.trial_speeds)")
     parser.add_argument("--sample-rate", type=float, default=None,
                         help="every run's sample rate [Hz] (default: the simulator's, 100 Hz, the rates of record)")
     parser.add_argument("--size-scale", type=float, default=1.0,
@@ -285,7 +290,8 @@ def main() -> None:
             comparison=args.compare, rigid_loads=args.rigid_loads, occam=args.occam,
             fixed_point_start=args.fixed_point_start, pairs=PairRules(dispersion=args.combine_dispersion))
         conditions = replace(field_conditions(args.conditions), sample_rate=args.sample_rate)
-        tasks = [(*job, args.size_scale, args.twin, options, conditions) for job in jobs]
+        speeds = None if args.speeds is None else tuple(args.speeds)
+        tasks = [(*job, args.size_scale, args.twin, options, conditions, speeds) for job in jobs]
         started = time.perf_counter()
         results = []
         workers = None if args.scheduler else args.workers

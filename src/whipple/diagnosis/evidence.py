@@ -24,7 +24,9 @@ likelihood instead (:func:`occam_factor`), and each kind of residual
 (eigenvalue, shape; or the samples) divided by its own s^2 >= 1, the reduced chi-square of the
 best model on that kind (window uncertainties that are too small inflate every chi-square
 alike). ``none`` has evidence 0. The verdict:
-``none`` when no cause reaches ``named_threshold``; ``ambiguous`` when the runner-up is within
+``none`` when no cause reaches ``named_threshold``, or when the leading cause has one value
+and it lies within ``null_distance`` of its standard deviations (the jackknife over speed groups
+included) of no effect; ``ambiguous`` when the runner-up is within
 ``margin`` of the best, when a runner-up within ``close_evidence`` predicts the observations
 within ``separation`` of the best (:func:`separation`), or when even the best model leaves the
 typical window far off (:func:`typical_dispersion` above ``high_dispersion``);

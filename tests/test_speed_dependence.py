@@ -24,20 +24,23 @@ SPEEDS = np.repeat([3.0, 4.0, 5.0, 6.0, 7.0, 8.0], 3)  # m/s
 STD = 0.05  # 1/s, of both parts of each eigenvalue
 
 
-def _observations(damping_at_speed, seed=5, shared=0.0):
+def _observations(damping_at_speed, seed=5, shared=0.0, std=STD, true_speed=lambda v: v):
     """Windows whose true steer damping [N m s/rad] at speed v is ``damping_at_speed(v)``.
 
-    ``shared``: std [1/s] of an error common to all windows of one speed (a fitting bias).
+    ``shared``: std [1/s] of an error common to all windows of one speed (a fitting bias);
+    ``std``: of both parts of each eigenvalue [1/s]; ``true_speed(v)``: the speed [m/s] at which
+    the windows measured at v ran (a speed error).
     """
     bicycle = load_bicycle("benchmark")
     rng = np.random.default_rng(seed)
-    covariance = np.eye(2) * STD**2
+    covariance = np.eye(2) * std**2
     observations = []
     bias = {v: complex(*rng.normal(0.0, shared, 2)) for v in np.unique(SPEEDS)}
     for v in SPEEDS:
-        guess = Observation("r", 0.0, 1.0, v, (v, v), complex(-1.0, 5.0), covariance)
+        ran = true_speed(v)
+        guess = Observation("r", 0.0, 1.0, ran, (ran, ran), complex(-1.0, 5.0), covariance)
         truth = bicycle.with_extensions(steer_damping=damping_at_speed(v))
-        eigenvalue = predicted_weave(truth, [guess])[0] + complex(*rng.normal(0.0, STD, 2)) + bias[v]
+        eigenvalue = predicted_weave(truth, [guess])[0] + complex(*rng.normal(0.0, std, 2)) + bias[v]
         observations.append(Observation("r", 0.0, 1.0, v, (v, v), eigenvalue, covariance))
     return bicycle, observations
 
@@ -146,15 +149,7 @@ def test_evidence_that_one_speed_s_error_gives_names_nothing():
     above the threshold; refitted with each speed's windows left out, its values spread over
     more than twice its distance from 1 (no effect).
     """
-    bicycle = load_bicycle("benchmark")
-    rng = np.random.default_rng(5)
-    covariance = np.eye(2) * 0.01**2
-    observations = []
-    for v in SPEEDS:
-        measured_at = v * 1.08 if v == 4.0 else v
-        guess = Observation("r", 0.0, 1.0, measured_at, (measured_at, measured_at), complex(-1.0, 5.0), covariance)
-        eigenvalue = predicted_weave(bicycle, [guess])[0] + complex(*rng.normal(0.0, 0.01, 2))
-        observations.append(Observation("r", 0.0, 1.0, v, (v, v), eigenvalue, covariance))
+    bicycle, observations = _observations(lambda v: 0.0, std=0.01, true_speed=lambda v: v * 1.08 if v == 4.0 else v)
     diagnosis = diagnose_observations(bicycle, observations)
     leader = max(diagnosis.fits, key=lambda fit: fit.evidence)
     assert leader.cause == "speed_scale" and leader.evidence > VerdictRules().named_threshold

@@ -30,7 +30,9 @@ ranges the rates were measured on; write each scale to its own log); ``--familie
 hides two different effects together (run only when asked; its outcomes are counted apart:
 named one of the two is right, named a third cause wrong); ``--combine-dispersion D`` is an
 experiment: pairs of causes are tried when the best single cause leaves a dispersion above D
-(the package's rule: 2; 0 tries them always); ``--occam laplace`` is another: the evidence's
+(the package's rule: 2; 0 tries them always); ``--one-speed-lead 0`` leaves out the rule that a
+lead one speed's windows carry is no name (``VerdictRules.one_speed_lead``; the rates before
+it); ``--occam laplace`` is another: the evidence's
 Occam factor by the Laplace approximation within each cause's bounds
 (``DiagnosisOptions.occam``); ``--cycles-above-noise C`` leaves out the windows
 holding fewer than C weave cycles above the noise (``FitOptions.min_cycles_above_noise``; the
@@ -227,6 +229,9 @@ def main() -> None:
     parser.add_argument("--combine-dispersion", type=float, default=defaults.pairs.dispersion,
                         help="experiment: the dispersion of the best single cause above which pairs are tried "
                              f"(PairRules.dispersion, {defaults.pairs.dispersion:g}; 0: always)")
+    parser.add_argument("--one-speed-lead", type=float, default=defaults.verdict.one_speed_lead,
+                        help="the lead a named cause keeps over every rival without any one speed's windows "
+                             f"(VerdictRules.one_speed_lead, {defaults.verdict.one_speed_lead:g}; 0: not checked)")
     parser.add_argument("--occam", choices=OCCAM_CHARGES, default=defaults.occam,
                         help="experiment: how the evidence charges fitted values (DiagnosisOptions.occam)")
     parser.add_argument("--rigid-loads", action=argparse.BooleanOptionalAction, default=defaults.rigid_loads,
@@ -288,7 +293,8 @@ def main() -> None:
         options = DiagnosisOptions(
             measurement=measurement_options(args.signals or "auto", args.cycles_above_noise),
             comparison=args.compare, rigid_loads=args.rigid_loads, occam=args.occam,
-            fixed_point_start=args.fixed_point_start, pairs=PairRules(dispersion=args.combine_dispersion))
+            fixed_point_start=args.fixed_point_start, pairs=PairRules(dispersion=args.combine_dispersion),
+            verdict=replace(defaults.verdict, one_speed_lead=args.one_speed_lead))
         conditions = replace(field_conditions(args.conditions), sample_rate=args.sample_rate)
         speeds = None if args.speeds is None else tuple(args.speeds)
         tasks = [(*job, args.size_scale, args.twin, options, conditions, speeds) for job in jobs]

@@ -28,8 +28,10 @@ alike). ``none`` has evidence 0. The verdict:
 and it lies within ``null_distance`` of its standard deviations (the jackknife over speed groups
 included) of no effect; ``ambiguous`` when the runner-up is within
 ``margin`` of the best, when a runner-up within ``close_evidence`` predicts the observations
-within ``separation`` of the best (:func:`separation`), or when even the best model leaves the
-typical window far off (:func:`typical_dispersion` above ``high_dispersion``);
+within ``separation`` of the best (:func:`separation`), when the windows of one speed carry the
+best's lead over a rival (its lead less that speed's share below ``one_speed_lead``), or when
+even the best model leaves the typical window far off (:func:`typical_dispersion` above
+``high_dispersion``);
 otherwise ``named``. When no single cause explains the typical window, pairs of causes are fitted jointly
 (:mod:`whipple.diagnosis.families`; which pairs: :mod:`whipple.diagnosis.pair_search`) and
 kept only when they beat every single cause by ``margin``; a leading pair is reported, never
@@ -54,9 +56,9 @@ from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
-from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, robust_chi2, window_whitening
+from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, robust_chi2, robust_squares, window_whitening
 from whipple.diagnosis.model_terms import is_term, term_words
-from whipple.diagnosis.observations import Observation
+from whipple.diagnosis.observations import Observation, speed_groups
 from whipple.diagnosis.options import DiagnosisOptions, VerdictRules
 from whipple.diagnosis.pair_search import leading_pairs, screened_pairs
 from whipple.diagnosis.priors import laplace_evidence
@@ -323,6 +325,10 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         unsupported = _near_null(best, chosen, rules.null_distance)
         if unsupported is not None:
             verdict, name, rivals, reasons = "none", "none", (), (unsupported,)
+    if verdict == "named" and not quick and rules.one_speed_lead > 0:
+        carried = _lead_of_one_speed(scored, whitening, observations, rules.one_speed_lead)
+        if carried is not None:
+            verdict, rivals, reasons = "ambiguous", carried[0], (carried[1],)
     dependence = None
     if verdict == "named" and chosen is not None and best is not None and not quick:
         dependence = speed_dependence(bicycle, chosen, compared, best.values, scales, whitening.comparison,
@@ -355,6 +361,44 @@ def _near_null(best: CauseFit, cause: Cause, distance: float) -> str | None:
             f"deviations of no effect ({name} = {value:.4g} +/- {spread:.2g}{' ' + unit if unit else ''}, no effect "
             f"at {null:.4g}; the windows of each speed left out in turn included): its evidence rests on errors some "
             "windows share, not on a cause")
+
+
+def _lead_of_one_speed(scored: Sequence[CauseFit], whitening: Whitening, observations: Sequence[Observation],
+                       required: float) -> tuple[tuple[str, ...], str] | None:
+    """Return the rivals whose lead by the best rests on the windows of one speed, and why; None if none.
+
+    A rival's lead is the evidence difference; each speed group's share of it is half its part
+    of the two fits' chi-square difference (at the values fitted to every window). A lead that
+    falls below ``required`` once the largest share is taken away rests on that speed. Needs
+    three speed groups at least (as the jackknife does: with two, every lead rests on one).
+    """
+    groups = speed_groups(observations)
+    if len(groups) < 3:
+        return None
+    best = scored[0]
+    windows, _ = whitening.residual_layout()
+    group_of = np.empty(len(observations), dtype=int)
+    for g, group in enumerate(groups):
+        group_of[group] = g
+    cells = group_of[windows]
+    own = robust_squares(best.residuals)
+    rivals, shares = [], []
+    for fit in scored[1:]:
+        if fit.residuals.shape != best.residuals.shape:
+            continue
+        by_speed = 0.5 * np.bincount(cells, weights=robust_squares(fit.residuals) - own, minlength=len(groups))
+        g = int(np.argmax(by_speed))
+        if best.evidence - fit.evidence - by_speed[g] < required:
+            rivals.append(fit.cause)
+            shares.append((best.evidence - fit.evidence, float(by_speed[g]), g))
+    if not rivals:
+        return None
+    lead, share, g = shares[0]
+    speeds = [observations[i].speed for i in groups[g]]
+    at = f"{min(speeds):.2f} m/s" if max(speeds) - min(speeds) < 0.005 else f"{min(speeds):.2f}-{max(speeds):.2f} m/s"
+    return tuple(rivals), (f"{best.cause} leads {rivals[0]} by {lead:.1f} in evidence, but the windows at {at} give "
+                           f"{share:.1f} of it: without them {rivals[0]} would fit about as well, so the lead rests "
+                           "on one speed, not on the data as a whole")
 
 
 def _speed_dependence_reason(best: CauseFit, dependence: SpeedDependence) -> str:

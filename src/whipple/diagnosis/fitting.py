@@ -35,8 +35,13 @@ AT_BOUND = 1e-3
 
 def robust_chi2(residuals: NDArray[np.float64]) -> float:
     """Soft-L1 sum of squares: ~ sum r^2 for |r| << ROBUST_SCALE, ~ linear beyond."""
+    return float(np.sum(robust_squares(residuals)))
+
+
+def robust_squares(residuals: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each residual's share of :func:`robust_chi2`."""
     c2 = ROBUST_SCALE**2
-    return float(np.sum(2.0 * c2 * (np.sqrt(1.0 + residuals**2 / c2) - 1.0)))
+    return np.asarray(2.0 * c2 * (np.sqrt(1.0 + residuals**2 / c2) - 1.0))
 
 
 @dataclass(frozen=True)

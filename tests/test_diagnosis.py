@@ -191,6 +191,7 @@ def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
     assert data["verdict"] == "named" and data["cause"] == "steer_damping"
     estimate = data["estimate"]["steer_damping"]
     assert estimate["unit"] == "N m s/rad" and abs(estimate["value"] - 0.8) < 0.2
+    assert estimate["determined"] and estimate["bounds"][0] <= estimate["value"] <= estimate["bounds"][1]
     assert data["ranking"][0]["cause"] == "steer_damping"
     assert data["estimate_open"] is None  # one value: nothing left open
     assert {"metric", "base", "extended", "held_out"} <= set(data["gain"])

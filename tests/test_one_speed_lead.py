@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 from test_speed_dependence import _observations
 
-from whipple.diagnosis.evidence import _lead_of_one_speed, diagnose_observations
+from whipple.diagnosis.consistency import lead_of_one_speed
+from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.fitting import ROBUST_SCALE, CauseFit, robust_squares, window_whitening
 from whipple.diagnosis.observations import speed_groups
 from whipple.diagnosis.options import DiagnosisOptions, VerdictRules
@@ -40,7 +41,7 @@ def test_a_lead_one_speed_carries_is_found_and_an_even_one_is_not():
     scored = [leader] + [_fit(name, residuals, 50.0 - (_fit("", residuals, 0.0).chi2 - leader.chi2) / 2)
                          for name, residuals in (("spread", spread), ("carried", carried))]
     assert scored[1].evidence == pytest.approx(scored[2].evidence, rel=1e-9)
-    found = _lead_of_one_speed(scored, whitening, observations, VerdictRules().one_speed_lead)
+    found = lead_of_one_speed(scored, whitening, observations, VerdictRules().one_speed_lead)
     assert found is not None
     rivals, reason = found
     assert rivals == ("carried",)

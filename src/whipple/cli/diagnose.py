@@ -23,6 +23,7 @@ from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, n
 from whipple.cli.measurement_arguments import add_bundled_argument, add_measurement_arguments, measurement_options
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.cli.progress import ProgressBars
+from whipple.diagnosis.estimate_text import estimate_text
 from whipple.diagnosis.fitting import COMPARISONS
 from whipple.diagnosis.gain_text import cause_gain_sentences, gain_sentences
 from whipple.diagnosis.markdown import report_markdown
@@ -186,7 +187,7 @@ def _print_report(report: DiagnosisReport, data: dict) -> None:
     for reason in diagnosis.reasons:
         print(f"  why not a confident name: {reason}")
     for name, estimate in data["estimate"].items():
-        print(f"  {name} = {estimate['value']:.6g} +/- {estimate['std']:.3g} {estimate['unit']}")
+        print(f"  {name} = {estimate_text(estimate)}")
     if data["calibration"]:
         print(f"  the calibration moves: {shift_sentence(data['calibration'])}")
     offered = data["offered"]

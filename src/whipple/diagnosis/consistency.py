@@ -2,7 +2,8 @@
 
 A physical cause has the same values at every speed. :func:`jackknife_std` measures how much the
 values move when one speed is left out (errors shared by a speed's windows); :func:`speed_dependence`
-fits the cause to the low and the high speeds apart and weighs whether its values differ.
+fits the cause to the low and the high speeds apart and weighs whether its values differ;
+:func:`lead_of_one_speed` finds a lead over a rival that the windows of one speed carry.
 """
 
 from __future__ import annotations
@@ -16,11 +17,13 @@ from numpy.typing import NDArray
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.fitting import (
     ROBUST_SCALE,
+    CauseFit,
     Whitening,
     fit_cause,
     model_residuals,
     models_residuals,
     robust_chi2,
+    robust_squares,
     window_whitening,
 )
 from whipple.diagnosis.instrument import INSTRUMENT_VALUES, InstrumentErrors
@@ -219,3 +222,41 @@ def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observ
     evidence = (one - fits[0].chi2 - fits[1].chi2) / (2.0 * design_effect) - 0.5 * freed * np.log(n)
     return SpeedDependence(float((max(speeds[0]) + min(speeds[1])) / 2.0), fits[0].values, fits[1].values,
                            float(evidence), design_effect)
+
+
+def lead_of_one_speed(scored: Sequence[CauseFit], whitening: Whitening, observations: Sequence[Observation],
+                       required: float) -> tuple[tuple[str, ...], str] | None:
+    """Return the rivals whose lead by the best rests on the windows of one speed, and why; None if none.
+
+    A rival's lead is the evidence difference; each speed group's share of it is half its part
+    of the two fits' chi-square difference (at the values fitted to every window). A lead that
+    falls below ``required`` once the largest share is taken away rests on that speed. Needs
+    three speed groups at least (as the jackknife does: with two, every lead rests on one).
+    """
+    groups = speed_groups(observations)
+    if len(groups) < 3:
+        return None
+    best = scored[0]
+    windows, _ = whitening.residual_layout()
+    group_of = np.empty(len(observations), dtype=int)
+    for g, group in enumerate(groups):
+        group_of[group] = g
+    cells = group_of[windows]
+    own = robust_squares(best.residuals)
+    rivals, shares = [], []
+    for fit in scored[1:]:
+        if fit.residuals.shape != best.residuals.shape:
+            continue
+        by_speed = 0.5 * np.bincount(cells, weights=robust_squares(fit.residuals) - own, minlength=len(groups))
+        g = int(np.argmax(by_speed))
+        if best.evidence - fit.evidence - by_speed[g] < required:
+            rivals.append(fit.cause)
+            shares.append((best.evidence - fit.evidence, float(by_speed[g]), g))
+    if not rivals:
+        return None
+    lead, share, g = shares[0]
+    speeds = [observations[i].speed for i in groups[g]]
+    at = f"{min(speeds):.2f} m/s" if max(speeds) - min(speeds) < 0.005 else f"{min(speeds):.2f}-{max(speeds):.2f} m/s"
+    return tuple(rivals), (f"{best.cause} leads {rivals[0]} by {lead:.1f} in evidence, but the windows at {at} give "
+                           f"{share:.1f} of it: without them {rivals[0]} would fit about as well, so the lead rests "
+                           "on one speed, not on the data as a whole")

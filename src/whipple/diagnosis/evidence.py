@@ -53,12 +53,12 @@ from numpy.typing import NDArray
 
 from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples
 from whipple.diagnosis.causes import Cause
-from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, speed_dependence
+from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, lead_of_one_speed, speed_dependence
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
-from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, robust_chi2, robust_squares, window_whitening
+from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, robust_chi2, window_whitening
 from whipple.diagnosis.model_terms import is_term, term_words
-from whipple.diagnosis.observations import Observation, speed_groups
+from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.options import DiagnosisOptions, VerdictRules
 from whipple.diagnosis.pair_search import leading_pairs, screened_pairs
 from whipple.diagnosis.priors import laplace_evidence
@@ -326,7 +326,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         if unsupported is not None:
             verdict, name, rivals, reasons = "none", "none", (), (unsupported,)
     if verdict == "named" and not quick and rules.one_speed_lead > 0:
-        carried = _lead_of_one_speed(scored, whitening, observations, rules.one_speed_lead)
+        carried = lead_of_one_speed(scored, whitening, observations, rules.one_speed_lead)
         if carried is not None:
             verdict, rivals, reasons = "ambiguous", carried[0], (carried[1],)
     dependence = None
@@ -361,44 +361,6 @@ def _near_null(best: CauseFit, cause: Cause, distance: float) -> str | None:
             f"deviations of no effect ({name} = {value:.4g} +/- {spread:.2g}{' ' + unit if unit else ''}, no effect "
             f"at {null:.4g}; the windows of each speed left out in turn included): its evidence rests on errors some "
             "windows share, not on a cause")
-
-
-def _lead_of_one_speed(scored: Sequence[CauseFit], whitening: Whitening, observations: Sequence[Observation],
-                       required: float) -> tuple[tuple[str, ...], str] | None:
-    """Return the rivals whose lead by the best rests on the windows of one speed, and why; None if none.
-
-    A rival's lead is the evidence difference; each speed group's share of it is half its part
-    of the two fits' chi-square difference (at the values fitted to every window). A lead that
-    falls below ``required`` once the largest share is taken away rests on that speed. Needs
-    three speed groups at least (as the jackknife does: with two, every lead rests on one).
-    """
-    groups = speed_groups(observations)
-    if len(groups) < 3:
-        return None
-    best = scored[0]
-    windows, _ = whitening.residual_layout()
-    group_of = np.empty(len(observations), dtype=int)
-    for g, group in enumerate(groups):
-        group_of[group] = g
-    cells = group_of[windows]
-    own = robust_squares(best.residuals)
-    rivals, shares = [], []
-    for fit in scored[1:]:
-        if fit.residuals.shape != best.residuals.shape:
-            continue
-        by_speed = 0.5 * np.bincount(cells, weights=robust_squares(fit.residuals) - own, minlength=len(groups))
-        g = int(np.argmax(by_speed))
-        if best.evidence - fit.evidence - by_speed[g] < required:
-            rivals.append(fit.cause)
-            shares.append((best.evidence - fit.evidence, float(by_speed[g]), g))
-    if not rivals:
-        return None
-    lead, share, g = shares[0]
-    speeds = [observations[i].speed for i in groups[g]]
-    at = f"{min(speeds):.2f} m/s" if max(speeds) - min(speeds) < 0.005 else f"{min(speeds):.2f}-{max(speeds):.2f} m/s"
-    return tuple(rivals), (f"{best.cause} leads {rivals[0]} by {lead:.1f} in evidence, but the windows at {at} give "
-                           f"{share:.1f} of it: without them {rivals[0]} would fit about as well, so the lead rests "
-                           "on one speed, not on the data as a whole")
 
 
 def _speed_dependence_reason(best: CauseFit, dependence: SpeedDependence) -> str:

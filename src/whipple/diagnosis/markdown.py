@@ -7,6 +7,7 @@ beside it.
 from __future__ import annotations
 
 from whipple.diagnosis.amplitude import amplitude_markdown
+from whipple.diagnosis.estimate_text import bounds_text
 from whipple.diagnosis.evidence import Diagnosis
 from whipple.diagnosis.gain import Gain
 from whipple.diagnosis.gain_text import cause_gain_sentences, gain_sentences
@@ -101,7 +102,7 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
         elif offered is None:
             lines += ["No model is offered (the base model stands; see the caveats above). The leading cause:", ""]
         lines += ["| parameter | value | std | unit |", "|---|---|---|---|"]
-        lines += [f"| {name} | {e['value']:.6g} | {e['std']:.3g} | {e['unit']} |"
+        lines += [f"| {name} | {e['value']:.6g} | {_std_text(e)} | {e['unit']} |"
                   for name, e in data["estimate"].items()]
         if report.open_values is not None and (offered is None or offered["cause"] == diagnosis.best.cause):
             lines += ["", f"The data leave open: {report.open_values.sentence()}."]
@@ -147,6 +148,10 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
 
 #: Rows of the every-candidate table in the report (the JSON has all).
 CAUSE_GAIN_ROWS = 12
+
+
+def _std_text(estimate: dict) -> str:
+    return f"{estimate['std']:.3g}" if estimate["determined"] else f"not determined ({bounds_text(estimate)})"
 
 
 def _cause_gains_markdown(report: DiagnosisReport) -> list[str]:

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.admissible import Offer
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, with_cause
+from whipple.diagnosis.estimate_text import determined
 from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE, CauseFit, fit_cause
 from whipple.diagnosis.gain import CauseGain, Gain, cause_gains, held_out_candidates, held_out_gain
@@ -479,8 +480,12 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
     best = diagnosis.best
     estimate = {}
     if best is not None:
-        estimate = {name: {"value": value, "std": std, "unit": unit}
-                    for name, value, std, unit in zip(best.parameters, best.values, best.std, best.units, strict=True)}
+        bounds = (diagnosis.chosen.bounds if diagnosis.chosen is not None
+                  and len(diagnosis.chosen.bounds) == len(best.values) else [(-np.inf, np.inf)] * len(best.values))
+        estimate = {name: {"value": value, "std": std, "unit": unit, "bounds": [float(low), float(high)],
+                           "determined": determined(std, (low, high))}
+                    for name, value, std, unit, (low, high)
+                    in zip(best.parameters, best.values, best.std, best.units, bounds, strict=True)}
     # As measured: a flipped steer's shapes are left out of the diagnosis, not out of the report.
     observations = [observation(m) for m in report.used]
     base, base_shapes = report.base_prediction.eigenvalues, report.base_prediction.shapes
@@ -592,3 +597,4 @@ def _speed_dependence_json(diagnosis: Diagnosis) -> dict[str, Any] | None:
     return {"split_speed": dependence.split, "parameters": list(best.parameters), "units": list(best.units),
             "low_speeds": list(dependence.low), "high_speeds": list(dependence.high),
             "evidence": dependence.evidence, "design_effect": dependence.design_effect}
+

@@ -4,7 +4,7 @@ For each trial listed (JSON lines ``[bicycle, family, seed]``, as ``bench_diagno
 --trials`` takes them), diagnose it as ``bench_diagnosis.py`` does and write one JSON line: the
 trial, the verdict, the leading cause, the outcome, and the leader's values with their
 standard deviations (the jackknife's over speed groups included), physical bounds and whether
-the data determine each (:func:`whipple.diagnosis.report.determined`, as the report says them).
+the data determine each (:func:`whipple.diagnosis.estimate_text.determined`, as the report says them).
 Then it prints, for the trials led by a load (a value named ``..._mass``), how often the mass,
 and any of the load's values, is not determined.
 

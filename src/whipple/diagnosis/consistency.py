@@ -165,12 +165,17 @@ def speed_group_sums(residuals: NDArray[np.float64], observations: Sequence[Obse
     (a fitting bias that depends on speed) make it larger: their ratio is the design effect.
     """
     windows, kinds = whitening.residual_layout()
-    group_of = np.empty(len(observations), dtype=int)
-    for g, group in enumerate(speed_groups(observations)):
-        group_of[group] = g
-    cells = group_of[windows] * 4 + kinds
+    cells = _group_of_window(speed_groups(observations), len(observations))[windows] * 4 + kinds
     sums = np.bincount(cells, weights=residuals)
     return float(np.sum(sums**2)), float(len(residuals))
+
+
+def _group_of_window(groups: Sequence[Sequence[int]], n_windows: int) -> NDArray[np.int_]:
+    """Return each window's speed group (the index into `groups`, lists of window indices)."""
+    group_of = np.empty(n_windows, dtype=int)
+    for g, group in enumerate(groups):
+        group_of[list(group)] = g
+    return group_of
 
 
 def speed_dependence(bicycle: Model, cause: Cause, observations: Sequence[Observation],
@@ -238,10 +243,7 @@ def lead_of_one_speed(scored: Sequence[CauseFit], whitening: Whitening, observat
         return None
     best = scored[0]
     windows, _ = whitening.residual_layout()
-    group_of = np.empty(len(observations), dtype=int)
-    for g, group in enumerate(groups):
-        group_of[group] = g
-    cells = group_of[windows]
+    cells = _group_of_window(groups, len(observations))[windows]
     own = robust_squares(best.residuals)
     rivals, shares = [], []
     for fit in scored[1:]:

@@ -84,7 +84,7 @@ class VerdictRules:
         share is its part of the two fits' chi-square difference, at the values fitted to
         every window. (A twice-size steer spring: a front payload led the steer spring's own
         form, the K0 steer-steer term at its true value, by 38.5, of which the one window at
-        3 m/s gave 59.)
+        3 m/s gave 40.2.)
     """
 
     named_threshold: float = 3.0

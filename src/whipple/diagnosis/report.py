@@ -479,13 +479,12 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
     diagnosis = report.diagnosis
     best = diagnosis.best
     estimate = {}
-    if best is not None:
-        bounds = (diagnosis.chosen.bounds if diagnosis.chosen is not None
-                  and len(diagnosis.chosen.bounds) == len(best.values) else [(-np.inf, np.inf)] * len(best.values))
+    if best is not None and diagnosis.chosen is not None:
+        # The leading cause and its fit are set together (a diagnosis without one has neither).
         estimate = {name: {"value": value, "std": std, "unit": unit, "bounds": [float(low), float(high)],
                            "determined": determined(std, (low, high))}
                     for name, value, std, unit, (low, high)
-                    in zip(best.parameters, best.values, best.std, best.units, bounds, strict=True)}
+                    in zip(best.parameters, best.values, best.std, best.units, diagnosis.chosen.bounds, strict=True)}
     # As measured: a flipped steer's shapes are left out of the diagnosis, not out of the report.
     observations = [observation(m) for m in report.used]
     base, base_shapes = report.base_prediction.eigenvalues, report.base_prediction.shapes

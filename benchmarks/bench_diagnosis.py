@@ -19,12 +19,14 @@ realistic size and position, diagnose them blind, and count the outcomes:
 Run: ``python benchmarks/bench_diagnosis.py [--seeds 17] [--workers 2 | --scheduler ADDRESS]
 [--bicycles ...] [--families ...] [--trials FILE] [--log FILE] [--compare C] [--size-scale S] [--occam laplace]
 [--no-rigid-loads] [--cycles-above-noise C] [--fixed-point-start model] [--signals roll_rate] [--twin]
-[--conditions ground+faults] [--sample-rate 500] [--speeds 2.5 4 6]``;
+[--conditions ground+faults] [--sample-rate 500] [--noise-scale 3] [--speeds 2.5 4 6]``;
 ``--seeds`` is per bicycle and family; ``--trials`` runs only the listed trials among those;
 ``--sample-rate`` samples every run at another rate than the simulator's 100 Hz (the effects,
 their sizes and the field conditions drawn stay those of the trials at 100 Hz; write each rate
-to its own log); ``--speeds`` gives every bicycle's trials these speeds instead of their own
-(fewer speeds than the trials': fewer windows, and a jackknife over fewer speed groups);
+to its own log); ``--noise-scale`` multiplies every sensor's noise per sample (a cheaper
+instrument; the effects and field conditions drawn stay the same); ``--speeds`` gives every
+bicycle's trials these speeds instead of their own (fewer speeds than the trials': fewer
+windows, and a jackknife over fewer speed groups);
 ``--size-scale`` multiplies every hidden effect's size (effects smaller or larger than the
 ranges the rates were measured on; write each scale to its own log); ``--families two_effects``
 hides two different effects together (run only when asked; its outcomes are counted apart:
@@ -254,6 +256,9 @@ def main() -> None:
                              "hidden_effects.trial_speeds)")
     parser.add_argument("--sample-rate", type=float, default=None,
                         help="every run's sample rate [Hz] (default: the simulator's, 100 Hz, the rates of record)")
+    parser.add_argument("--noise-scale", type=float, default=1.0,
+                        help="multiply every sensor's noise per sample by this (default 1: the simulator's sensors, "
+                             "the rates of record)")
     parser.add_argument("--size-scale", type=float, default=1.0,
                         help="multiply every hidden effect's size by this (tests/hidden_effects.py "
                              "hidden_bicycle: 0.5 halves, 2 doubles the drawn ranges)")
@@ -295,7 +300,8 @@ def main() -> None:
             comparison=args.compare, rigid_loads=args.rigid_loads, occam=args.occam,
             fixed_point_start=args.fixed_point_start, pairs=PairRules(dispersion=args.combine_dispersion),
             verdict=replace(defaults.verdict, one_speed_lead=args.one_speed_lead))
-        conditions = replace(field_conditions(args.conditions), sample_rate=args.sample_rate)
+        conditions = replace(field_conditions(args.conditions), sample_rate=args.sample_rate,
+                             noise_scale=args.noise_scale)
         speeds = None if args.speeds is None else tuple(args.speeds)
         tasks = [(*job, args.size_scale, args.twin, options, conditions, speeds) for job in jobs]
         started = time.perf_counter()

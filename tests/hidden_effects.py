@@ -48,7 +48,7 @@ from whipple.model.assembly import linear_model
 from whipple.model.bodies import Body, combine, frame_body
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle, Controller, Extensions, Payload, TyreCompliance, load_bicycle
-from whipple.simulation.scenario import RunScenario, SensorFaults
+from whipple.simulation.scenario import RunScenario, SensorFaults, Sensors
 from whipple.simulation.simulator import simulate_run
 
 #: The candidate causes' own families, and "none" (no effect).
@@ -480,7 +480,8 @@ class FieldConditions:
     ``no_steer``, no steer angle at all (the same for every run of the trial); and per run a
     roll-rate bias drift up to ``bias_drift`` [rad/s^2] either way and a random walk of density
     up to ``bias_walk`` [rad/s/sqrt(s)]. ``sample_rate`` [Hz]: every run's, in any setting (None:
-    the simulator's default, 100 Hz).
+    the simulator's default, 100 Hz). ``noise_scale``: a factor on every sensor's noise per
+    sample, in any setting (1: the simulator's default sensors).
     """
 
     setting: str = "treadmill"
@@ -494,6 +495,7 @@ class FieldConditions:
     bias_drift: float = 2e-4
     bias_walk: float = 1e-3
     sample_rate: float | None = None
+    noise_scale: float = 1.0
 
     def __post_init__(self) -> None:
         if self.setting not in ("treadmill", "ground"):
@@ -564,6 +566,8 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None,
     changes = [{} for _ in speeds] if field.setting == "treadmill" else draw_field(field, rng.spawn(1)[0], speeds)
     if field.sample_rate is not None:
         changes = [{**change, "sample_rate": field.sample_rate} for change in changes]
+    if field.noise_scale != 1.0:
+        changes = [{**change, "sensors": Sensors().scaled(field.noise_scale)} for change in changes]
     runs = []
     for k, speed in enumerate(speeds):
         scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES, **changes[k])

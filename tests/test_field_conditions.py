@@ -21,6 +21,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from whipple.cli import main
+from whipple.measurement.noise import second_difference_noise
 from whipple.measurement.runs import read_run
 from whipple.model.assembly import linear_model, model_matrices
 from whipple.model.parameters import Payload, load_bicycle
@@ -382,6 +383,21 @@ def test_trials_at_another_sample_rate_keep_the_draws():
     _, _, treadmill = trial_runs("none", 0, "benchmark", speeds=(4.0,),
                                  conditions=FieldConditions(sample_rate=50.0))
     assert treadmill[0].sample_rate == pytest.approx(50.0)
+
+
+def test_trials_with_noisier_sensors_keep_the_draws():
+    """A noise scale in the field conditions multiplies every sensor's noise and changes nothing drawn."""
+    _, truth, runs = trial_runs("rack", 3, "benchmark", speeds=(4.0,), conditions="ground+faults")
+    noisy = FieldConditions("ground", faults=True, noise_scale=3.0)
+    _, noisy_truth, noisy_runs = trial_runs("rack", 3, "benchmark", speeds=(4.0,), conditions=noisy)
+    assert noisy_truth == truth
+    for key in ("seed", "deceleration", "imu_misalignment", "gyro_scale", "steer_offset"):
+        assert noisy_runs[0].metadata[key] == runs[0].metadata[key]
+    # The noise read from the samples (second differences) grows threefold. The steer angle's:
+    # the roll rate's second differences also hold the held bicycle's wobble, which is motion.
+    ratio = float(second_difference_noise(noisy_runs[0].signals["steer_angle"])[0]
+                  / second_difference_noise(runs[0].signals["steer_angle"])[0])
+    assert ratio == pytest.approx(3.0, rel=0.1)
 
 
 def test_field_conditions_are_checked():

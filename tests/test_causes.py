@@ -8,7 +8,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from whipple.diagnosis.causes import MAX_GYRATION, POSITIVE_PARAMETERS, payload_bounds, payload_form, with_cause
+from whipple.diagnosis.causes import (
+    LOAD_MASS_FLOOR,
+    MAX_GYRATION,
+    POSITIVE_PARAMETERS,
+    payload_bounds,
+    payload_form,
+    with_cause,
+)
 from whipple.diagnosis.evidence import diagnose_observations
 from whipple.diagnosis.observations import observations
 from whipple.diagnosis.registry import candidate_causes, cause_by_name, payload_causes
@@ -179,6 +186,19 @@ def test_rear_payload_ends_at_the_steer_axis(source):
     assert low < p["xB"] < high
     front_low, front_high = payload_bounds(bicycle, "front_payload")["x"]
     assert front_low < p["xH"] < front_high and front_high > p["w"]
+
+
+def test_a_light_frame_still_takes_a_child_seats_load():
+    # A riderless bicycle's rear frame of 4.5 kg (BicycleParameters' Pista) carries a child seat
+    # with its child; three times the frame's mass (13.5 kg) would leave such a load out of reach.
+    light = load_bicycle(str(Path(__file__).resolve().parent / "data/bicycleparameters/bicycles/PistaBenchmark.txt"))
+    assert 3.0 * light.parameters["mB"] < LOAD_MASS_FLOOR["payload"]
+    assert payload_bounds(light, "payload")["mass"] == (0.0, LOAD_MASS_FLOOR["payload"])
+    # A frame that holds its rider (the benchmark's 85 kg) is bounded by its own mass.
+    heavy = load_bicycle("benchmark")
+    assert payload_bounds(heavy, "payload")["mass"] == (0.0, pytest.approx(3.0 * 85.0))
+    # The front: sbw2024's fork of 0.6 kg takes a loaded basket.
+    assert payload_bounds(load_bicycle("sbw2024"), "front_payload")["mass"] == (0.0, LOAD_MASS_FLOOR["front_payload"])
 
 
 @pytest.mark.parametrize("name", ["benchmark", "kooijman2008", "sbw2024"])

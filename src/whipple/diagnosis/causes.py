@@ -21,9 +21,9 @@ from whipple.model.fleet import Model
 from whipple.model.parameter_set import PARAMETER_UNITS
 from whipple.model.parameters import Payload
 
-__all__ = ["DEFAULT_CAMBER_STIFFNESS", "Cause", "PAYLOAD_FRAMES", "payload_bounds", "MAX_GYRATION", "LOAD_MASS_SCALE",
-           "GYRATION_SCALE", "payload_priors", "payload_form", "BLAMEABLE_PARAMETERS", "POSITIVE_PARAMETERS",
-           "parameter_cause", "with_cause"]
+__all__ = ["DEFAULT_CAMBER_STIFFNESS", "Cause", "PAYLOAD_FRAMES", "payload_bounds", "MAX_GYRATION", "LOAD_MASS_FLOOR",
+           "LOAD_MASS_SCALE", "GYRATION_SCALE", "payload_priors", "payload_form", "BLAMEABLE_PARAMETERS",
+           "POSITIVE_PARAMETERS", "parameter_cause", "with_cause"]
 
 # Reported bicycle tyre values (shared spec tyre-model.md): the camber stiffness is not fitted
 # (eigenvalues barely constrain it); cornering stiffness and relaxation length are.
@@ -84,24 +84,32 @@ class Cause:
 
 #: The frame letter of each payload cause: its mass centre anchors the simpler forms.
 PAYLOAD_FRAMES = {"payload": "B", "front_payload": "H"}
+#: Least upper bound of each load's mass [kg], whatever its frame weighs: a riderless bicycle's
+#: rear frame weighs 3-12 kg (BicycleParameters' bicycles), yet carries a child seat with its
+#: child (children up to 22 kg) or loaded panniers; a fork of well under a kilogram carries a
+#: loaded basket. Three times the frame's mass alone left a 23 kg load on a 4.5 kg frame out of
+#: reach, fitted as a load at its bound plus a second cause.
+LOAD_MASS_FLOOR = {"payload": 30.0, "front_payload": 20.0}
 
 
 def payload_bounds(bicycle: Model, name: str) -> dict[str, tuple[float, float]]:
     """Physical bounds of a payload's mass [kg], x [m] and z [m] on its frame.
 
-    Rear frame: up to three times the frame's mass, from 0.5 m behind the rear contact (a
+    Rear frame: up to three times the frame's mass or :data:`LOAD_MASS_FLOOR` (a child seat
+    with its child, or loaded panniers, on a light frame), from 0.5 m behind the rear contact (a
     rack's overhang) forward to where the steer axis meets the ground (w + c: the rear frame
     ends at the head tube, which lies behind that point at every height; a rear-frame load
     fitted beyond it stands in for a load on the front assembly). Front frame: up to three
-    times its mass or 20 kg (a loaded basket on a light fork), from the nearer frame mass
+    times its mass or its floor (a loaded basket on a light fork), from the nearer frame mass
     centre forward to 0.5 m ahead of the front contact (handlebar, basket, lamp). Heights:
     from the ground up to twice the larger wheel radius plus 1 m.
     """
     p = bicycle.parameters
     height = (-2.0 * max(p["rR"], p["rF"]) - 1.0, 0.0)
     if name == "payload":
-        return {"mass": (0.0, 3.0 * p["mB"]), "x": (-0.5, p["w"] + p["c"]), "z": height}
-    return {"mass": (0.0, max(3.0 * p["mH"], 20.0)), "x": (min(p["xB"], p["xH"]), p["w"] + 0.5), "z": height}
+        return {"mass": (0.0, max(3.0 * p["mB"], LOAD_MASS_FLOOR[name])), "x": (-0.5, p["w"] + p["c"]), "z": height}
+    return {"mass": (0.0, max(3.0 * p["mH"], LOAD_MASS_FLOOR[name])), "x": (min(p["xB"], p["xH"]), p["w"] + 0.5),
+            "z": height}
 
 
 #: Upper bound of a load's own radii of gyration [m]: a solid cube 0.7 m on a side (a

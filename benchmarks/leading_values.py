@@ -4,7 +4,7 @@ For each trial listed (JSON lines ``[bicycle, family, seed]``, as ``bench_diagno
 --trials`` takes them), diagnose it as ``bench_diagnosis.py`` does and write one JSON line: the
 trial, the verdict, the leading cause, the outcome, and the leader's values with their
 standard deviations (the jackknife's over speed groups included), physical bounds and whether
-the data determine each (:func:`whipple.diagnosis.estimate_text.determined`, as the report says them).
+the data determine each (:func:`whipple.diagnosis.estimate_text.estimates`, as the report gives them).
 Then it prints, for the trials led by a load (a value named ``..._mass``), how often the mass,
 and any of the load's values, is not determined.
 
@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from hidden_effects import CONDITIONS, field_conditions, measurement_options, run_trial  # noqa: E402
 
-from whipple.diagnosis.estimate_text import determined  # noqa: E402
+from whipple.diagnosis.estimate_text import estimates  # noqa: E402
 from whipple.diagnosis.options import DiagnosisOptions  # noqa: E402
 from whipple.distributed import map_ordered  # noqa: E402
 from whipple.errors import InputError  # noqa: E402
@@ -40,12 +40,10 @@ def _leading_values(arguments: tuple) -> dict:
     diagnosis = trial.diagnosis
     row: dict = {"trial": trial_name, "verdict": diagnosis.verdict, "cause": diagnosis.cause,
                  "outcome": trial.outcome}
-    best, chosen = diagnosis.best, diagnosis.chosen
-    if best is not None and chosen is not None:
-        row["values"] = [{"name": name, "value": value, "std": std, "bounds": [float(low), float(high)],
-                          "determined": determined(std, (low, high))}
-                         for name, value, std, (low, high)
-                         in zip(best.parameters, best.values, best.std, chosen.bounds, strict=True)]
+    values = estimates(diagnosis)
+    if values:
+        row["values"] = [{"name": name, **{key: estimate[key] for key in ("value", "std", "bounds", "determined")}}
+                         for name, estimate in values.items()]
     return row
 
 

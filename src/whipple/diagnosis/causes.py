@@ -106,10 +106,10 @@ def payload_bounds(bicycle: Model, name: str) -> dict[str, tuple[float, float]]:
     """
     p = bicycle.parameters
     height = (-2.0 * max(p["rR"], p["rF"]) - 1.0, 0.0)
+    mass = (0.0, max(3.0 * p[f"m{PAYLOAD_FRAMES[name]}"], LOAD_MASS_FLOOR[name]))
     if name == "payload":
-        return {"mass": (0.0, max(3.0 * p["mB"], LOAD_MASS_FLOOR[name])), "x": (-0.5, p["w"] + p["c"]), "z": height}
-    return {"mass": (0.0, max(3.0 * p["mH"], LOAD_MASS_FLOOR[name])), "x": (min(p["xB"], p["xH"]), p["w"] + 0.5),
-            "z": height}
+        return {"mass": mass, "x": (-0.5, p["w"] + p["c"]), "z": height}
+    return {"mass": mass, "x": (min(p["xB"], p["xH"]), p["w"] + 0.5), "z": height}
 
 
 #: Upper bound of a load's own radii of gyration [m]: a solid cube 0.7 m on a side (a

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.admissible import Offer
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, with_cause
-from whipple.diagnosis.estimate_text import determined
+from whipple.diagnosis.estimate_text import estimates
 from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE, CauseFit, fit_cause
 from whipple.diagnosis.gain import CauseGain, Gain, cause_gains, held_out_candidates, held_out_gain
@@ -477,14 +477,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         JSON-ready data: what ``whipple diagnose --json`` writes.
     """
     diagnosis = report.diagnosis
-    best = diagnosis.best
-    estimate = {}
-    if best is not None and diagnosis.chosen is not None:
-        # The leading cause and its fit are set together (a diagnosis without one has neither).
-        estimate = {name: {"value": value, "std": std, "unit": unit, "bounds": [float(low), float(high)],
-                           "determined": determined(std, (low, high))}
-                    for name, value, std, unit, (low, high)
-                    in zip(best.parameters, best.values, best.std, best.units, diagnosis.chosen.bounds, strict=True)}
+    estimate = estimates(diagnosis)
     # As measured: a flipped steer's shapes are left out of the diagnosis, not out of the report.
     observations = [observation(m) for m in report.used]
     base, base_shapes = report.base_prediction.eigenvalues, report.base_prediction.shapes
@@ -596,4 +589,3 @@ def _speed_dependence_json(diagnosis: Diagnosis) -> dict[str, Any] | None:
     return {"split_speed": dependence.split, "parameters": list(best.parameters), "units": list(best.units),
             "low_speeds": list(dependence.low), "high_speeds": list(dependence.high),
             "evidence": dependence.evidence, "design_effect": dependence.design_effect}
-

@@ -360,6 +360,33 @@ CASES: dict[str, Builder] = {
     "simulate noise 1e300": lambda d, t, r: _check({}, ["simulate", "--bicycle", "benchmark", "--speed", "5",
                                                         "--noise", "1e300", "--output", "{d}/s.csv"], "2e+298 m/s",
                                                    "would write negative speeds"),
+    # --- fuzzing of run, windows, layout and bicycle files -------------------------------------
+    "fit one data row": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: x[:_header_index(x) + 2])},
+                                               ["fit", "{d}/run.csv"], "run.csv", "run too short (one sample"),
+    "fit time column empty": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: _column(x, "time", ""))},
+                                                    ["fit", "{d}/run.csv"], "run.csv",
+                                                    "column time has no values (every cell empty or NaN)"),
+    "fit overflowing number": lambda d, t, r: _check({"run.csv": _runs(r, lambda x: _cell(x, 5, "roll_rate",
+                                                                                          "1e99999"))},
+                                                     ["fit", "{d}/run.csv"], "run.csv",
+                                                     "column 'roll_rate': value 1e99999 is too large (infinite)"),
+    "fit semicolons": lambda d, t, r: _check({"run.csv": r.replace(",", ";")}, ["fit", "{d}/run.csv"], "run.csv",
+                                             "missing roll_rate column (the header is one column 'time;roll_rate;"),
+    "fit UTF-16 run": lambda d, t, r: _check({"run.csv": r.encode("utf-16")}, ["fit", "{d}/run.csv"], "run.csv",
+                                             "not UTF-8 text but UTF-16"),
+    "fit windows rows backwards": lambda d, t, r: _check(
+        {"run.csv": r, "w.csv": "run,start_row,stop_row\nrun,400,100\n"},
+        ["fit", "{d}/run.csv", "--windows", "{d}/w.csv"], "w.csv", "line 2: stop_row must be after start_row"),
+    "fit windows two start columns": lambda d, t, r: _check(
+        {"run.csv": r, "w.csv": "run,start,start,stop\nrun,1,2,3\n"},
+        ["fit", "{d}/run.csv", "--windows", "{d}/w.csv"], "w.csv", "duplicate column names in the header"),
+    "fit windows UTF-16": lambda d, t, r: _check(
+        {"run.csv": r, "w.csv": "run,start,stop\nrun,1,3\n".encode("utf-16")},
+        ["fit", "{d}/run.csv", "--windows", "{d}/w.csv"], "w.csv", "not a UTF-8 text file"),
+    "fit layout delimiter line end": lambda d, t, r: _check(
+        {"run.csv": r, "l.toml": 'delimiter = "\\n"\n[columns]\nroll_rate = "roll_rate"\n'},
+        ["fit", "{d}/run.csv", "--layout", "{d}/l.toml"], "l.toml",
+        "bad layout file: delimiter '\\n' cannot separate numbers"),
 }
 
 def _snapshot(folder: Path) -> dict[str, bytes | int]:

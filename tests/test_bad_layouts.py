@@ -144,6 +144,9 @@ BAD_LAYOUTS = {
     "metadata sample_rate nan": (LAYOUT + "[metadata]\nsample_rate = nan\n",
                                  "[metadata] sample_rate must be a positive number, got nan"),
     "metadata speed text": (LAYOUT + "[metadata]\nspeed = \"fast\"\n", "[metadata] speed must be a positive number"),
+    "delimiter a line end": ('delimiter = "\\n"\n' + LAYOUT, "delimiter '\\n' cannot separate numbers"),
+    "delimiter a digit": ('delimiter = "1"\n' + LAYOUT, "delimiter '1' cannot separate numbers"),
+    "delimiter a point": ('delimiter = "."\n' + LAYOUT, "delimiter '.' cannot separate numbers"),
 }
 
 
@@ -164,6 +167,10 @@ def test_valid_layouts_still_load(tmp_path, run_text):
     native = read_run(write(tmp_path, "run5.csv", run_text))
     run = read_run(native.source, layout=write(tmp_path, "layout.toml", LAYOUT))
     assert run.warnings == ()
+    # A byte-order mark (a Windows editor's UTF-8) is no TOML syntax error, as in bicycle files.
+    with_bom = tmp_path / "bom.toml"
+    with_bom.write_bytes(b"\xef\xbb\xbf" + LAYOUT.encode())
+    assert load_layout(with_bom).columns == load_layout(tmp_path / "layout.toml").columns
     for name in ("roll_rate", "yaw_rate", "steer_angle", "speed"):
         np.testing.assert_array_equal(run.signals[name], native.signals[name])
     # Scale of an extra signal, numbers in [speed] and [metadata] (numbers as strings too), a

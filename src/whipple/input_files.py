@@ -119,7 +119,7 @@ def text_lines(handle: IO[bytes], source: str, error: ErrorFactory = InputError,
         try:
             text = carry + decoder.decode(chunk, final=not chunk)
         except UnicodeDecodeError:
-            raise error("not a text file (invalid UTF-8)", source) from None
+            raise error(_not_utf8(chunk if number == 0 and not carry else b""), source) from None
         if "\x00" in text:
             raise error("not a text file (it holds NUL bytes)", source)
         if not chunk:
@@ -139,6 +139,13 @@ def text_lines(handle: IO[bytes], source: str, error: ErrorFactory = InputError,
             number += len(lines)
     if carry:
         yield checked(carry.replace("\r\n", "\n").replace("\r", "\n").split("\n"))
+
+
+def _not_utf8(start: bytes) -> str:
+    """Return the problem of a table that is not UTF-8; `start` is its first block (empty if past it)."""
+    if start.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return "not UTF-8 text but UTF-16 (invalid UTF-8): save it as UTF-8"
+    return "not a text file (invalid UTF-8), or text in another encoding (Latin-1?): save it as UTF-8"
 
 
 def is_regular_file(path: Any) -> bool:

@@ -73,6 +73,8 @@ SPEC_COLUMNS = {
 
 SPEED_SOURCES = ("column", "speedometer", "constant")
 
+#: Characters that cannot separate the cells of a table: line ends, and the characters of numbers.
+_NOT_DELIMITERS = frozenset("\r\n0123456789.+-eE")
 #: Top-level keys of a layout file.
 _KEYS = frozenset({"name", "description", "delimiter", "header", "names", "comment", "sample_rate",
                    "detect", "ignore", "columns", "scale", "extra", "speed", "metadata"})
@@ -177,7 +179,7 @@ def load_layout(layout: str | Path) -> RunLayout:
     path = Path(layout)
     data = read_small_file(path, "layout file", _layout_error)
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # tolerate a byte-order mark, as bicycle files do
     except UnicodeDecodeError:
         raise RunFileError("bad layout file: not a text file (invalid UTF-8)", path) from None
     return parse_layout(text, path.stem, path)
@@ -213,6 +215,8 @@ def parse_layout(text: str, name: str, source: str | Path) -> RunLayout:
     delimiter = data.get("delimiter", ",")
     if not isinstance(delimiter, str) or not (len(delimiter) == 1 or delimiter == "whitespace"):
         raise fail("delimiter must be one character or \"whitespace\"")
+    if delimiter in _NOT_DELIMITERS:
+        raise fail(f"delimiter {delimiter!r} cannot separate numbers (a line end, or a character of numbers)")
     header = data.get("header", True)
     if not isinstance(header, bool):
         raise fail(f"header must be true or false, got {_shown(header)}")

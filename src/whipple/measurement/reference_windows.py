@@ -57,11 +57,15 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
         data = (read_small_file(path, "windows file", RunFileError) if isinstance(path, str | Path)
                 else path.read_bytes())
         text = data.decode("utf-8-sig")
-    except (OSError, UnicodeDecodeError) as error:
+    except OSError as error:
         raise RunFileError(f"cannot read windows file ({error})", source) from None
+    except UnicodeDecodeError:
+        raise RunFileError("not a UTF-8 text file", source) from None
     try:
         reader = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
         fields = set(reader.fieldnames or ())
+        if len(fields) < len(reader.fieldnames or ()):  # which of two start columns is meant?
+            raise RunFileError("duplicate column names in the header", source)
         rows = list(reader)
     except csv.Error as error:
         raise RunFileError(f"not a readable CSV table ({error})", source) from None
@@ -87,8 +91,11 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
         if by_rows:
             if run is None:
                 raise RunFileError(f"line {number}: row windows need the run {name}", source)
+            if not first < last:
+                raise RunFileError(f"line {number}: stop_row must be after start_row", source)
             if not 0 <= first < last < run.time.size:
-                raise RunFileError(f"line {number}: rows {first}-{last} outside the run", source)
+                raise RunFileError(f"line {number}: rows {first}-{last} outside the run (rows 0-{run.time.size - 1})",
+                                   source)
             windows.append(Window(name, float(run.time[first]), float(run.time[last]),
                                   first, last + 1, "from windows file"))
             continue

@@ -246,7 +246,7 @@ class _Reader:
         if missing:
             table.notes.append(f"layout column(s) not in the file: {', '.join(missing)}")
         if "roll_rate" not in wanted.values():
-            raise RunFileError("missing roll_rate column", self.source)
+            raise RunFileError(f"missing roll_rate column{_delimiter_hint(names, layout.delimiter)}", self.source)
         self.wanted = wanted
         self.columns = {name: [] for name in wanted}
         self.gaps = {name: _Gaps() for name in wanted}
@@ -278,8 +278,10 @@ class _Reader:
             if infinite.any():
                 if target in NUMERIC:
                     bad = int(np.argmax(infinite))
-                    raise RunFileError(f"line {numbers[bad]}, column '{column}': {cells[bad * width + j].strip()} "
-                                       "value", self.source)
+                    cell = cells[bad * width + j].strip()
+                    # An overflowing number (1e999) is read as inf: say so rather than echo it.
+                    what = f"{cell} value" if "inf" in cell.lower() else f"value {cell} is too large (infinite)"
+                    raise RunFileError(f"line {numbers[bad]}, column '{column}': {what}", self.source)
                 values[infinite] = np.nan
             gap_rows = np.flatnonzero(np.isnan(values))
             if gap_rows.size:
@@ -289,6 +291,16 @@ class _Reader:
                 gaps.count += int(gap_rows.size)
                 gaps.text = gaps.text or bool(text.any())
             self.columns[column].append(values)
+
+
+def _delimiter_hint(names: list[str], delimiter: str | None) -> str:
+    """Say so when a one-column header looks separated by another delimiter (``;``, a tab)."""
+    other = next((d for d in ";\t|" if d != delimiter and len(names) == 1 and d in names[0]), None)
+    if other is None:
+        return ""
+    shown = "a tab" if other == "\t" else repr(other)
+    return (f" (the header is one column {names[0][:60]!r}: separated by {shown}, not {delimiter!r}? "
+            "a layout file can name its delimiter)")
 
 
 def _cells(rows: list[str], numbers: range | list[int], width: int, delimiter: str | None, source: str) -> list[str]:

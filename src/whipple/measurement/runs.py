@@ -216,6 +216,8 @@ def read_run(
     for name, factor in active.scale.items():
         if name in signals:
             signals[name] *= factor
+    if "time" in signals and np.isnan(signals["time"]).all():
+        raise RunFileError("column time has no values (every cell empty or NaN)", source)
     if "time" in signals and np.isnan(signals["time"]).any():
         # A sample without a time cannot be placed: drop the row (the jump is a gap).
         keep = ~np.isnan(signals["time"])
@@ -288,6 +290,8 @@ def _time_base(
 ) -> tuple[NDArray[np.float64], float]:
     if "time" in signals:
         time = signals.pop("time")
+        if time.size < 2:  # no step to take a sample rate from
+            raise RunFileError(f"run too short (one sample; at least {MIN_DURATION:g} s needed)", source)
         steps = np.diff(time)
         if steps.size and not (steps > 0).all():
             bad = int(np.argmin(steps > 0)) + 1
@@ -295,7 +299,7 @@ def _time_base(
                 f"time is not strictly increasing at data row {bad} (t = {time[bad]:g} s)", source
             )
         stated = _metadata_number(metadata, "sample_rate", source) if "sample_rate" in metadata else None
-        rate = float(1.0 / np.median(steps)) if steps.size else 0.0
+        rate = float(1.0 / np.median(steps))
         _check_sample_rate(rate, "from the time column; in ms or us instead of s?", source)
         if stated is not None and abs(stated - rate) > RATE_TOLERANCE * rate:
             raise RunFileError(f"metadata sample_rate {stated:g} Hz contradicts the time column ({rate:.6g} Hz from "

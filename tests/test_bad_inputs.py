@@ -374,6 +374,10 @@ CASES: dict[str, Builder] = {
                                              "missing roll_rate column (the header is one column 'time;roll_rate;"),
     "fit UTF-16 run": lambda d, t, r: _check({"run.csv": r.encode("utf-16")}, ["fit", "{d}/run.csv"], "run.csv",
                                              "not UTF-8 text but UTF-16"),
+    "evaluate no usable window": lambda d, t, r: _check(
+        {"run.csv": _runs(r, lambda x: _column(x, "roll_rate", "0"))},
+        ["evaluate", "{d}/run.csv", "--bicycle", "benchmark", "--no-samples"], "run.csv",
+        "no usable window with a fitted weave eigenvalue in "),
     "fit windows rows backwards": lambda d, t, r: _check(
         {"run.csv": r, "w.csv": "run,start_row,stop_row\nrun,400,100\n"},
         ["fit", "{d}/run.csv", "--windows", "{d}/w.csv"], "w.csv", "line 2: stop_row must be after start_row"),

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from whipple.diagnosis.observations import Observation, observations, predicted_weave, speed_groups
+from whipple.diagnosis.observations import Observation, observations, predicted_weave, speed_groups, unusable_text
 from whipple.diagnosis.samples import SampleComparison
 from whipple.errors import InputError
 from whipple.measurement.experiment import WindowMeasurement
@@ -311,7 +311,11 @@ def evaluate(windows: Windows | Mapping[str, Windows], models: Mapping[str, Bicy
         measurement = measurement or options
         where = f"group {name!r}: " if name is not None else ""
         if not found:
-            raise InputError(f"{where}no usable window with a fitted weave eigenvalue to score the models on")
+            measured = members.windows if isinstance(members, MeasuredRuns) else [
+                m for m in members if isinstance(m, WindowMeasurement)]
+            within, why = unusable_text(measured)
+            raise InputError(f"{where}no usable window with a fitted weave eigenvalue{within} to score the models "
+                             f"on{why}")
         chosen = {}
         for label, model in models.items():
             if isinstance(model, Bicycle):

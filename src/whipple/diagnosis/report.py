@@ -6,7 +6,6 @@ the JSON of the shared spec ``diagnosis-report.md`` and a Markdown report.
 
 from __future__ import annotations
 
-from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -29,6 +28,7 @@ from whipple.diagnosis.observations import (
     compared_shapes,
     observation,
     speed_groups,
+    unusable_text,
 )
 from whipple.diagnosis.offer import offer as offered
 from whipple.diagnosis.options import DiagnosisOptions
@@ -340,10 +340,7 @@ def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasure
                                               else tuple(measurements))  # type: ignore[arg-type]
     used = tuple(m for m in windows if m.usable)
     if len(used) < MIN_WINDOWS:
-        reasons = Counter(m.skipped.split(" (")[0] for m in windows if m.skipped)
-        why = f" (most often skipped: {reasons.most_common(1)[0][0]})" if reasons else ""
-        files = sorted({str(m.run.source) for m in windows})
-        where = (f" in {', '.join(files[:3])}{' ...' if len(files) > 3 else ''}" if files else "")
+        where, why = unusable_text(windows)
         raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue{where}; need at "
                          f"least {MIN_WINDOWS}{why}")
     measured = [observation(m) for m in used]

@@ -378,6 +378,8 @@ CASES: dict[str, Builder] = {
         {"run.csv": _runs(r, lambda x: _column(x, "roll_rate", "0"))},
         ["evaluate", "{d}/run.csv", "--bicycle", "benchmark", "--no-samples"], "run.csv",
         "no usable window with a fitted weave eigenvalue in "),
+    "check tiny wheelbase": lambda d, t, r: _check({"b.toml": _set(t, "w", "1e-300")}, ["check", "{d}/b.toml"],
+                                                   "b.toml", "w = 1e-300 m is below 0.001 m: not a bicycle"),
     "fit windows rows backwards": lambda d, t, r: _check(
         {"run.csv": r, "w.csv": "run,start_row,stop_row\nrun,400,100\n"},
         ["fit", "{d}/run.csv", "--windows", "{d}/w.csv"], "w.csv", "line 2: stop_row must be after start_row"),

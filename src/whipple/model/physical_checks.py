@@ -51,6 +51,9 @@ BODIES: tuple[tuple[str, str, str, str, str, str | None], ...] = (
 #: Fastest forward speed [m/s] any command analyses, simulates or reads from a run: about 3000
 #: times the speed of sound, where v^2 K2 already swamps everything else in A(v).
 MAX_SPEED = 1e6
+#: Shortest wheelbase [m] accepted: a toy bicycle has 0.2 m; below this a unit or typing error,
+#: and the equations, which divide by w, overflow (w = 1e-300).
+MIN_WHEELBASE = 1e-3
 #: Gravity below this [m/s^2] is a warning (the Moon has 1.6).
 LOW_GRAVITY = 1.0
 #: A triangle-inequality excess up to this many standard deviations is within measurement error.
@@ -78,6 +81,11 @@ def magnitude_findings(values: Mapping[str, Array], units: Mapping[str, str]
                                       "typing error?)", False))
             findings.append((unusual[k], f"{shown} is unusually large for a bicycle (above "
                                          f"{PLAUSIBLE[unit]:g} {unit})", True))
+    if "w" in values:
+        w = values["w"]
+        shown = f"w = {float(w):.6g} m" if w.ndim == 0 else "w"
+        findings.append(((w > 0) & (w < MIN_WHEELBASE), f"{shown} is below {MIN_WHEELBASE:g} m: not a bicycle (a unit "
+                                                        "or typing error?)", False))
     if "g" in values:
         g = values["g"]
         shown = f"g = {float(g):.6g} m/s^2" if g.ndim == 0 else "g"

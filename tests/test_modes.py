@@ -161,6 +161,15 @@ def test_assignment_is_optimal_and_breaks_ties_like_scipy() -> None:
             np.testing.assert_array_equal(chosen, linear_sum_assignment(cost)[1])
 
 
+def test_track_of_eigenvalues_whose_squared_distances_overflow() -> None:
+    # Eigenvalues of about 1e159 (a controller polynomial of 160 terms in the speed): their
+    # squared distances are infinite, on which the assignment never ended (whipple check hung).
+    # Both of the first speed's eigenvalues are nearest the second's first: an ambiguous step.
+    values = np.array([[[0.0, 1e159], [4e159, 6e159]]], dtype=complex)
+    np.testing.assert_array_equal(modes.track(values)[0, 1], [0, 1])
+    np.testing.assert_array_equal(modes.track(values[..., ::-1])[0, 1], [1, 0])
+
+
 def test_labels_that_cannot_all_be_right_are_not_given() -> None:
     # A nearly massless rear frame with its inertia (mB = 1e-3 kg, IBxx = 9.2 kg m^2): the
     # oscillation passes from one pair of branches to another over speed, and the weave group

@@ -159,7 +159,11 @@ def track(eigenvalues: NDArray[np.complex128]) -> NDArray[np.intp]:
     ambiguous = np.flatnonzero(np.any(np.sort(maps, axis=-1) != np.arange(n), axis=-1))
     for k in ambiguous.tolist():
         b, speed = model[k], moved[k]
-        maps[k] = assignment(np.abs(eigenvalues[b, speed, :, None] - eigenvalues[b, speed + 1, None, :]) ** 2)
+        distance = np.abs(eigenvalues[b, speed, :, None] - eigenvalues[b, speed + 1, None, :])
+        # Squares of distances beyond 1e154 overflow, and infinite costs never end the assignment's
+        # search: such distances (eigenvalues of absurd models) are scaled down first.
+        largest = float(distance.max())
+        maps[k] = assignment((distance / largest if largest > 1e150 else distance) ** 2)
     # Segmented inclusive prefix scan of the moving steps of each model (composition is
     # associative): after it, maps[k] sends a position at speed 0 to that of the same branch
     # just after step k.

@@ -57,6 +57,17 @@ def test_the_terms_share_one_prior_have_symmetric_bounds_and_words():
         assert describe_cause(cause.name) != cause.name
 
 
+def test_entries_without_a_scale_offer_no_term():
+    # A bicycle file with every mass zero (accepted, with warnings) has no stiffness: the terms
+    # of those entries had bounds and a prior scale of 0, and whipple diagnose ended in a
+    # traceback ("a prior needs a finite centre and a positive scale, got 0.0, 0.0").
+    massless = load_bicycle("benchmark").with_parameters(mR=0.0, mB=0.0, mH=0.0, mF=0.0)
+    causes = term_causes(massless, priors=True)
+    assert 0 < len(causes) < len(TERM_NAMES)
+    assert np.isclose(sum(cause.prior for cause in causes), 1.0)
+    assert all(cause.bounds[0][1] > 0 for cause in causes)
+
+
 # Slow (a whole diagnosis by the command): run with `pytest -m slow`.
 @pytest.mark.slow
 def test_the_command_reports_the_form_and_saves_it(tmp_path, capsys):

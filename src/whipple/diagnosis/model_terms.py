@@ -78,16 +78,22 @@ def term_causes(bicycle: Model, extra: Sequence[CauseDeclaration] = (), priors: 
     damping = 2.0 * np.sqrt(stiffness * np.abs(np.diagonal(matrices.M)))
     claimed = claimed_terms(extra)
     names = [name for name in TERM_NAMES if name not in claimed]
-    causes = []
+    bounds = {}
     for name in names:
         matrix, row, column = term_parts(name)
         i, j = COORDINATES.index(row), COORDINATES.index(column)
         own = stiffness if matrix.startswith("K") else damping
         bound = float(np.sqrt(own[i] * own[j])) / speed ** TERM_MATRICES[matrix]
+        # An entry of no scale (a bicycle without mass has no stiffness) offers no term to fit.
+        if bound > 0 and np.isfinite(bound):
+            bounds[name] = bound
+    causes = []
+    for name, bound in bounds.items():
+        matrix = term_parts(name)[0]
         # A term's prior: normal about 0 with half the bicycle's own scale of that entry.
         value_priors = (Prior("normal", 0.0, 0.5 * bound, "half the bicycle's own scale of the entry"),)
         causes.append(Cause(PREFIX + name, (name,), (TERM_UNITS[matrix],), (0.0,), ((-bound, bound),),
-                            _adder(name), prior=1.0 / len(names), null=(0.0,),
+                            _adder(name), prior=1.0 / len(bounds), null=(0.0,),
                             value_priors=value_priors if priors else None))
     return causes
 

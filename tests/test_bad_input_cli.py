@@ -1,6 +1,7 @@
 """Bad input found by fuzzing the command line: one line, a non-zero exit, inputs untouched."""
 
 import gzip
+import importlib.resources
 import io
 import os
 import stat
@@ -307,7 +308,13 @@ def test_evaluate_bad_inputs_are_one_line_and_leave_the_inputs(run_file, tmp_pat
     experiment.write_text(f'[[group]]\nname = "g"\nbicycle = "benchmark"\nruns = "{run_file}"\n', encoding="utf-8")
     models = tmp_path / "models"
     models.mkdir()
+    saved = tmp_path / "saved"  # models read with --models are inputs too
+    saved.mkdir()
+    model = saved / "g.toml"
+    model.write_text(importlib.resources.files("whipple.data").joinpath("benchmark.toml").read_text(), encoding="utf-8")
     run, out = str(run_file), str(tmp_path / "o.json")
+    linked = tmp_path / "linked.csv"  # the run under a second name (a hard link)
+    os.link(run_file, linked)
     cases = [
         (["evaluate", "--bicycle", "benchmark"], "no runs"),
         (["evaluate", run], "no model to score: give --bicycle"),
@@ -324,8 +331,11 @@ def test_evaluate_bad_inputs_are_one_line_and_leave_the_inputs(run_file, tmp_pat
         (["evaluate", "--experiment", str(experiment), "--csv", run], "refusing to write output"),
         (["evaluate", run, "--bicycle", "benchmark", "--json", out, "--csv", out], "--json"),
         (["evaluate", run, "--bicycle", "benchmark", "--windows", str(tmp_path / "w.csv")], "cannot read file"),
+        (["evaluate", "--experiment", str(experiment), "--models", str(saved), "--csv", str(model), "--no-samples"],
+         "refusing to write output over input file"),
+        (["evaluate", run, "--bicycle", "benchmark", "--json", str(linked)], "refusing to write output over input"),
     ]
-    before = {path: path.read_bytes() for path in (run_file, experiment)}
+    before = {path: path.read_bytes() for path in (run_file, experiment, model)}
     for args, words in cases:
         capsys.readouterr()
         _one_line_error(capsys, 2, main(args), words)

@@ -239,7 +239,11 @@ def refuse_input_overwrite(output: str | Path, inputs: Iterable[str | Path]) -> 
     output_path = Path(output).resolve()
     for source in inputs:
         source_path = Path(source)
-        if os.fspath(source) != "-" and source_path.exists() and source_path.resolve() == output_path:
+        if os.fspath(source) == "-" or not source_path.exists():
+            continue
+        # A hard link is the input under another name: the same file, though no path resolves to it.
+        if source_path.resolve() == output_path or (output_path.exists() and os.path.samefile(source_path,
+                                                                                             output_path)):
             raise InputError(f"refusing to write output over input file {source}", output)
 
 

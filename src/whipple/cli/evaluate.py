@@ -72,7 +72,9 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"--experiment names the runs and their bicycles; {', '.join(given)} cannot be "
                              "given with it")
         experiment = read_experiment(args.experiment)
-        inputs = [*experiment.inputs(), *args.models]
+        # The models read are <folder>/<group>.toml: inputs as much as the experiment's files.
+        inputs = [*experiment.inputs(), *args.models,
+                  *(Path(folder) / f"{group.name}.toml" for folder in args.models for group in experiment.groups)]
         check_outputs({"--json": args.json, "--csv": args.csv}, inputs)
         model_sets = {"experiment": experiment.bicycles()}
         for folder in args.models:

@@ -14,8 +14,10 @@ from dataclasses import replace
 import numpy as np
 from scipy.linalg import expm
 
-from whipple.diagnosis.candidate_fits import refit_to_samples
+from whipple.diagnosis.candidate_fits import refit_to_samples, singles_from_pairs
+from whipple.diagnosis.families import combined_cause
 from whipple.diagnosis.fitting import EIGENVALUE_MISFIT, CauseFit, models_residuals, window_whitening
+from whipple.diagnosis.growing_modes import orthonormal_columns, shown_growth
 from whipple.diagnosis.observations import Observation, WindowSignals
 from whipple.diagnosis.registry import candidate_causes
 from whipple.diagnosis.samples import OVERFLOW_MISFIT, SampleComparison
@@ -24,7 +26,7 @@ from whipple.model.assembly import linear_model
 from whipple.model.fleet import Fleet
 from whipple.model.parameters import TyreCompliance, load_bicycle
 from whipple.stability.nearest_modes import nearest_modes_and_holds
-from whipple.stability.slow_modes import FITTED_MODES, slowest_modes, unseen_growth
+from whipple.stability.slow_modes import FITTED_MODES, dropped_modes, slowest_modes, unseen_growth
 
 NOISE = (0.002, 0.0005)  # rad/s, rad: a weave of 0.2 rad/s a hundred times its noise
 SPEED = 5.0  # m/s
@@ -48,17 +50,22 @@ def _window(bicycle, fast_share=0.0, seed=0, duration=3.0):
     state += 0.02 * np.real(vectors[:, capsize] / np.max(np.abs(vectors[:2, capsize])))
     fastest = int(np.argmax(np.abs(values)))
     state += fast_share * 0.2 * np.real(vectors[:, fastest] / np.max(np.abs(vectors[:4, fastest])))
+    time, values = _measured(matrix, state, duration, seed)
+    fit = fit_weave(time, values, ("roll_rate", "steer_angle"))
+    return Observation("run", 0.0, float(time[-1]), SPEED, (SPEED, SPEED), complex(fit.eigenvalue),
+                       np.eye(2) * 1e-4, signals=WindowSignals(time, values, ("roll_rate", "steer_angle"), "none",
+                                                               noise=np.asarray(NOISE, dtype=float)))
+
+
+def _measured(matrix, state, duration, seed):
+    """Times [s] and the roll rate and steer angle (2, n) of the free response from ``state``, with white noise."""
     time = np.arange(0.0, duration + 1e-9, 1.0 / RATE)
     step = expm(matrix / RATE)
     states = [state]
     for _ in time[1:]:
         states.append(step @ states[-1])
     clean = np.array(states)[:, [2, 1]].T
-    values = clean + np.asarray(NOISE)[:, None] * np.random.default_rng(seed).standard_normal(clean.shape)
-    fit = fit_weave(time, values, ("roll_rate", "steer_angle"))
-    return Observation("run", 0.0, float(time[-1]), SPEED, (SPEED, SPEED), complex(fit.eigenvalue),
-                       np.eye(2) * 1e-4, signals=WindowSignals(time, values, ("roll_rate", "steer_angle"), "none",
-                                                               noise=np.asarray(NOISE, dtype=float)))
+    return time, clean + np.asarray(NOISE)[:, None] * np.random.default_rng(seed).standard_normal(clean.shape)
 
 
 def test_the_slowest_modes_are_those_of_the_longest_time_scale():
@@ -167,3 +174,101 @@ def test_a_fleet_is_checked_on_each_group_s_windows():
     unheld = nearest_modes_and_holds([*fleets, load_bicycle("benchmark")], speeds, targets, [None] * 3,
                                      ["b", "a", "b"])[2]
     assert unheld.tolist() == [[True, True, True], [False, False, False], [False, False, False]]
+
+
+def _showing(bicycle, share, seed, duration=2.0):
+    """A window of the bicycle's free response from its weave plus ``share`` of the weave's size in
+    its fastest-growing mode beyond the slowest four, with white noise (roll rate, steer angle)."""
+    matrix = linear_model(bicycle).state_matrix(np.array([SPEED]))[0]
+    values, vectors = np.linalg.eig(matrix)
+    weave = int(np.argmax(np.where(values.imag > 0, -np.abs(values.imag - 4.0), -np.inf)))
+    state = np.real(vectors[:, weave] / vectors[2, weave]) * 0.2
+    growing = int(dropped_modes(values[None, :])[0][0, 0])
+    assert values[growing].real > 0
+    state += share * 0.2 * np.real(vectors[:, growing] / np.max(np.abs(vectors[:4, growing])))
+    time, noisy = _measured(matrix, state, duration, seed)
+    return Observation("run", 0.0, float(time[-1]), SPEED, (SPEED, SPEED), complex(values[weave]), np.eye(2) * 1e-4,
+                       signals=WindowSignals(time, noisy, ("roll_rate", "steer_angle"), "none",
+                                             noise=np.asarray(NOISE, dtype=float)))
+
+
+def test_the_modes_beyond_the_slowest_come_fastest_growing_first():
+    values = np.array([-0.3 + 0j, -1.0 + 5.0j, -1.0 - 5.0j, -12.0 + 0j, -20.0 + 50.0j, -20.0 - 50.0j,
+                       3.0 + 21.0j, 3.0 - 21.0j])
+    dropped, growing = dropped_modes(values[None, :])
+    assert dropped[0].tolist() == [6, 7, 4, 5] and growing.tolist() == [2]
+
+
+def test_a_column_of_zeros_leaves_the_least_squares_as_without_it():
+    rng = np.random.default_rng(5)
+    matrix = rng.standard_normal((3, 40, 4))
+    padded = np.concatenate([matrix, np.zeros((3, 40, 2))], axis=-1)
+    padded[0, :, 4:] = rng.standard_normal((40, 2))  # one matrix with real extra columns
+    target = rng.standard_normal((3, 40))
+    for full, columns in ((padded[1:], matrix[1:]), (padded[:1], padded[:1])):
+        q, inverse = orthonormal_columns(full)
+        expected = np.stack([np.linalg.lstsq(m, t, rcond=None)[0] for m, t in zip(columns, target[-len(full):],
+                                                                                  strict=True)])
+        fitted = np.einsum("wsc,wc->ws", q, np.einsum("wsc,ws->wc", q, target[-len(full):]))
+        np.testing.assert_allclose(fitted, np.einsum("wsc,wc->ws", columns, expected), atol=1e-10)
+        amplitudes = np.einsum("wcd,wd->wc", inverse, np.einsum("wsc,ws->wc", q, target[-len(full):]))
+        np.testing.assert_allclose(amplitudes[:, :columns.shape[-1]], expected, atol=1e-10)
+
+
+def test_a_window_that_shows_the_growing_mode_is_held_with_its_amplitudes():
+    # The soft tyre's oscillation grows at 5 m/s (+3 1/s); started at a thousandth of the weave
+    # it reaches a few times the noise in the window, which shows it. Fitted with its
+    # amplitudes, the soft tyre leaves the window at its noise, modal and along a speed profile;
+    # the stiffer tyres, whose modes all decay, cannot follow it.
+    soft = load_bicycle("benchmark").with_extensions(tyre_compliance=TyreCompliance(6.4, 0.57, 1.0))
+    window = _showing(soft, 1e-3, seed=6)
+    for comparison in (SampleComparison.of([window], binned=False),
+                       SampleComparison.of([replace(window, acceleration=1e-12)], binned=False)):
+        spread = np.sqrt(2.0 / comparison.samples)
+        assert abs(comparison.chi2_per_sample(soft) - 1.0) < 4 * spread
+        assert comparison.chi2_per_sample(_tyred()) > 2.0
+    # A second window that does not show it (started at rest) is held too: the runs hold the mode.
+    quiet = replace(_showing(soft, 0.0, seed=7), run="quiet")
+    both = SampleComparison.of([window, quiet], binned=False).residuals([soft])[0]
+    assert np.all(np.abs(both) < 10)
+    # Without the window that shows it, the mode is unseen: no window is held.
+    assert np.all(SampleComparison.of([quiet], binned=False).residuals([soft])[0] == OVERFLOW_MISFIT)
+
+
+def test_a_single_cause_is_refitted_from_its_values_in_a_pair_that_fits_better():
+    # Windows of a soft tyre whose growing oscillation they show. The single tyre stalled where
+    # its modes all decay; a pair with a steer damping at zero reached the soft tyre's values.
+    # From those values the single tyre fits as well as the pair.
+    bicycle = load_bicycle("benchmark")
+    soft = bicycle.with_extensions(tyre_compliance=TyreCompliance(6.4, 0.57, 1.0))
+    observations = [_showing(soft, 1e-3, seed=8), replace(_showing(soft, 2e-3, seed=9), run="again")]
+    whitening = window_whitening(observations, bicycle, comparison="samples")
+    causes = {cause.name: cause for cause in candidate_causes(bicycle, include_parameters=False)}
+    tyre, damping = causes["tyre_compliance"], causes["steer_damping"]
+    stalled = CauseFit("tyre_compliance", tyre.parameters, tyre.units, (248.7, 0.70), (0.0, 0.0), 0.0)
+    _, (stalled,) = refit_to_samples(bicycle, [tyre], [stalled], observations, whitening, near=[False])
+    pair = combined_cause(damping, tyre)
+    _, (pair_fit,) = refit_to_samples(bicycle, [pair], [CauseFit(pair.name, pair.parameters, pair.units,
+                                                                  (0.0, 6.4, 1.0), (0.0,) * 3, 0.0)],
+                                      observations, whitening, near=[False])
+    assert pair_fit.chi2 < 0.1 * stalled.chi2
+    fits, refitted = singles_from_pairs(bicycle, [damping, tyre], [stalled, stalled], [pair], [pair_fit],
+                                        observations, whitening)
+    assert abs(stalled.values[0] - 6.4) > 1.0  # the single did not reach the soft tyre
+    assert refitted == [1]
+    np.testing.assert_allclose(fits[1].values, (6.4, 1.0), rtol=0.02)
+    assert fits[1].chi2 <= pair_fit.chi2 * 1.01
+
+
+def test_a_growing_mode_that_takes_up_a_little_misfit_is_not_shown():
+    # Two windows of 400 residuals: in the first the mode's part of the fit has a mean square of
+    # 0.3 of the noise's (a gain of 60, three times the evidence needed), in the second 5.
+    rng = np.random.default_rng(10)
+    extended = rng.standard_normal((1, 2, 2, 200))
+    extended *= 1.0 / np.sqrt(np.mean(extended**2, axis=(-2, -1), keepdims=True))
+    plain = extended * np.sqrt(np.array([1.3, 6.0]))[None, :, None, None]
+    samples = np.array([400, 400])
+    growing = np.array([[True, True]])
+    assert shown_growth(growing, extended, plain, samples).tolist() == [[False, True]]
+    # Where no mode grows, nothing is shown.
+    assert not shown_growth(~growing, extended, plain, samples).any()

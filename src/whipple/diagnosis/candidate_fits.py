@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from whipple.diagnosis.causes import Cause
+from whipple.diagnosis.families import components
 from whipple.diagnosis.fit_bias import fitting_bias
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, model_residuals, robust_chi2
 from whipple.diagnosis.observations import Observation
@@ -91,6 +92,40 @@ def refit_to_samples(bicycle: Model, causes: Sequence[Cause], fits: Sequence[Cau
         grid = not is_near or (search and cause.refines is None and 2 <= len(cause.parameters) <= GRID_MAX_VALUES)
         compared.append(fit_cause(bicycle, cause, observations, whitening, [fit.values], grid=grid))
     return base, compared
+
+
+def singles_from_pairs(bicycle: Model, causes: Sequence[Cause], fits: Sequence[CauseFit], pairs: Sequence[Cause],
+                       pair_fits: Sequence[CauseFit], observations: Sequence[Observation], whitening: Whitening
+                       ) -> tuple[list[CauseFit], list[int]]:
+    """Refit each single cause from its values in a pair where they fit the samples better than its own fit.
+
+    A single cause's starts and grid can miss a narrow basin that a pair's fit reaches: a tyre
+    whose growing shimmy the windows show holds them only near its true values and no window
+    far from them (:mod:`whipple.diagnosis.growing_modes`); on simulated trials the single tyre
+    stalled at the edge of its range while the pair of a steer damping at zero and the tyre
+    reached the true values. Each member's values in each pair are evaluated alone (one
+    model's comparison); where they beat the single cause's fit, it is refitted from them.
+    Returns the fits, in the order of `causes`, and the indices of those refitted.
+    """
+    fits = list(fits)
+    refitted: list[int] = []
+    for pair, pair_fit in zip(pairs, pair_fits, strict=True):
+        names = components(pair.name)
+        for k, cause in enumerate(causes):
+            size = len(cause.parameters)
+            if cause.name == names[0] and pair.parameters[:size] == cause.parameters:
+                values = list(pair_fit.values[:size])
+            elif cause.name == names[-1] and pair.parameters[-size:] == cause.parameters:
+                values = list(pair_fit.values[-size:])
+            else:
+                continue
+            if _evaluated(cause.apply(bicycle, values), fits[k], observations, whitening).chi2 >= fits[k].chi2:
+                continue
+            fit = fit_cause(bicycle, cause, observations, whitening, [values], grid=False)
+            if fit.chi2 < fits[k].chi2:
+                fits[k] = fit
+                refitted.append(k)
+    return fits, refitted
 
 
 def refit_through_bias(bicycle: Model, causes: Sequence[Cause], fits: Sequence[CauseFit],

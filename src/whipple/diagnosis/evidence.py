@@ -51,7 +51,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples
+from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples, singles_from_pairs
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, lead_of_one_speed, speed_dependence
 from whipple.diagnosis.families import COMBINATION, components, describe_family
@@ -277,6 +277,8 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         if whitening.samples is not None:
             _, pair_fits = refit_to_samples(bicycle, pairs, pair_fits, observations, whitening, [True] * len(pairs),
                                             search=False)
+            fits, refitted = singles_from_pairs(bicycle, causes, fits, pairs, pair_fits, observations, whitening)
+            near = [is_near or k in refitted for k, is_near in enumerate(near)]
         if biases is not None:
             # Every pair through its own bias: a pair's joint fit may move far between the direct
             # and the biased comparison, and the pairs are few.

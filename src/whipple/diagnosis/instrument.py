@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.growing_modes import orthonormal_columns
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES
 
@@ -109,12 +110,12 @@ def profiled_residuals(design: NDArray[np.float64], yaw: NDArray[np.float64], ta
         scale, mixing = values[:, 0, None, None, None], values[:, 1, None, None, None]
         current = design.copy()
         current[:, :, row] = scale * (design[:, :, row] + mixing * yaw)
-        q, r = np.linalg.qr(current.reshape(models, windows, count * length, states))
+        q, inverse = orthonormal_columns(current.reshape(models, windows, count * length, states))
         coefficients = np.einsum("mwsc,mws->mwc", q, targets)
         residual = targets - np.einsum("mwsc,mwc->mws", q, coefficients)
         if step == errors.steps:
             break
-        amplitudes = np.einsum("mwcd,mwd->mwc", np.linalg.pinv(r), coefficients)
+        amplitudes = np.einsum("mwcd,mwd->mwc", inverse, coefficients)
         # Kaufman's Jacobian: each value's change of the response, projected off the columns.
         along = np.zeros((2, models, windows, count, length))
         along[0, :, :, row] = np.einsum("mwlc,mwc->mwl", design[:, :, row] + mixing * yaw, amplitudes)

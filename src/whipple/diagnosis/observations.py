@@ -49,11 +49,11 @@ class WindowSignals:
     residual_rms : ndarray, shape (k,), or None
         Each signal's RMS residual of the window's weave fit [signal unit] (where the window was
         fitted): how far the fitting function leaves it, which bounds the weight the window's
-        samples get (:func:`whipple.diagnosis.samples.signal_noise`).
+        samples get (:func:`whipple.diagnosis.window_bins.signal_noise`).
     noise : ndarray, shape (k,), or None
         Each signal's noise [signal unit] where stated apart from the samples (a noise-free twin
         keeps its measured window's, :func:`whipple.diagnosis.samples.noise_free_samples`); None:
-        estimated from the samples (:func:`whipple.diagnosis.samples.signal_noise`).
+        estimated from the samples (:func:`whipple.diagnosis.window_bins.signal_noise`).
     """
 
     time: NDArray[np.float64]

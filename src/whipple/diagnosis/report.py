@@ -34,7 +34,8 @@ from whipple.diagnosis.offer import offer as offered
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.priors import prior_shifts
 from whipple.diagnosis.registry import CALIBRATION
-from whipple.diagnosis.samples import BIN_DURATION, OVERFLOW_MISFIT
+from whipple.diagnosis.samples import OVERFLOW_MISFIT
+from whipple.diagnosis.window_bins import BIN_DURATION
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
 from whipple.measurement.measure import MeasuredRuns, Progress

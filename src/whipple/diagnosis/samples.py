@@ -14,7 +14,8 @@ linear time-varying system along the window's speed profile: the model's respons
 place of the modal amplitudes (:meth:`SampleComparison._changing_designs`). Windows at constant
 speed keep the modal response, to the last bit. A model with more states than the bicycle's four
 starts every window on its four slowest modes (:func:`slowest_modes`), as many amplitudes as every
-model fits, and cannot hold a window where another of its modes grows (:func:`unseen_growth`).
+model fits; where another of its modes grows, a window either shows it and fits its amplitudes
+too, or cannot have come from the model (:mod:`whipple.diagnosis.growing_modes`).
 
 This uses every mode the samples hold (the weave, and the castering and capsize modes the
 seed paper's function leaves out) and ties the signals together through the model's mode
@@ -27,7 +28,7 @@ rear frame) differ in their samples (docs/diagnosis.md).
 Each signal's noise is estimated from the window's second differences
 (:func:`whipple.measurement.noise.second_difference_noise`: robust to spikes, at least the
 rounding's noise for a signal recorded in steps); a window that the fitting function leaves far
-off counts less (:func:`signal_noise`).
+off counts less (:func:`~whipple.diagnosis.window_bins.signal_noise`).
 """
 
 from __future__ import annotations
@@ -39,32 +40,22 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
+from whipple.diagnosis.growing_modes import fitted_modes, orthonormal_columns, shown_growth
 from whipple.diagnosis.instrument import InstrumentErrors, profiled_residuals, yaw_gains, yaw_row
-from whipple.diagnosis.observations import Observation, WindowSignals, friction_gains, noise_free
+from whipple.diagnosis.observations import Observation, friction_gains, noise_free
+from whipple.diagnosis.window_bins import BIN_DURATION, binned_window
 from whipple.diagnosis.window_speed import window_speeds
-from whipple.measurement.noise import noise_floor, second_difference_noise
 from whipple.model.assembly import linear_model
 from whipple.model.fleet import Model, members_of
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, window_state_matrices, window_steer_damping
-from whipple.stability.slow_modes import FITTED_MODES, lower_members, slowest_modes, unseen_growth
+from whipple.stability.slow_modes import FITTED_MODES, dropped_modes, lower_members, unseen_growth
 
 #: A window's residual on every sample [noise standard deviations] where a model cannot hold it:
-#: its response overflows, or a mode it does not fit grows (:func:`unseen_growth`).
+#: its response overflows, or a fast mode grows that the window does not show
+#: (:func:`~whipple.diagnosis.growing_modes.shown_growth`).
 OVERFLOW_MISFIT = 1e3
-#: Samples are averaged in bins of about this duration [s] before models are compared with
-#: them. A model's response averaged over a bin is its response at the bin's first sample times
-#: a factor per mode (``mean_q e^{lambda q dt}``), so the comparison stays exact for every
-#: model; what is lost is the samples' variation within a bin, which the models' responses
-#: share (to second order in their differences) and the noise alone fills. It makes a model's
-#: comparison several times cheaper.
-BIN_DURATION = 0.04
-#: A window's signal is weighed by at least this share of its weave fit's residual RMS as its
-#: noise (:func:`signal_noise`). In clean simulated windows the residual is 1.0-1.5 times the
-#: noise from the second differences, so this leaves them at their noise; a window holding part
-#: of a push or a catch is left 2-30 times its noise off and counts 1 to 200 times less.
-FIT_RESIDUAL_SHARE = 0.5
 #: Where a window's speed changes, the model's response is built over pieces of about this
 #: duration [s] (whole bins), each frozen at the speed of its middle. The error falls with the
 #: square of the piece's length (the frozen matrix within a piece, not the steps between pieces:
@@ -90,24 +81,6 @@ class _Pieces:
     lengths: NDArray[np.float64]
     offsets: NDArray[np.float64]
     real: NDArray[np.bool_]
-
-
-def signal_noise(signals: WindowSignals) -> NDArray[np.float64]:
-    """Return the noise each signal of a window is weighed by [signal unit].
-
-    The stated noise where given (a noise-free twin's); otherwise the noise from the second
-    differences (:func:`second_difference_noise`), or ``FIT_RESIDUAL_SHARE`` times the window's
-    weave-fit residual RMS where that is larger: a window that the fitting function leaves
-    several times its noise off holds more than one free coasting (part of a push, a catch, a
-    signal in coarse steps), and counts correspondingly less.
-    """
-    values = np.atleast_2d(np.asarray(signals.values, dtype=float))
-    if signals.noise is not None:
-        return np.maximum(np.asarray(signals.noise, dtype=float), noise_floor(values))
-    noise = second_difference_noise(values)
-    if signals.residual_rms is not None:
-        noise = np.maximum(noise, FIT_RESIDUAL_SHARE * np.asarray(signals.residual_rms, dtype=float))
-    return noise
 
 
 @dataclass(frozen=True)
@@ -188,7 +161,7 @@ class SampleComparison:
                 name in MODE_SHAPE_STATES for name in names):
             return None
         duration = BIN_DURATION if binned else 0.0
-        bins_of = [_binned(o.signals, duration) for o in observations]  # type: ignore[arg-type]
+        bins_of = [binned_window(o.signals, duration) for o in observations]  # type: ignore[arg-type]
         length, count = max(b[0].size for b in bins_of), len(names)
         tau = np.zeros((len(observations), length))
         mask = np.zeros((len(observations), length), dtype=bool)
@@ -244,21 +217,48 @@ class SampleComparison:
                  for bicycle, model in zip(plain, linear, strict=True)]
         changing = self._changing()
         constant, varying = np.flatnonzero(~changing), np.flatnonzero(changing)
-        designs: dict[int, tuple[list[int], NDArray[np.float64]]] = {}
+        parts: dict[int, list[tuple[NDArray[np.intp], list[int], NDArray[np.float64], NDArray[np.bool_]]]] = {}
         for index, follows in ((constant, False), (varying, True)):
             if not index.size:
                 continue
             part = self if index.size == changing.size else self._subset(index)
             built = part._changing_designs(plain, given) if follows else part._frozen_designs(plain, given)
-            for states, (members, design) in built.items():
-                if states not in designs:
-                    designs[states] = (members, np.zeros((len(members), changing.size, *design.shape[2:])))
-                designs[states][1][:, index] = design
+            for states, (members, design, growing) in built.items():
+                parts.setdefault(states, []).append((index, members, design, growing))
         residual = np.zeros((len(models), *self.targets.shape))
-        for members, design in designs.values():
+        for batch in parts.values():
+            members = batch[0][1]
+            # The constant-speed and the changing windows may fit different numbers of growing
+            # modes: the fewer are padded with columns of zeros.
+            columns = max(part[2].shape[-1] for part in batch)
+            design = np.zeros((len(members), changing.size, *batch[0][2].shape[2:-1], columns))
+            growing = np.zeros((len(members), changing.size), dtype=bool)
+            for index, _, part_design, part_growing in batch:
+                design[:, index, ..., :part_design.shape[-1]] = part_design
+                growing[:, index] = part_growing
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-                residual[members] = self._fitted_residuals(design)
+                residual[members] = self._held_residuals(design, growing)
         return residual[:, self._residual_mask()]
+
+    def _held_residuals(self, design: NDArray[np.float64], growing: NDArray[np.bool_]) -> NDArray[np.float64]:
+        """Residuals (M, W, k, L) of M models' designs (M, W, k', L, n'), growing fast modes fitted where shown.
+
+        ``growing`` (M, W): where a mode beyond the slowest grows, whose amplitudes the columns
+        beyond the first :data:`FITTED_MODES` hold. They are kept in the windows that show the
+        mode (:func:`~whipple.diagnosis.growing_modes.shown_growth`) and dropped elsewhere; a
+        model whose growing mode no window shows cannot hold the windows where it grows.
+        """
+        plain = self._fitted_residuals(design[..., :FITTED_MODES])
+        if not growing.any():
+            return plain
+        samples = self.mask.sum(axis=1) * len(self.states)
+        shown = shown_growth(growing, self._fitted_residuals(design), plain, samples)
+        residual = plain
+        if shown.any():
+            residual = self._fitted_residuals(np.where(shown[..., None, None, None], design,
+                                                       design * (np.arange(design.shape[-1]) < FITTED_MODES)))
+        residual[growing & ~np.any(shown, axis=-1, keepdims=True)] = OVERFLOW_MISFIT
+        return residual
 
     def _changing(self) -> NDArray[np.bool_]:
         """Return which windows' speed changes (W,): those the model follows along their speed profile."""
@@ -267,13 +267,15 @@ class SampleComparison:
         return np.asarray(self.accelerations != 0, dtype=bool)
 
     def _frozen_designs(self, bicycles: Sequence[Bicycle], models: Sequence[LinearModel]
-                        ) -> dict[int, tuple[list[int], NDArray[np.float64]]]:
-        """Designs of the models frozen at each window's speed, by number of states: members, (M, W, k', L, n).
+                        ) -> dict[int, tuple[list[int], NDArray[np.float64], NDArray[np.bool_]]]:
+        """Designs of the models frozen at each window's speed, by number of states: members, (M, W, k', L, n').
 
-        Columns: the modes' responses, in units of the noise, in the rows of :meth:`_signal_rows`.
+        Columns: the responses of the modes :func:`~whipple.diagnosis.growing_modes.fitted_modes`
+        picks, in units of the noise, in the rows of :meth:`_signal_rows`. Also where a mode
+        beyond the slowest grows (M, W).
         """
         matrices = [self._state_matrices(bicycle, model) for bicycle, model in zip(bicycles, models, strict=True)]
-        result: dict[int, tuple[list[int], NDArray[np.float64]]] = {}
+        result: dict[int, tuple[list[int], NDArray[np.float64], NDArray[np.bool_]]] = {}
         # Models with as many states are evaluated together: one evaluation of all their windows.
         for states in sorted({matrix.shape[-1] for matrix in matrices}):
             members = [k for k, matrix in enumerate(matrices) if matrix.shape[-1] == states]
@@ -285,14 +287,13 @@ class SampleComparison:
                 yaw = np.concatenate([np.broadcast_to(yaw_gains(bicycles[k]), (self.speeds.size, 2))
                                       for k in members])
                 rows = self._signal_rows(vectors, speeds, yaw) * repeated._bin_factors(values)[:, None, :]
-                growing = unseen_growth(values) if states > FITTED_MODES else None
-                if states > FITTED_MODES:  # each mode's column is its own: build the slowest alone
-                    kept = slowest_modes(values)
-                    values, rows = np.take_along_axis(values, kept, -1), np.take_along_axis(rows, kept[:, None], -1)
-                design = repeated._modal_design(values, rows)
-                if growing is not None:
-                    design[growing] = np.nan
-            result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]))
+                growing = unseen_growth(values)
+                # Each mode's column is its own: build those fitted alone.
+                kept, real = fitted_modes(values)
+                values, rows = np.take_along_axis(values, kept, -1), np.take_along_axis(rows, kept[:, None], -1)
+                design = repeated._modal_design(values, rows) * real[:, None, None, :]
+            result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]),
+                              growing.reshape(len(members), -1))
         return result
 
     def _signal_rows(self, vectors: NDArray[np.complex128], speeds: NDArray[np.float64],
@@ -316,8 +317,8 @@ class SampleComparison:
         return self.noise if row is None else np.concatenate([self.noise, self.noise[:, row, None]], axis=1)
 
     def _changing_designs(self, bicycles: Sequence[Bicycle], models: Sequence[LinearModel]
-                          ) -> dict[int, tuple[list[int], NDArray[np.float64]]]:
-        """Designs of the models following each window's changing speed, by number of states: members, (M, W, k', L, n).
+                          ) -> dict[int, tuple[list[int], NDArray[np.float64], NDArray[np.bool_]]]:
+        """Designs of the models following each window's changing speed, by states: members, (M, W, k', L, n').
 
         The bicycle coasting on the ground is a linear time-varying system along the window's
         speed profile ``v(t)`` (:attr:`profiles`): ``x' = A(v(t)) x`` with ``A`` the model's state
@@ -326,7 +327,8 @@ class SampleComparison:
         its middle (the exponential midpoint rule); within a piece the bins' means are exact
         (each mode's mean over a bin, as at constant speed). The initial state ``x0`` (real, n
         values) takes the place of the modal amplitudes in the least squares; at a constant
-        speed the two span the same responses.
+        speed the two span the same responses. Also where a mode beyond the slowest grows in a
+        piece (M, W).
         """
         pieces = self._pieces
         windows, count = self.mask.shape[0], pieces.starts.shape[1]
@@ -340,14 +342,14 @@ class SampleComparison:
         matrices = [window_state_matrices(bicycle, model, bicycle.model_speed(speeds[pieces.real]),
                                           window_steer_damping(bicycle, friction), accelerations)
                     for bicycle, model in zip(bicycles, models, strict=True)]
-        result: dict[int, tuple[list[int], NDArray[np.float64]]] = {}
+        result: dict[int, tuple[list[int], NDArray[np.float64], NDArray[np.bool_]]] = {}
         for states in sorted({matrix.shape[-1] for matrix in matrices}):
             members = [k for k, matrix in enumerate(matrices) if matrix.shape[-1] == states]
             stacked = np.stack([matrices[k] for k in members])  # (members, real pieces, n, n)
             model_speeds = np.stack([bicycles[k].model_speed(speeds) for k in members])  # (members, W, P)
             yaw = np.stack([np.broadcast_to(yaw_gains(bicycles[k]), (*speeds.shape, 2)) for k in members])
             with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
-                result[states] = (members, self._changing_design(stacked, pieces, model_speeds, yaw))
+                result[states] = (members, *self._changing_design(stacked, pieces, model_speeds, yaw))
         return result
 
     @cached_property
@@ -378,13 +380,16 @@ class SampleComparison:
         return _Pieces(starts, stops - starts, following - starts, grid - starts[:, :, None], real)
 
     def _changing_design(self, matrices: NDArray[np.float64], pieces: _Pieces, speeds: NDArray[np.float64],
-                         yaw: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Return the design (models, W, k', L, n) of the responses to each initial state, over the pieces.
+                         yaw: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Return the design (models, W, k', L, n') of the responses to each initial state, over the pieces.
 
         ``matrices`` (models, R, n, n): the constant state matrix of each of the R pieces the
         windows hold (:attr:`_Pieces.real`, in order); ``speeds`` (models, W, P) and ``yaw``
         (models, W, P, 2): each piece's model speed [m/s] and yaw-rate gains (:meth:`_signal_rows`),
-        each signal divided by its noise, padded bins 0; NaN where a dropped mode grows in a piece.
+        each signal divided by its noise, padded bins 0. A model with more than the bicycle's
+        states: initial states on a real basis of the first piece's modes that
+        :func:`~whipple.diagnosis.growing_modes.fitted_modes` picks, as many growing ones as grow
+        in any piece. Also where a mode beyond the slowest grows in a piece (models, W).
         """
         models, states = matrices.shape[0], matrices.shape[-1]
         windows, count = pieces.real.shape
@@ -401,12 +406,13 @@ class SampleComparison:
         for piece in range(1, count):
             start[:, :, piece] = transitions[:, :, piece - 1] @ start[:, :, piece - 1]
         modal = inverse @ start  # each piece's modal amplitudes per unit initial state
-        if states > FITTED_MODES:  # initial states on a real basis of the first piece's slowest modes
+        grows = np.asarray(unseen_growth(values).any(axis=-1), dtype=bool)  # in any piece
+        if states > FITTED_MODES:
             first, shapes = values[:, :, 0], vectors[:, :, 0]
             columns = np.where(lower_members(first)[..., None, :], shapes.imag, shapes.real)
-            basis = np.take_along_axis(columns, slowest_modes(first)[..., None, :], axis=-1)
-            grows = np.asarray(unseen_growth(values).any(axis=-1), dtype=bool)  # in any piece
-            modal = np.where(grows[..., None, None, None], np.nan, modal @ basis[:, :, None])
+            kept, real = fitted_modes(first, np.max(dropped_modes(values)[1], axis=-1))
+            basis = np.take_along_axis(columns, kept[..., None, :], axis=-1) * real[..., None, :]
+            modal = modal @ basis[:, :, None]
         factors = self._bin_factors(np.moveaxis(values, 1, 0).reshape(windows, -1))
         factors = np.moveaxis(factors.reshape(windows, models, count, states), 0, 1)
         rows = self._signal_rows(vectors, speeds, yaw) * factors[..., None, :]  # (M, W, P, k', n)
@@ -414,7 +420,7 @@ class SampleComparison:
         design = np.real(np.einsum("mwpkj,mwpgj,mwpjc->mwkpgc", rows, growth, modal))
         length = self.mask.shape[1]
         design = design.reshape(models, windows, rows.shape[-2], -1, modal.shape[-1])[:, :, :, :length]
-        return design * self.mask[None, :, None, :, None] / self._row_noise()[None, :, :, None, None]
+        return design * self.mask[None, :, None, :, None] / self._row_noise()[None, :, :, None, None], grows
 
     def _state_matrices(self, bicycle: Bicycle, model: LinearModel) -> NDArray[np.float64]:
         """Return the model's state matrix at each window's speed (W, n, n).
@@ -527,7 +533,7 @@ class SampleComparison:
         finite = np.isfinite(design).all(axis=(1, 2))
         residual = np.full((windows, count * length), OVERFLOW_MISFIT)
         if finite.any():
-            q, _ = np.linalg.qr(design[finite])
+            q, _ = orthonormal_columns(design[finite])
             fitted = np.einsum("wsc,wc->ws", q, np.einsum("wsc,ws->wc", q, targets[finite]))
             residual[finite] = targets[finite] - fitted
         return residual.reshape(windows, count, length)
@@ -557,25 +563,6 @@ class SampleComparison:
         """Return a model's chi-square per sample (1 where it leaves only the noise)."""
         residual = self.residuals([bicycle], [model])[0]
         return float(np.mean(residual**2))
-
-
-def _binned(signals: WindowSignals, duration: float = BIN_DURATION
-            ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int, float]:
-    """Return a window's bins: first sample times [s] from the window's start, means, noise, size, interval [s].
-
-    Bins of about ``duration`` [s] where the sampling is uniform (intervals within 1% of their
-    median); the samples after the last whole bin are left out. One sample a bin otherwise.
-    """
-    time, values = np.asarray(signals.time, dtype=float), np.atleast_2d(np.asarray(signals.values, dtype=float))
-    noise = signal_noise(signals)
-    steps = np.diff(time)
-    step = float(np.median(steps)) if steps.size else 0.0
-    size = max(1, int(round(duration / step))) if step > 0 else 1
-    if size == 1 or np.any(np.abs(steps - step) > 0.01 * step) or time.size < 2 * size:
-        return time - time[0], values, noise, 1, step
-    count = time.size // size
-    means = values[:, :count * size].reshape(values.shape[0], count, size).mean(axis=2)
-    return time[:count * size:size] - time[0], means, noise / np.sqrt(size), size, step
 
 
 def noise_free_samples(bicycle: Model, observations: Sequence[Observation],

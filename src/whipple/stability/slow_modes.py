@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["FITTED_MODES", "REAL_MODE", "lower_members", "slowest_modes", "unseen_growth"]
+__all__ = ["FITTED_MODES", "REAL_MODE", "dropped_modes", "lower_members", "slowest_modes", "unseen_growth"]
 
 #: Modes whose amplitudes each window fits: as many as the bicycle has mechanical states (roll,
 #: steer and their rates).
@@ -45,14 +45,29 @@ def slowest_modes(values: NDArray[np.complex128], count: int = FITTED_MODES) -> 
 
 
 def unseen_growth(values: NDArray[np.complex128], count: int = FITTED_MODES) -> NDArray[np.bool_]:
-    """Return where (...) a mode beyond the ``count`` slowest grows: a model no window can hold.
+    """Return where (...) a mode beyond the ``count`` slowest grows: one the window must show.
 
     A window starts such a mode at rest (:func:`slowest_modes`), which a free response can only
     do if it decays: a growing mode, however fast, is excited by the least disturbance and
-    would swamp the window. A model with one (a tyre whose relaxation is unstable at the
-    window's speed) cannot have produced a window that stayed bounded, and is treated as a
-    response that overflows. ``values`` (..., n): eigenvalues [1/s].
+    would be in the window. A model with one (a tyre whose relaxation is unstable at the
+    window's speed) holds a window only where the window shows the mode, whose amplitudes it
+    then fits too (:mod:`whipple.diagnosis.growing_modes`). ``values`` (..., n): eigenvalues [1/s].
     """
     dropped = np.ones(values.shape, dtype=bool)
     np.put_along_axis(dropped, slowest_modes(values, count), False, axis=-1)
     return np.asarray(np.any(dropped & (values.real > 0), axis=-1), dtype=bool)
+
+
+def dropped_modes(values: NDArray[np.complex128], count: int = FITTED_MODES
+                  ) -> tuple[NDArray[np.intp], NDArray[np.int_]]:
+    """Return the modes beyond the ``count`` slowest, the fastest-growing first, and how many grow.
+
+    ``values`` (..., n): eigenvalues [1/s]. Returns the indices (..., n - count), ordered by
+    decreasing real part (a complex pair's members stay next to each other), and the number of
+    them whose real part is positive (...). A window that shows such a growing mode fits its
+    amplitudes too (:mod:`whipple.diagnosis.growing_modes`).
+    """
+    dropped = np.argsort(np.abs(values), axis=-1, kind="stable")[..., count:]
+    real = np.take_along_axis(values, dropped, axis=-1).real
+    order = np.argsort(-real, axis=-1, kind="stable")
+    return np.take_along_axis(dropped, order, axis=-1), np.sum(real > 0, axis=-1)

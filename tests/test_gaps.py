@@ -139,6 +139,16 @@ def test_negative_speeds_are_never_fitted(lines, tmp_path, capsys):
     assert err.count("\n") == 1 and "only 0 usable window(s)" in err and "most often skipped: negative speed" in err
 
 
+def test_a_bicycle_at_rest_is_never_fitted(lines, tmp_path):
+    # A speed column of zeros (a logger whose speed channel was off): no window is fitted at 0 m/s.
+    j = lines[0].split(",").index("speed")
+    still = [lines[0]] + [",".join(c if i != j else "0" for i, c in enumerate(line.split(","))) for line in lines[1:]]
+    measured = measure_run(read_run(_write(tmp_path / "still.log", still)))
+    assert measured.windows and not any(m.fit is not None for m in measured)
+    assert any(m.rejected and m.rejected.startswith("zero speed (0 m/s): the model needs forward speed")
+               for m in measured)
+
+
 def test_the_diagnosis_fits_the_steer_angle_only_where_it_loses_no_window(lines, tmp_path):
     full = read_run(_write(tmp_path / "full.log", lines))
     assert diagnosis_signals([full]) == ("roll_rate", "steer_angle")

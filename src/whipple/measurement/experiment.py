@@ -374,10 +374,10 @@ def measure_window(run: Run, window: Window, options: FitOptions | None = None,
         speeds = speed_regression(run.time, speed, window.start, window.stop)
     except InputError as error:
         return WindowMeasurement(run, window, None, None, error.problem)
-    if speeds.low < 0:
-        # The model's speed is forward; a fit here would describe another bicycle.
-        return WindowMeasurement(run, window, None, speeds,
-                                 f"negative speed ({speeds.low:.3g} m/s): the model needs forward speed")
+    if speeds.low <= 0:
+        # The model's speed is forward; a fit here would describe another bicycle (at rest, no weave).
+        return WindowMeasurement(run, window, None, speeds, f"{'negative' if speeds.low < 0 else 'zero'} speed "
+                                 f"({speeds.low:.3g} m/s): the model needs forward speed")
     try:
         fitted = _settled(run, window, options.settle)
         fit = _fit(run, fitted, options)

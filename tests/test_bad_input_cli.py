@@ -140,8 +140,9 @@ def test_windows_reaching_beyond_the_run_and_poor_fits(run_file, tmp_path, capsy
     windows = tmp_path / "w.csv"
     windows.write_text(f"run,start,stop\n{run_file.stem},0,1e300\n{run_file.stem},18.0,18.3\n", encoding="utf-8")
     capsys.readouterr()
-    assert main(["fit", str(run_file), "--windows", str(windows)]) == 0
-    out = capsys.readouterr().out
+    assert main(["fit", str(run_file), "--windows", str(windows)]) == 2  # neither window fitted
+    out, err = capsys.readouterr()
+    assert err.count("\n") == 1 and "no window fitted in" in err
     assert "reaches beyond the run" in out
     # Fitted jointly with the steer angle, 0.3 s of noise hold no oscillation to fit.
     assert "under half a period of oscillation in the window" in out

@@ -186,9 +186,15 @@ def test_run_without_oscillation_is_listed_as_skipped(tmp_path, capsys):
     rng = np.random.default_rng(1)
     path = write_run(tmp_path / "still.csv", "time,roll_rate",
                      np.c_[t, 0.01 * rng.standard_normal(t.size)])
-    entries, out = fit_json([path], tmp_path, capsys)
+    # Nothing fitted: the table and the JSON say why, and the exit status says that nothing came of it.
+    out_json = tmp_path / "fit.json"
+    assert main(["fit", str(path), "--json", str(out_json)]) == 2
+    entries = json.loads(out_json.read_text())
+    captured = capsys.readouterr()
     assert [e["skipped"] for e in entries] == ["no free-coasting window found"]
-    assert "skipped" in out
+    assert "skipped" in captured.out
+    assert captured.err == (f"whipple fit: error: no window fitted in {path} (most often skipped: no free-coasting "
+                            "window found)\n")
 
 
 def test_other_bad_input(simulated, tmp_path, capsys):

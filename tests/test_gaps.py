@@ -111,13 +111,14 @@ def test_a_gap_in_a_used_column_splits_windows_and_is_reported(lines, original, 
     assert sum(w[0] in starts for w in windows) >= 0.75 * len(windows)
 
 
-def test_a_window_from_a_file_across_a_gap_is_not_fitted(lines, original, tmp_path):
+def test_a_window_from_a_file_across_a_gap_is_not_fitted(lines, original, tmp_path, capsys):
     start, stop, _ = _fitted(original)[0]
     middle = int(round((start + stop) / 2 * 100))
     path = _write(tmp_path / "gap.log", _blank(lines, "lean_rate", range(middle - 5, middle + 5)))
     windows = tmp_path / "windows.csv"
     windows.write_text(f"run,start,stop\ngap,{start},{stop}\n")
-    assert main(["fit", str(path), "--windows", str(windows), "--json", str(tmp_path / "out.json")]) == 0
+    assert main(["fit", str(path), "--windows", str(windows), "--json", str(tmp_path / "out.json")]) == 2
+    assert capsys.readouterr().err.count("\n") == 1  # one line: no window fitted, and why
     (entry,) = json.loads((tmp_path / "out.json").read_text())
     assert entry["eigenvalue"] is None
     assert entry["skipped"] == "window spans a gap in roll_rate (samples without a value): not fitted across it"

@@ -13,7 +13,8 @@ and with --bicycle the model's oscillating mode nearest the measured eigenvalue 
 mean speed (divided by the bicycle's speed_scale: measured speed = speed_scale * true speed), or
 "no mode near" where the model has no oscillation near it. Stretches the window finder rejected,
 windows that cannot be fitted and fits too poor to use (R^2 under 0.5, under 0.75 weave cycle in
-all or above the noise, see --min-cycles-above-noise) are listed as skipped, with the reason.
+all or above the noise, see --min-cycles-above-noise) are listed as skipped, with the reason;
+where none is fitted, the command ends with a one-line error saying why (exit code 2).
 
 --bundled adds the measured runs shipped with whipple (a steer-by-wire bicycle on a treadmill;
 fit them with --bicycle sbw2024, or --bundled model-matching-on with sbw2024-mm) and compares
@@ -33,19 +34,18 @@ import json
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from whipple.atomic import refuse_input_overwrite, write_text_atomic
 from whipple.cli.arguments import add_rider_argument
 from whipple.cli.measurement_arguments import add_bundled_argument, add_measurement_arguments, measurement_options
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.cli.progress import ProgressBars
+from whipple.cli.window_comparison import print_comparison
 from whipple.errors import InputError
 from whipple.measurement.bundled import bundled_reference_windows, bundled_runs
-from whipple.measurement.experiment import CSV_COLUMNS, FitOptions, measure_window
-from whipple.measurement.measure import MeasuredRuns, measure_runs, model_modes
+from whipple.measurement.experiment import CSV_COLUMNS
+from whipple.measurement.measure import MeasuredRuns, measure_runs, model_modes, unusable_text
 from whipple.measurement.plots import fit_figures
-from whipple.measurement.reference_windows import compare_windows, read_windows
+from whipple.measurement.reference_windows import read_windows
 from whipple.measurement.runs import check_distinct_names, read_run
 from whipple.measurement.windows import Window
 from whipple.model.parameters import Bicycle, load_bicycle
@@ -120,8 +120,10 @@ def run(args: argparse.Namespace) -> int:
     modes: Modes = model_modes(measured.windows, bicycle) if bicycle is not None else [None] * len(measured.windows)
     _print_table(measured, modes)
     if reference is not None:
-        _print_comparison(reference_name, reference, measured, options.fit_options(measured.signals))
+        print_comparison(reference_name, reference, measured, options.fit_options(measured.signals))
     _write_outputs(args, measured, modes, bicycle, inputs)
+    if not any(m.fit is not None for m in measured.windows):  # the table and the outputs say why
+        raise InputError("no window fitted{}{}".format(*unusable_text(measured.windows)))
     return 0
 
 
@@ -175,47 +177,6 @@ def _print_table(measured: MeasuredRuns, modes: Modes) -> None:
         print("model: the model's oscillating mode nearest the measured eigenvalue; 'far': more than "
               f"{100 * SHAPE_MATCH:.0f}% of |eigenvalue| from it, so the window describes no mode of this model; "
               "'no oscillation': the model has no oscillating mode at that speed")
-
-
-def _print_comparison(name: str, reference: tuple[Window, ...], measured: MeasuredRuns,
-                      options: FitOptions) -> None:
-    """How the automatic windows match the reference ones, and the eigenvalues of both.
-
-    Windows fitted already (the automatic ones, or the reference ones when they were fitted)
-    are not fitted again.
-    """
-    compared = {w.run for w in reference}
-    found = [w for run_ in measured if run_.run.name in compared for w in run_.search.windows]
-    comparison = compare_windows(found, reference)
-    print()
-    if not reference:
-        print(f"windows of {name}: none for these runs")
-        return
-    coverage = np.mean([m.coverage for m in comparison.matches if m.found is not None] or [0.0])
-    print(f"automatic windows vs {name}: {comparison.matched} of {len(comparison.matches)} "
-          f"matched (an automatic window overlaps at least half of the shorter of the two; "
-          f"mean coverage of the matched ones {100 * coverage:.0f}%); {len(comparison.extra)} "
-          f"automatic window(s) in no reference window")
-    for missed in comparison.unmatched:
-        print(f"  unmatched: {missed.run} {missed.start:.2f}-{missed.stop:.2f} s")
-    runs = {run_.run.name: run_ for run_ in measured}
-    fits = {(m.run.name, m.window): m.fit for run_ in measured for m in run_ if m.fit is not None}
-    differences = []
-    for match in comparison.matches:
-        if match.found is None:
-            continue
-        run_ = runs[match.reference.run]
-        pair = []
-        for window in (match.found, match.reference):
-            fit = fits.get((run_.run.name, window)) or measure_window(run_.run, window, options).fit
-            pair.append(None if fit is None else fit.eigenvalue)
-        if pair[0] is not None and pair[1] is not None:
-            differences.append(pair[0] - pair[1])
-    if differences:
-        delta = np.array(differences)
-        print(f"  eigenvalue on the automatic minus on the reference window, over "
-              f"{delta.size} matched pair(s): median |Δd| {np.median(np.abs(delta.real)):.2f} 1/s, "
-              f"median |Δw| {np.median(np.abs(delta.imag)):.2f} rad/s")
 
 
 def _write_outputs(args: argparse.Namespace, measured: MeasuredRuns, modes: Modes,

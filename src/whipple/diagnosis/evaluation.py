@@ -27,12 +27,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from whipple.diagnosis.observations import Observation, observations, predicted_weave, speed_groups, unusable_text
+from whipple.diagnosis.observations import Observation, observations, predicted_weave, speed_groups
 from whipple.diagnosis.samples import SampleComparison
 from whipple.errors import InputError
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.measurement.experiment_file import Experiment
-from whipple.measurement.measure import MeasuredRuns, MeasurementOptions, Progress
+from whipple.measurement.measure import MeasuredRuns, MeasurementOptions, Progress, unusable_text
 from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 

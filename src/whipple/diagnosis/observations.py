@@ -8,7 +8,6 @@ speed where the weave forms.
 
 from __future__ import annotations
 
-from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
 
@@ -23,8 +22,7 @@ from whipple.model.steer_friction import describing_gain, representative_amplitu
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, near_oscillation, nearest_modes
 
 __all__ = ["WindowSignals", "Observation", "Prediction", "predicted_weave", "predicted_modes", "mode_targets",
-           "compared_shapes", "noise_free", "speed_groups", "observation", "observations",
-           "unusable_text"]
+           "compared_shapes", "noise_free", "speed_groups", "observation", "observations"]
 
 
 @dataclass(frozen=True)
@@ -340,16 +338,3 @@ def observations(measurements: Sequence[WindowMeasurement]) -> list[Observation]
     """
     return [observation(m) for m in measurements if m.usable]
 
-
-def unusable_text(measurements: Sequence[WindowMeasurement]) -> tuple[str, str]:
-    """Return where windows without a usable fit come from, and why: ``(" in a.csv", " (most often ...)")``.
-
-    For the message of a command that needs usable windows and got none or too few: the run
-    files (three at most) and the commonest reason a window was skipped; empty strings where
-    there are none.
-    """
-    reasons = Counter(m.skipped.split(" (")[0] for m in measurements if m.skipped)
-    why = f" (most often skipped: {reasons.most_common(1)[0][0]})" if reasons else ""
-    files = sorted({str(m.run.source) for m in measurements})
-    where = f" in {', '.join(files[:3])}{' ...' if len(files) > 3 else ''}" if files else ""
-    return where, why

@@ -28,7 +28,6 @@ from whipple.diagnosis.observations import (
     compared_shapes,
     observation,
     speed_groups,
-    unusable_text,
 )
 from whipple.diagnosis.offer import offer as offered
 from whipple.diagnosis.options import DiagnosisOptions
@@ -38,7 +37,7 @@ from whipple.diagnosis.samples import OVERFLOW_MISFIT
 from whipple.diagnosis.window_bins import BIN_DURATION
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
-from whipple.measurement.measure import MeasuredRuns, Progress
+from whipple.measurement.measure import MeasuredRuns, Progress, unusable_text
 from whipple.measurement.steer_sign import is_flipped, phase_offset
 from whipple.model.assembly import extended_matrices, linear_model
 from whipple.model.fleet import Fleet, Model, first_bicycle

@@ -21,6 +21,7 @@ fit (the roll rate alone with a constant baseline, nothing set aside) is an expl
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from typing import overload
@@ -47,7 +48,7 @@ from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import nearest_oscillations
 
-__all__ = ["Progress", "METHODS", "MeasurementOptions", "MeasuredRuns", "model_modes", "measure_runs"]
+__all__ = ["Progress", "METHODS", "MeasurementOptions", "MeasuredRuns", "model_modes", "measure_runs", "unusable_text"]
 
 #: A progress report: ``progress(stage, done, total)``, e.g. ``("runs", 3, 40)``; total may be None.
 Progress = Callable[[str, int, "int | None"], None]
@@ -325,3 +326,17 @@ def _measured(runs: Sequence[Run], windows: Sequence[Window] | None, options: Me
         regrouped.append(replace(measurement, windows=tuple(flat[start:start + len(measurement)])))
         start += len(measurement)
     return MeasuredRuns(tuple(regrouped), signals, options)
+
+
+def unusable_text(measurements: Sequence[WindowMeasurement]) -> tuple[str, str]:
+    """Return where windows without a usable fit come from, and why: ``(" in a.csv", " (most often ...)")``.
+
+    For the message of a command that needs usable windows and got none or too few: the run
+    files (three at most) and the commonest reason a window was skipped; empty strings where
+    there are none.
+    """
+    reasons = Counter(m.skipped.split(" (")[0] for m in measurements if m.skipped)
+    why = f" (most often skipped: {reasons.most_common(1)[0][0]})" if reasons else ""
+    files = sorted({str(m.run.source) for m in measurements})
+    where = f" in {', '.join(files[:3])}{' ...' if len(files) > 3 else ''}" if files else ""
+    return where, why

@@ -8,8 +8,9 @@ Either the window shows it, and its amplitudes are fitted with the slow modes', 
 cannot have produced the window. A tyre softer than the bicycle's own can make such a mode, a
 lightly damped tyre oscillation of some 28 rad/s (4.5 Hz) that grows at the higher speeds (a
 shimmy); where the runs show it, the true model holds its windows only so (on a simulated trial
-of the benchmark with such tyres at 6-8 m/s, the true model left its eight windows at 0.3-2.0
-times their noise with the mode fitted, where the base model left them at 17-2,100 times).
+of the benchmark with such tyres at 6-8 m/s, the true model left its eight windows at a
+chi-square per sample of 0.3-2.0 with the mode fitted, where the base model left them at
+17-2,118).
 
 A window shows the mode where fitting its amplitudes gains at least :data:`GROWTH_EVIDENCE` in
 log-likelihood over the slow modes alone (two amplitudes gain a unit or so on noise alone) and

@@ -50,7 +50,7 @@ from whipple.model.fleet import Model, members_of
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
 from whipple.stability.nearest_modes import MODE_SHAPE_STATES, window_state_matrices, window_steer_damping
-from whipple.stability.slow_modes import FITTED_MODES, dropped_modes, lower_members, unseen_growth
+from whipple.stability.slow_modes import FITTED_MODES, dropped_modes, lower_members
 
 #: A window's residual on every sample [noise standard deviations] where a model cannot hold it:
 #: its response overflows, or a fast mode grows that the window does not show
@@ -287,9 +287,9 @@ class SampleComparison:
                 yaw = np.concatenate([np.broadcast_to(yaw_gains(bicycles[k]), (self.speeds.size, 2))
                                       for k in members])
                 rows = self._signal_rows(vectors, speeds, yaw) * repeated._bin_factors(values)[:, None, :]
-                growing = unseen_growth(values)
                 # Each mode's column is its own: build those fitted alone.
                 kept, real = fitted_modes(values)
+                growing = np.any(real[:, FITTED_MODES:], axis=-1)  # a growing mode's column is real
                 values, rows = np.take_along_axis(values, kept, -1), np.take_along_axis(rows, kept[:, None], -1)
                 design = repeated._modal_design(values, rows) * real[:, None, None, :]
             result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]),
@@ -406,11 +406,11 @@ class SampleComparison:
         for piece in range(1, count):
             start[:, :, piece] = transitions[:, :, piece - 1] @ start[:, :, piece - 1]
         modal = inverse @ start  # each piece's modal amplitudes per unit initial state
-        grows = np.asarray(unseen_growth(values).any(axis=-1), dtype=bool)  # in any piece
+        growing = np.max(dropped_modes(values)[1], axis=-1)  # the most of any piece
         if states > FITTED_MODES:
             first, shapes = values[:, :, 0], vectors[:, :, 0]
             columns = np.where(lower_members(first)[..., None, :], shapes.imag, shapes.real)
-            kept, real = fitted_modes(first, np.max(dropped_modes(values)[1], axis=-1))
+            kept, real = fitted_modes(first, growing)
             basis = np.take_along_axis(columns, kept[..., None, :], axis=-1) * real[..., None, :]
             modal = modal @ basis[:, :, None]
         factors = self._bin_factors(np.moveaxis(values, 1, 0).reshape(windows, -1))
@@ -420,7 +420,7 @@ class SampleComparison:
         design = np.real(np.einsum("mwpkj,mwpgj,mwpjc->mwkpgc", rows, growth, modal))
         length = self.mask.shape[1]
         design = design.reshape(models, windows, rows.shape[-2], -1, modal.shape[-1])[:, :, :, :length]
-        return design * self.mask[None, :, None, :, None] / self._row_noise()[None, :, :, None, None], grows
+        return design * self.mask[None, :, None, :, None] / self._row_noise()[None, :, :, None, None], growing > 0
 
     def _state_matrices(self, bicycle: Bicycle, model: LinearModel) -> NDArray[np.float64]:
         """Return the model's state matrix at each window's speed (W, n, n).

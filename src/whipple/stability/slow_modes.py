@@ -53,9 +53,7 @@ def unseen_growth(values: NDArray[np.complex128], count: int = FITTED_MODES) -> 
     window's speed) holds a window only where the window shows the mode, whose amplitudes it
     then fits too (:mod:`whipple.diagnosis.growing_modes`). ``values`` (..., n): eigenvalues [1/s].
     """
-    dropped = np.ones(values.shape, dtype=bool)
-    np.put_along_axis(dropped, slowest_modes(values, count), False, axis=-1)
-    return np.asarray(np.any(dropped & (values.real > 0), axis=-1), dtype=bool)
+    return np.asarray(dropped_modes(values, count)[1] > 0, dtype=bool)
 
 
 def dropped_modes(values: NDArray[np.complex128], count: int = FITTED_MODES

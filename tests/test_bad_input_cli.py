@@ -4,6 +4,7 @@ import gzip
 import importlib.resources
 import io
 import os
+import re
 import stat
 import threading
 import time
@@ -54,7 +55,10 @@ def test_overflow_in_the_analysis_is_one_line(tmp_path, capsys):
     # A positive delay this small passes the checks (fitted delays come out at 1e-14) but its
     # Pade approximant overflows.
     path = _bicycle_with(tmp_path, "[controller]\ndelay = 1e-300\n[controller.steer]\nroll_rate = 1.0")
-    _one_line_error(capsys, 1, main(["check", str(path)]), "analysis failed", "overflow")
+    _one_line_error(capsys, 1, main(["check", str(path)]), "analysis failed", "overflow", str(path))
+    # A controller of a thousand terms passes each coefficient's check; its gain overflows.
+    long = _bicycle_with(tmp_path, "[controller.steer]\nroll_rate = [" + ", ".join(["1.0"] * 1000) + "]")
+    _one_line_error(capsys, 1, main(["stability", str(long), "--points", "5"]), "overflow", str(long))
 
 
 def test_numbers_too_large_for_a_float(tmp_path, capsys):
@@ -352,3 +356,37 @@ def test_evaluate_bad_inputs_are_one_line_and_leave_the_inputs(run_file, tmp_pat
         assert raised.value.code == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "invalid choice: 'model-matching'" in err[0] and "model-matching-on" in err[0]
+
+
+def test_samples_beyond_any_bicycle_are_gaps_and_a_roll_rate_of_them_is_refused(run_file, tmp_path, capsys):
+    lines = run_file.read_text(encoding="utf-8").splitlines()
+    header = next(k for k, line in enumerate(lines) if not line.startswith("#"))
+    names = lines[header].split(",")
+    rows = [line.split(",") for line in lines[header + 1:]]
+
+    def written(name: str, column: str, value) -> Path:
+        index = names.index(column)
+        edited = [[*row[:index], value(row[index]), *row[index + 1:]] for row in rows]
+        path = tmp_path / name
+        path.write_text("\n".join([*lines[:header + 1], *(",".join(row) for row in edited)]) + "\n", encoding="utf-8")
+        return path
+
+    steer = written("steer.csv", "steer_angle", lambda cell: "1e300")
+    before = steer.read_bytes()
+    capsys.readouterr()
+    assert main(["fit", str(steer)]) == 0
+    out = capsys.readouterr().out
+    assert f"{len(rows)} steer_angle sample(s) beyond 1e+06 rad (up to 1e+300) left out as gaps" in out
+    assert "fitted roll_rate," in out  # the steer angle has no sample left: roll rate alone
+    assert steer.read_bytes() == before
+    roll = written("roll.csv", "roll_rate", lambda cell: f"{float(cell) * 1e300:.6g}" if float(cell) else "1e300")
+    _one_line_error(capsys, 2, main(["fit", str(roll)]), str(roll), "every roll_rate sample is empty or beyond 1e+06")
+
+
+def test_a_bicycle_without_mass_is_refused(tmp_path, capsys):
+    text = BENCHMARK_TOML.read_text(encoding="utf-8")
+    for mass in ("mR", "mB", "mH", "mF"):
+        text = re.sub(rf"^{mass} = [0-9.]+", f"{mass} = 0.0", text, count=1, flags=re.MULTILINE)
+    path = tmp_path / "massless.toml"
+    path.write_text(text, encoding="utf-8")
+    _one_line_error(capsys, 2, main(["check", str(path)]), str(path), "mR + mB + mH + mF = 0 kg")

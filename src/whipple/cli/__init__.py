@@ -126,6 +126,18 @@ def _requested(argv: Sequence[str]) -> str | None:
     return next((word for word in argv if word in COMMANDS), None)
 
 
+def _input_files(args: argparse.Namespace) -> list[str]:
+    """Return the files named on the command line that exist and are not outputs, in order."""
+    named: list[str] = []
+    for option, value in vars(args).items():
+        if option in OUTPUT_OPTIONS or callable(value):
+            continue
+        for item in value if isinstance(value, list | tuple) else [value]:
+            if isinstance(item, str | os.PathLike) and os.path.isfile(item) and os.fspath(item) not in named:
+                named.append(os.fspath(item))
+    return named
+
+
 def build_parser(argv: Sequence[str] = ()) -> argparse.ArgumentParser:
     """Return the parser; the arguments of the subcommand named in `argv` are filled in."""
     parser = _Parser(prog="whipple", description=DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -172,8 +184,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         # name so that `whipple --help` need not import numpy.
         if isinstance(error, ValueError) and type(error).__name__ != "LinAlgError":
             raise
+        inputs = ", ".join(_input_files(args)) or "the input"
         print(f"whipple {args.command}: analysis failed: the numbers overflow ({error}); a value far out of "
-              "range in the input?", file=sys.stderr)
+              f"range in {inputs}?", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print(f"whipple {args.command}: interrupted", file=sys.stderr)

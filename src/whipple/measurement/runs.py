@@ -226,6 +226,7 @@ def read_run(
     for name in ("roll_rate", "speed", "speedometer"):
         if name in signals and np.isnan(signals[name]).all():
             raise RunFileError(f"column {name} has no values (every cell empty or NaN)", source)
+    warnings += _leave_out_beyond_any_bicycle(signals, source)
     time, sample_rate = _time_base(signals, metadata, active, len(signals["roll_rate"]), source)
     if time[-1] - time[0] < min_duration:
         raise RunFileError(
@@ -257,6 +258,38 @@ def read_run(
         sample_rate=sample_rate,
         warnings=tuple(warnings),
     )
+
+
+#: Largest magnitude of a motion or torque sample (rad, rad/s, N m) taken as measured: a bicycle
+#: rolls and steers at a few rad/s at most, and even a wrong unit (deg/s, mrad) stays below a
+#: few thousand. Beyond, a sample is a logger's error value or a corrupt cell.
+MAX_SIGNAL = 1e6
+#: Run-file columns whose magnitude is checked against MAX_SIGNAL (speed has MAX_SPEED; the
+#: time, a speedometer's and the battery's volts are no motion).
+_MOTION_COLUMNS = ("roll_rate", "yaw_rate", "steer_angle", "steer_rate", "roll_angle", "steer_torque")
+
+
+def _leave_out_beyond_any_bicycle(signals: dict[str, NDArray[np.float64]], source: str) -> list[str]:
+    """Set samples beyond :data:`MAX_SIGNAL` to NaN (gaps); return a note per signal that had any.
+
+    A roll rate with no sample left is refused (RunFileError): the run holds nothing to fit.
+    """
+    notes = []
+    for name in _MOTION_COLUMNS:
+        values = signals.get(name)
+        if values is None:
+            continue
+        with np.errstate(invalid="ignore"):
+            beyond = np.abs(values) > MAX_SIGNAL
+        if beyond.any():
+            largest = float(np.nanmax(np.abs(values)))
+            values[beyond] = np.nan
+            if name == "roll_rate" and np.isnan(values).all():
+                raise RunFileError(f"every roll_rate sample is empty or beyond {MAX_SIGNAL:g} rad/s (up to "
+                                   f"{largest:.6g}): no bicycle moves so", source)
+            notes.append(f"{int(beyond.sum())} {name} sample(s) beyond {MAX_SIGNAL:g} {SPEC_COLUMNS[name]} (up to "
+                         f"{largest:.6g}) left out as gaps: no bicycle moves so")
+    return notes
 
 
 #: Glitches named one by one in a run's warnings; more are counted.

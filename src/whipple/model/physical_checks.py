@@ -12,7 +12,8 @@ Used by :func:`whipple.model.parameter_set.validate`, which collects their findi
   within their measurement error; a violation is a warning stating its size, how it compares
   with the stated uncertainties, and whether the largest moment enters the linear equations.
 - **Placement.** A frame's mass centre below the ground, or a massless body with inertia, is
-  a warning: the equations take them, but no bicycle has them.
+  a warning: the equations take them, but no bicycle has them. All four bodies massless is
+  refused: without weight there is nothing to balance (the gravity terms vanish).
 - **Radii of gyration.** A body's largest radius of gyration about its mass centre,
   sqrt(largest principal moment / mass), cannot exceed its size: the squared distance of a
   point from an axis through the mass centre is the sum of its squared offsets along two
@@ -103,7 +104,8 @@ def placement_findings(values: Mapping[str, Array]) -> list[tuple[NDArray[np.boo
 
     A frame's mass centre below the ground, and a massless body with inertia, are warnings: the
     linear equations are defined for them (and a fitted or teaching set may have them), but they
-    are almost always a sign error or a value in the wrong field.
+    are almost always a sign error or a value in the wrong field. A bicycle whose four masses are
+    all zero is refused.
     """
     findings = []
     for name, frame in _HEIGHTS.items():
@@ -118,6 +120,11 @@ def placement_findings(values: Mapping[str, Array]) -> list[tuple[NDArray[np.boo
             inertia = np.any(np.stack(np.broadcast_arrays(*(values[key] for key in present))) != 0, axis=0)
             findings.append(((values[mass] == 0) & inertia, f"{mass} = 0 with nonzero inertia "
                              f"({', '.join(present)}): a body without mass has none", True))
+    masses = [body[1] for body in BODIES]
+    if all(mass in values for mass in masses):
+        total = sum(values[mass] for mass in masses)
+        findings.append((np.asarray(total == 0), f"{' + '.join(masses)} = 0 kg: a bicycle without mass has no "
+                         "weight to balance", False))
     return findings
 
 

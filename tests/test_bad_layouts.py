@@ -256,9 +256,13 @@ def test_unicode_digits_in_a_run_file(tmp_path, run_text, capsys):
     # Elsewhere a gap, noted, and not the number 12.
     steer = lines.copy()
     steer[header + 5] = ",".join([*cells[:3], "١٢", cells[4]])
-    run = read_run(write(tmp_path, "steer.csv", "\n".join(steer) + "\n"))
+    steer_path = write(tmp_path, "steer.csv", "\n".join(steer) + "\n")
+    run = read_run(steer_path, filled_gap=0.0)
     assert np.isnan(run.signals["steer_angle"][4])  # data row 4: the line after the header is row 0
     assert any("column 'steer_angle': 1 empty, NaN or non-numeric cell(s)" in note for note in run.warnings)
+    # A one-sample gap is filled from its neighbours, never with 12.
+    filled = read_run(steer_path).signals["steer_angle"]
+    assert abs(filled[4] - (filled[3] + filled[5]) / 2) < 0.01
     # In metadata.
     path = write(tmp_path, "meta.csv", without_time(run_text, "").replace("# sample_rate: 100", "# sample_rate: ١٠٠"))
     line = cli_error(capsys, ["fit", path])

@@ -161,7 +161,7 @@ def bad_runs(folder: Path) -> dict[str, tuple[Path, str]]:
                               "missing roll_rate"),
         "NaN": (write_run(folder / "nan.csv", "time,roll_rate", nan), "inf value"),
         "non-increasing time": (write_run(folder / "time.csv", "time,roll_rate", backwards),
-                                "not strictly increasing"),
+                                "time repeats with other values than the row before at data row 7"),
         "too short": (write_run(folder / "short.csv", "time,roll_rate", np.c_[t, wave][:100]),
                       "too short"),
         "no speed": (write_run(folder / "speed.csv", "time,roll_rate", np.c_[t, wave], ""),

@@ -81,9 +81,15 @@ def test_controller_cells_empty_before_it_starts_are_fitted(lines, original, tmp
 def test_text_in_an_unused_column_is_a_gap_there_only(lines, original, tmp_path):
     edited = list(lines)
     edited[5] = "off," + edited[5].split(",", 1)[1]
-    run = read_run(_write(tmp_path / "text.log", edited))
+    path = _write(tmp_path / "text.log", edited)
+    run = read_run(path, filled_gap=0.0)
     assert np.isnan(run.signals["controller_torque"][4])
     assert _fitted(measure_run(run)) == _fitted(original)
+    # One missing sample is filled by interpolation, and noted.
+    filled = read_run(path)
+    assert np.isfinite(filled.signals["controller_torque"][4])
+    assert "controller_torque: 1 missing sample(s) in gaps of up to 2 sample(s) filled by interpolation" in \
+        filled.warnings
 
 
 @pytest.mark.parametrize("column", ["lean_rate", "speed"])

@@ -2,7 +2,9 @@
 
 :func:`whipple.measurement.windows.find_windows` bridges the gaps while it searches a record,
 then cuts every window at them (:func:`parts_between`) and lists each gap as a rejected
-stretch, saying what it is (:func:`gap_reason`).
+stretch, saying what it is (:func:`gap_reason`). Short gaps (a dropped row or two, an empty
+cell) are filled when a run is read (:mod:`whipple.measurement.short_gaps`); what is left here
+is longer.
 """
 
 from __future__ import annotations
@@ -10,16 +12,23 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.measurement.runs import contiguous
+#: A step in time longer than this many median sample intervals is a jump: samples were dropped.
+JUMP = 1.5
+
+
+def contiguous(valid: NDArray[np.bool_]) -> list[tuple[int, int]]:
+    """Return the ``(first, stop)`` index ranges of the stretches where `valid` holds."""
+    edges = np.diff(np.concatenate(([0], valid.astype(np.int8), [0])))
+    return list(zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(), strict=True))
 
 
 def record_gaps(time: NDArray[np.float64], usable: NDArray[np.bool_]) -> list[tuple[int, int]]:
     """Return ``(first, stop)`` of each gap: unusable samples, or the two samples around a jump in time.
 
-    A jump in time is a step of more than 1.5 times the median sample interval of `time` [s].
+    A jump in time is a step of more than :data:`JUMP` times the median sample interval of `time` [s].
     """
     steps = np.diff(time)
-    jumps = np.flatnonzero(steps > 1.5 * np.median(steps)) if steps.size else np.array([], dtype=int)
+    jumps = np.flatnonzero(steps > JUMP * np.median(steps)) if steps.size else np.array([], dtype=int)
     gaps = contiguous(~usable) + [(int(j), int(j) + 2) for j in jumps if usable[j] and usable[j + 1]]
     return sorted(gaps)
 
@@ -37,7 +46,7 @@ def parts_between(time: NDArray[np.float64], first: int, stop: int,
     steps = np.diff(time)
     parts = []
     for a, b in inside:
-        if b - a == 2 and np.all(np.isfinite(time[a:b])) and steps[a] > 1.5 * np.median(steps):
+        if b - a == 2 and np.all(np.isfinite(time[a:b])) and steps[a] > JUMP * np.median(steps):
             a = b = a + 1
         if a - first >= 3:
             parts.append((first, a))

@@ -20,7 +20,9 @@ from numpy.typing import NDArray
 from whipple.errors import InputError, RunFileError
 from whipple.measurement.glitches import DEFAULT_RULE, GlitchRule, find_glitches
 from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout
+from whipple.measurement.record_gaps import contiguous
 from whipple.measurement.run_table import read_run_table
+from whipple.measurement.short_gaps import FILLED_GAP, fill_short_gaps
 from whipple.measurement.speedometer import speedometer_speed
 from whipple.number_text import parse_number
 from whipple.simulation.run_limits import MAX_SPEED, MIN_DURATION, MIN_SAMPLE_RATE
@@ -106,12 +108,6 @@ class Run:
         return np.full(self.time.shape, _metadata_number(self.metadata, "speed", self.source))
 
 
-def contiguous(valid: NDArray[np.bool_]) -> list[tuple[int, int]]:
-    """Return the ``(first, stop)`` index ranges of the stretches where `valid` holds."""
-    edges = np.diff(np.concatenate(([0], valid.astype(np.int8), [0])))
-    return list(zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(), strict=True))
-
-
 def run_from_simulation(simulated: SimulatedRun) -> Run:
     """Return the measured part of a simulated run, as if read from its run file.
 
@@ -179,6 +175,7 @@ def read_run(
     layout: str | Path | RunLayout | None = None,
     min_duration: float = MIN_DURATION,
     glitches: GlitchRule | None = DEFAULT_RULE,
+    filled_gap: float = FILLED_GAP,
 ) -> Run:
     """Read a run file.
 
@@ -195,6 +192,11 @@ def read_run(
         Isolated wild samples of the run-file signals (not the time, not a speedometer's pulses)
         found by this rule are left out as gaps, each named in the warnings
         (:mod:`whipple.measurement.glitches`); None keeps every sample.
+    filled_gap : float
+        Stretches of missing samples (dropped rows, empty cells, glitches) of at most this
+        duration [s] between measured ones are filled by interpolation
+        (:mod:`whipple.measurement.short_gaps`), each filled sample counted in the warnings;
+        longer ones stay gaps, which no window spans. 0 fills none.
 
     Returns
     -------
@@ -227,7 +229,7 @@ def read_run(
         if name in signals and np.isnan(signals[name]).all():
             raise RunFileError(f"column {name} has no values (every cell empty or NaN)", source)
     warnings += _leave_out_beyond_any_bicycle(signals, source)
-    time, sample_rate = _time_base(signals, metadata, active, len(signals["roll_rate"]), source)
+    time, sample_rate = _time_base(signals, metadata, active, len(signals["roll_rate"]), source, warnings)
     if time[-1] - time[0] < min_duration:
         raise RunFileError(
             f"run too short ({time[-1] - time[0]:.3g} s; at least {min_duration:g} s needed)", source
@@ -235,6 +237,8 @@ def read_run(
     _check_speed_source(signals, metadata, active, source)
     if glitches is not None:
         warnings += _leave_out_glitches(signals, time, glitches)
+    time, filled = fill_short_gaps(time, signals, filled_gap)
+    warnings += filled
     speed = signals.get("speed")
     fastest = float(np.nanmax(np.abs(speed), initial=0.0)) if speed is not None else 0.0
     if "speed" in metadata and speed is None:
@@ -320,17 +324,27 @@ def _time_base(
     layout: RunLayout,
     n: int,
     source: str,
+    warnings: list[str],
 ) -> tuple[NDArray[np.float64], float]:
     if "time" in signals:
         time = signals.pop("time")
+        repeated = _repeated_rows(time, signals)
+        rows = np.flatnonzero(~repeated)  # the data rows kept, for messages
+        if repeated.any():
+            # A logger that sends a row twice: the copy adds nothing.
+            time = time[~repeated]
+            for name in signals:
+                signals[name] = signals[name][~repeated]
+            warnings.append(f"{int(repeated.sum())} repeated row(s) (the same time and values as the row before) "
+                            "dropped")
         if time.size < 2:  # no step to take a sample rate from
             raise RunFileError(f"run too short (one sample; at least {MIN_DURATION:g} s needed)", source)
         steps = np.diff(time)
         if steps.size and not (steps > 0).all():
             bad = int(np.argmin(steps > 0)) + 1
-            raise RunFileError(
-                f"time is not strictly increasing at data row {bad} (t = {time[bad]:g} s)", source
-            )
+            how = ("repeats with other values than the row before" if steps[bad - 1] == 0
+                   else "is not strictly increasing")
+            raise RunFileError(f"time {how} at data row {int(rows[bad])} (t = {time[bad]:g} s)", source)
         stated = _metadata_number(metadata, "sample_rate", source) if "sample_rate" in metadata else None
         rate = float(1.0 / np.median(steps))
         _check_sample_rate(rate, "from the time column; in ms or us instead of s?", source)
@@ -346,6 +360,17 @@ def _time_base(
         raise RunFileError("no time column and no sample_rate", source)
     _check_sample_rate(rate, "from sample_rate", source)
     return np.arange(n) / rate, rate
+
+
+def _repeated_rows(time: NDArray[np.float64], signals: dict[str, NDArray[np.float64]]) -> NDArray[np.bool_]:
+    """Return where a row repeats the row before it: the same time and the same value (or none) in every column."""
+    same = np.concatenate(([False], np.diff(time) == 0))
+    for values in signals.values():
+        if not same.any():
+            break
+        previous = np.concatenate(([np.nan], values[:-1]))
+        same &= (values == previous) | (np.isnan(values) & np.isnan(previous))
+    return same
 
 
 #: Largest relative difference between a run's metadata sample rate and its time column's: a

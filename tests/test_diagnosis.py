@@ -23,7 +23,9 @@ from whipple.diagnosis.observations import Observation, predicted_modes, predict
 from whipple.diagnosis.registry import cause_by_name
 from whipple.diagnosis.report import ShapeComparison, caveats, evidence_definition
 from whipple.diagnosis.samples import OVERFLOW_MISFIT
+from whipple.measurement.measure import measure_runs
 from whipple.measurement.runs import read_run
+from whipple.measurement.steer_sign import is_scaled, scale_text
 from whipple.model.parameters import Payload, load_bicycle
 from whipple.simulation.scenario import RunScenario
 from whipple.simulation.simulator import simulate_run, write_run_csv
@@ -291,3 +293,53 @@ def test_the_evidence_definition_describes_the_samples_comparison_the_code_makes
     assert f"its {FITTED_MODES} slowest modes' amplitudes" in text
     assert f"{OVERFLOW_MISFIT:g} noise standard deviations off" in text
     assert "per extra state" not in text
+
+
+def _runs_with(paths, tmp_path, scale: dict[str, float]) -> list[str]:
+    """The runs written again with some signals multiplied (another unit)."""
+    written = []
+    for path in paths:
+        run = read_run(path)
+        signals = {name: values * scale.get(name, 1.0) for name, values in run.signals.items()}
+        target = tmp_path / path.name
+        with open(target, "w") as stream:
+            stream.write("time," + ",".join(signals) + "\n")
+            for k, t in enumerate(run.time):
+                stream.write(f"{t:.4f}," + ",".join(f"{v[k]:.6g}" for v in signals.values()) + "\n")
+        written.append(str(target))
+    return written
+
+
+@pytest.mark.parametrize("scale, factor", [({"steer_angle": 180 / np.pi}, 180 / np.pi),
+                                           ({"roll_rate": 180 / np.pi}, np.pi / 180)])
+def test_a_steer_angle_or_roll_rate_in_degrees_is_found_and_the_roll_rate_fitted_alone(damped_runs, tmp_path, scale,
+                                                                                          factor):
+    runs = [read_run(path) for path in _runs_with(damped_runs[:2], tmp_path, scale)]
+    measured = measure_runs(runs, bicycle=load_bicycle("benchmark"))
+    assert measured.signals == ("roll_rate",)
+    found, rest = measured.steer_sign.split(" ", 1)
+    # The unit's factor times the model's error of the shape (a hidden steer damping: a few percent).
+    assert float(found) == pytest.approx(factor, rel=0.05) and rest.startswith("times the model's (a unit error?")
+    assert "so the roll rate was fitted alone" in measured.describe()
+    # In the model's units: as the model's, fitted jointly.
+    same = measure_runs([read_run(path) for path in damped_runs[:2]], bicycle=load_bicycle("benchmark"))
+    assert same.signals == ("roll_rate", "steer_angle") and same.steer_sign == "as the model's"
+
+
+def test_the_scale_of_mode_shapes():
+    assert not is_scaled([0.87 * np.exp(0.17j), 1.2]) and not is_scaled([])
+    assert is_scaled([57.3, 56.0, 58.1]) and is_scaled([1 / 57.3] * 3)
+    assert scale_text(57.3).startswith("57.3 times the model's (a unit error? a steer angle in degrees gives 57.3")
+    assert "a roll rate in degrees per second" in scale_text(0.0175)
+
+
+# Slow (a diagnosis by the command): run with `pytest -m slow`.
+@pytest.mark.slow
+def test_a_steer_angle_in_degrees_is_left_out_of_the_diagnosis(damped_runs, tmp_path, capsys):
+    out = tmp_path / "d.json"
+    degrees = _runs_with(damped_runs, tmp_path, {"steer_angle": 180 / np.pi})
+    assert main(["diagnose", *degrees, "--bicycle", "benchmark", "--json", str(out)]) == 0
+    data = json.loads(out.read_text())
+    assert any("times the model's (a unit error?" in note and "left out of the evidence" in note
+               for note in data["caveats"])
+    assert data["cause"] == "steer_damping"  # the eigenvalues still carry the diagnosis

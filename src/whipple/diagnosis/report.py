@@ -38,7 +38,7 @@ from whipple.diagnosis.window_bins import BIN_DURATION
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
 from whipple.measurement.measure import MeasuredRuns, Progress, unusable_text
-from whipple.measurement.steer_sign import is_flipped, phase_offset
+from whipple.measurement.steer_sign import is_flipped, is_scaled, phase_offset, scale_offset, scale_text
 from whipple.model.assembly import extended_matrices, linear_model
 from whipple.model.fleet import Fleet, Model, first_bicycle
 from whipple.stability.critical import CriticalSpeeds, critical_speeds
@@ -347,10 +347,10 @@ def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasure
     base_prediction = Prediction.of(bicycle, measured)
     shapes = compare_shapes(measured, base_prediction, bicycle)
     observations = measured
-    if shapes_flipped(shapes):
-        # A steer signal of the opposite sign contradicts every candidate alike; kept, its shapes
-        # (and its samples) would favour whichever model bends furthest towards the flip, whatever
-        # the eigenvalues say.
+    if shapes_flipped(shapes) or is_scaled(shapes.ratios):
+        # A steer signal of the opposite sign or in other units contradicts every candidate alike;
+        # kept, its shapes (and its samples) would favour whichever model bends furthest towards
+        # it, whatever the eigenvalues say.
         observations = [replace(o, shape=None, shape_covariance=None,
                                 signals=None if o.signals is None else o.signals.reference_only())
                         for o in measured]
@@ -430,6 +430,10 @@ def caveats(diagnosis: Diagnosis, shapes: ShapeComparison, options: DiagnosisOpt
         notes.append(f"the measured {shapes.signals[0]} is {abs(phase_offset(shapes.ratios)):.0f} degrees out of phase "
                      "with the model's mode shape: its sign is probably opposite to the convention of Meijaard et "
                      "al. (2007) (check the layout's scale factor); the mode shapes are left out of the evidence")
+    elif is_scaled(shapes.ratios):
+        notes.append(f"the measured {shapes.signals[0]} per {shapes.signals[1]} in the weave is "
+                     f"{scale_text(scale_offset(shapes.ratios))}: check the units and the layout's scale factors; "
+                     "the mode shapes are left out of the evidence")
     if diagnosis.scale > DISPERSION_WARNING:
         what = ("sample residuals", "the samples' noise") if diagnosis.comparison == "samples" else (
             "eigenvalue residuals", "the stated uncertainties")

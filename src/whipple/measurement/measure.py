@@ -42,7 +42,7 @@ from whipple.measurement.experiment import (
 )
 from whipple.measurement.free_motion import set_aside_outlying
 from whipple.measurement.runs import Run, check_distinct_names
-from whipple.measurement.steer_sign import steer_sign_flipped
+from whipple.measurement.steer_sign import steer_signal_check
 from whipple.measurement.windows import Window
 from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
@@ -97,8 +97,8 @@ class MeasurementOptions:
         nothing else).
     check_steer_sign : bool
         Given a bicycle, fit the roll rate alone where the steer signal's sign is opposite to
-        the model's convention (default True; with ``signals="auto"`` only: named signals are
-        fitted as named).
+        the model's convention or its units differ (default True; with ``signals="auto"`` only:
+        named signals are fitted as named).
     catch_passes : int
         Fits of a window whose end may hold a hand's catch, each cutting it where the fit's
         residual leaves the noise (default 3); 0: windows are fitted as found.
@@ -173,9 +173,10 @@ class MeasuredRuns(Sequence[RunMeasurement]):
     options : MeasurementOptions
         The options measured with.
     steer_sign : str
-        What the steer signal's sign check found: ``"as the model's"``, ``"opposite to the
-        model's"`` (the roll rate was then fitted alone), ``"not checked"`` (no bicycle, or the
-        signals were named) or ``"no steer signal"``.
+        What the steer signal's check found: ``"as the model's"``, ``"opposite to the model's"``
+        or ``"<factor> times the model's (...)"`` (other units; in both the roll rate was then
+        fitted alone: :func:`~whipple.measurement.steer_sign.steer_signal_check`), ``"not
+        checked"`` (no bicycle, or the signals were named) or ``"no steer signal"``.
     """
 
     runs: tuple[RunMeasurement, ...]
@@ -217,8 +218,11 @@ class MeasuredRuns(Sequence[RunMeasurement]):
         """Say in words how the windows were fitted."""
         signals = " and ".join(self.signals) + (" jointly" if len(self.signals) > 1 else "")
         name = " (the seed paper's fit)" if self.options.method == "seed-paper" else ""
-        sign = ("; the steer signal's sign is opposite to the model's, so the roll rate was fitted alone"
-                if self.steer_sign == "opposite to the model's" else "")
+        sign = ""
+        if self.steer_sign == "opposite to the model's":
+            sign = "; the steer signal's sign is opposite to the model's, so the roll rate was fitted alone"
+        elif "times the model's" in self.steer_sign:
+            sign = f"; the weave's steer per roll rate is {self.steer_sign}, so the roll rate was fitted alone"
         return f"fitted {signals}, baseline {self.options.baseline}{name}{sign}"
 
 
@@ -293,10 +297,11 @@ def measure_runs(runs: Sequence[Run], options: MeasurementOptions | None = None,
     measured = _measured(runs, windows, options, signals, progress, groups)
     steer_sign = "not checked"
     if len(signals) > 1 and auto and options.check_steer_sign and bicycle is not None:
-        steer_sign = "as the model's"
-        if steer_sign_flipped(bicycle, measured.windows):
-            # A flipped steer angle would mislead every comparison with a model: the roll rate alone.
-            signals, steer_sign = signals[:1], "opposite to the model's"
+        steer_sign = steer_signal_check(bicycle, measured.windows)
+        if steer_sign != "as the model's":
+            # A flipped steer angle, or one in other units, would mislead every comparison with a
+            # model: the roll rate alone.
+            signals = signals[:1]
             measured = _measured(runs, windows, options, signals, progress, groups)
     elif auto and len(signals) == 1:
         steer_sign = "no steer signal"

@@ -219,16 +219,7 @@ def test_diagnose_cli_end_to_end(damped_runs, tmp_path, capsys):
 # Slow (two diagnoses of simulated runs by the command): run with `pytest -m slow`.
 @pytest.mark.slow
 def test_a_flipped_steer_sign_is_reported(damped_runs, tmp_path, capsys):
-    flipped = []
-    for path in damped_runs:
-        run = read_run(path)
-        signals = dict(run.signals, steer_angle=-run.signals["steer_angle"])
-        target = tmp_path / path.name
-        with open(target, "w") as stream:
-            stream.write("time," + ",".join(signals) + "\n")
-            for k, t in enumerate(run.time):
-                stream.write(f"{t:.4f}," + ",".join(f"{v[k]:.6g}" for v in signals.values()) + "\n")
-        flipped.append(str(target))
+    flipped = _runs_with(damped_runs, tmp_path, {"steer_angle": -1.0})
     out = tmp_path / "d.json"
     assert main(["diagnose", *flipped, "--bicycle", "benchmark", "--json", str(out)]) == 0
     data = json.loads(out.read_text())

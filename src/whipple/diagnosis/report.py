@@ -38,6 +38,7 @@ from whipple.diagnosis.window_bins import BIN_DURATION
 from whipple.errors import AnalysisError, InputError
 from whipple.measurement.experiment import MIN_WINDOWS, WindowMeasurement
 from whipple.measurement.measure import MeasuredRuns, Progress, unusable_text
+from whipple.measurement.speed_units import speed_unit_problem
 from whipple.measurement.steer_sign import is_flipped, is_scaled, phase_offset, scale_offset, scale_text
 from whipple.model.assembly import extended_matrices, linear_model
 from whipple.model.fleet import Fleet, Model, first_bicycle
@@ -343,6 +344,11 @@ def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasure
         where, why = unusable_text(windows)
         raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue{where}; need at "
                          f"least {MIN_WINDOWS}{why}")
+    speed_units = speed_unit_problem(bicycle, used)
+    if speed_units is not None:
+        # Every cause would be fitted to the unit: no diagnosis is better than a wrong one.
+        files = sorted({str(m.run.source) for m in windows})
+        raise InputError(f"{', '.join(files[:3])}{' ...' if len(files) > 3 else ''}: {speed_units}")
     measured = [observation(m) for m in used]
     base_prediction = Prediction.of(bicycle, measured)
     shapes = compare_shapes(measured, base_prediction, bicycle)

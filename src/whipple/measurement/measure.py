@@ -42,6 +42,7 @@ from whipple.measurement.experiment import (
 )
 from whipple.measurement.free_motion import set_aside_outlying
 from whipple.measurement.runs import Run, check_distinct_names
+from whipple.measurement.speed_units import speed_unit_problem
 from whipple.measurement.steer_sign import steer_signal_check
 from whipple.measurement.windows import Window
 from whipple.model.fleet import Model
@@ -177,12 +178,17 @@ class MeasuredRuns(Sequence[RunMeasurement]):
         or ``"<factor> times the model's (...)"`` (other units; in both the roll rate was then
         fitted alone: :func:`~whipple.measurement.steer_sign.steer_signal_check`), ``"not
         checked"`` (no bicycle, or the signals were named) or ``"no steer signal"``.
+    speed_units : str or None
+        Given a bicycle, why the windows' speeds seem to be in other units than the model's
+        (:func:`~whipple.measurement.speed_units.speed_unit_problem`); None when they do not
+        (or no bicycle was given).
     """
 
     runs: tuple[RunMeasurement, ...]
     signals: tuple[str, ...]
     options: MeasurementOptions
     steer_sign: str = "not checked"
+    speed_units: str | None = None
 
     @overload
     def __getitem__(self, index: int) -> RunMeasurement: ...
@@ -223,6 +229,8 @@ class MeasuredRuns(Sequence[RunMeasurement]):
             sign = "; the steer signal's sign is opposite to the model's, so the roll rate was fitted alone"
         elif "times the model's" in self.steer_sign:
             sign = f"; the weave's steer per roll rate is {self.steer_sign}, so the roll rate was fitted alone"
+        if self.speed_units is not None:
+            sign += f"; {self.speed_units}"
         return f"fitted {signals}, baseline {self.options.baseline}{name}{sign}"
 
 
@@ -305,7 +313,8 @@ def measure_runs(runs: Sequence[Run], options: MeasurementOptions | None = None,
             measured = _measured(runs, windows, options, signals, progress, groups)
     elif auto and len(signals) == 1:
         steer_sign = "no steer signal"
-    return replace(measured, steer_sign=steer_sign)
+    speed_units = speed_unit_problem(bicycle, measured.windows) if bicycle is not None else None
+    return replace(measured, steer_sign=steer_sign, speed_units=speed_units)
 
 
 def _measured(runs: Sequence[Run], windows: Sequence[Window] | None, options: MeasurementOptions,

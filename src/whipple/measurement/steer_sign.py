@@ -151,22 +151,3 @@ def steer_signal_check(bicycle: Model, measurements: Sequence[WindowMeasurement]
     if is_scaled(ratios):
         return scale_text(scale_offset(ratios))
     return "as the model's"
-
-
-def steer_sign_flipped(bicycle: Model, measurements: Sequence[WindowMeasurement]) -> bool:
-    """Return whether the usable windows' mode shapes are out of phase with the model's.
-
-    Parameters
-    ----------
-    bicycle : Bicycle
-        The model whose mode shapes are the reference.
-    measurements : sequence of WindowMeasurement
-        The windows (see :func:`shape_ratios`).
-
-    Returns
-    -------
-    bool
-        True when the median phase of measured over model shapes exceeds :data:`FLIPPED_PHASE`:
-        the steer signal's sign is probably opposite to the convention of Meijaard et al. (2007).
-    """
-    return is_flipped(shape_ratios(bicycle, measurements))

@@ -1,0 +1,111 @@
+"""Whether a run's speed has the model's units, judged by the weave's eigenvalues.
+
+The weave's eigenvalue moves with speed along a curve of the model's, and every cause the
+diagnosis weighs bends that curve by tens of percent at most, a speed that reads wrong by a
+constant factor within :data:`SPEED_SCALE_RANGE` included (the ``speed_scale`` cause). A speed
+column in km/h read as m/s puts every window at 3.6 times its speed, where the model's weave
+is another oscillation altogether; the measured eigenvalues then lie on the model's curve at
+0.278 times the logged speeds (mph: 0.447), and every cause fitted to them is a fit to the
+unit. :func:`speed_unit_problem` finds that: for each window, the speed at which the model's
+oscillating mode nearest the measured eigenvalue comes closest to it, as a multiple of the
+window's logged speed; a problem when most windows agree on one multiple outside the range the
+diagnosis can explain.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from whipple.measurement.experiment import WindowMeasurement
+from whipple.model.fleet import Model
+from whipple.model.parameters import Bicycle
+from whipple.stability.nearest_modes import near_oscillation, nearest_oscillations
+
+#: The factors on the logged speed the diagnosis explains (the ``speed_scale`` cause's bounds).
+SPEED_SCALE_RANGE = (0.5, 2.0)
+#: Share of the windows that must agree on the multiple (within :data:`AGREEMENT` of their median).
+AGREEING = 2 / 3
+#: Relative spread of the windows' multiples counted as agreeing.
+AGREEMENT = 0.25
+#: Speeds searched, as multiples of each window's logged speed: from a tenth to five times
+#: (km/h read as m/s: 0.278; m/s scaled as if km/h: 3.6).
+MULTIPLES = np.geomspace(0.1, 5.0, 241)
+
+
+def speed_multiples(bicycle: Bicycle, speeds: NDArray[np.float64], eigenvalues: NDArray[np.complex128]
+                    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Return, per window, the multiple of its speed where the model's mode comes closest, and whether it is near there.
+
+    Parameters
+    ----------
+    bicycle : Bicycle
+        The model.
+    speeds : ndarray, shape (N,)
+        The windows' logged speeds [m/s].
+    eigenvalues : ndarray of complex, shape (N,)
+        The windows' measured eigenvalues [1/s].
+
+    Returns
+    -------
+    multiples : ndarray, shape (N,)
+        The multiple of :data:`MULTIPLES` at which the model's oscillating mode nearest the
+        measured eigenvalue is closest to it (NaN where the model never oscillates).
+    near : ndarray of bool, shape (N,)
+        Whether that mode is near the measured eigenvalue there
+        (:func:`~whipple.stability.nearest_modes.near_oscillation`).
+    """
+    grid = speeds[:, None] * MULTIPLES[None, :]
+    targets = np.broadcast_to(eigenvalues[:, None], grid.shape)
+    predicted, _ = nearest_oscillations(bicycle, grid.ravel(), targets.ravel())
+    predicted = predicted.reshape(grid.shape)
+    distance = np.where(np.isfinite(predicted), np.abs(predicted - targets), np.inf)
+    best = np.argmin(distance, axis=1)
+    rows = np.arange(speeds.size)
+    found = np.isfinite(distance[rows, best])
+    near = found & near_oscillation(predicted[rows, best], eigenvalues)
+    return np.where(found, MULTIPLES[best], np.nan), near
+
+
+def speed_unit_problem(bicycle: Model, measurements: Sequence[WindowMeasurement]) -> str | None:
+    """Say why the usable windows' speeds seem to be in other units than the model's, or None.
+
+    Parameters
+    ----------
+    bicycle : Bicycle or Fleet
+        The model (a fleet, whose windows have bicycles of their own, is not checked).
+    measurements : sequence of WindowMeasurement
+        The windows; the usable ones with a fitted eigenvalue and a speed are compared.
+
+    Returns
+    -------
+    str or None
+        A sentence when at most a third of the windows have a model mode near their eigenvalue at
+        their logged speed, and at least :data:`AGREEING` of them come near it at one multiple of
+        that speed (within :data:`AGREEMENT`) outside :data:`SPEED_SCALE_RANGE`; else None.
+    """
+    if not isinstance(bicycle, Bicycle):
+        return None
+    pairs = [(m.speed.mean, m.fit.eigenvalue) for m in measurements
+             if m.usable and m.fit is not None and m.speed is not None and m.speed.mean > 0]
+    if len(pairs) < 2:
+        return None
+    speeds = np.array([speed for speed, _ in pairs], dtype=np.float64)
+    eigenvalues = np.array([eigenvalue for _, eigenvalue in pairs], dtype=np.complex128)
+    at_logged, _ = nearest_oscillations(bicycle, speeds, eigenvalues)
+    near_logged = near_oscillation(at_logged, eigenvalues)
+    if np.mean(near_logged) > 1 - AGREEING:
+        return None
+    multiples, near = speed_multiples(bicycle, speeds, eigenvalues)
+    if not near.any():
+        return None
+    median = float(np.median(multiples[near]))
+    agreeing = near & (np.abs(multiples / median - 1) <= AGREEMENT)
+    low, high = SPEED_SCALE_RANGE
+    if np.mean(agreeing) < AGREEING or low <= median <= high:
+        return None
+    return (f"the measured weave matches the model's at {median:.3g} times the logged speed in {int(agreeing.sum())} "
+            f"of {len(pairs)} windows, and at the logged speed in {int(near_logged.sum())}"
+            ": is the speed in other units? (km/h read as m/s gives 0.278, mph 0.447; a layout's [scale] converts it)")

@@ -344,11 +344,9 @@ def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasure
         where, why = unusable_text(windows)
         raise InputError(f"only {len(used)} usable window(s) with a fitted weave eigenvalue{where}; need at "
                          f"least {MIN_WINDOWS}{why}")
+    # A caveat, not a refusal: a heavy load can move the weave as far along the speed axis.
     speed_units = speed_unit_problem(bicycle, used)
-    if speed_units is not None:
-        # Every cause would be fitted to the unit: no diagnosis is better than a wrong one.
-        files = sorted({str(m.run.source) for m in windows})
-        raise InputError(f"{', '.join(files[:3])}{' ...' if len(files) > 3 else ''}: {speed_units}")
+    speed_caveat = [] if speed_units is None else [f"{speed_units}; if so, every cause below is fitted to the unit"]
     measured = [observation(m) for m in used]
     base_prediction = Prediction.of(bicycle, measured)
     shapes = compare_shapes(measured, base_prediction, bicycle)
@@ -410,7 +408,7 @@ def assemble(bicycle: Model, measurements: MeasuredRuns | Sequence[WindowMeasure
         critical_speeds(linear_model(first_bicycle(bicycle)), low, high),
         critical_speeds(linear_model(first_bicycle(extended)), low, high),
         base_prediction, extended_prediction, shapes, summary,
-        tuple([*caveats(diagnosis, shapes, options), *offer.sentences()]),
+        tuple([*speed_caveat, *caveats(diagnosis, shapes, options), *offer.sentences()]),
         options.measurement.baseline,
         check_amplitudes(bicycle, used, base_prediction.eigenvalues) if options.amplitude_check else None,
         every_cause, prediction_gain, prediction_fit,

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import gzip
 import itertools
+import re
 import zlib
 from dataclasses import dataclass, field
 from typing import IO, Any
@@ -246,7 +247,8 @@ class _Reader:
         if missing:
             table.notes.append(f"layout column(s) not in the file: {', '.join(missing)}")
         if "roll_rate" not in wanted.values():
-            raise RunFileError(f"missing roll_rate column{_delimiter_hint(names, layout.delimiter)}", self.source)
+            hint = _delimiter_hint(names, layout.delimiter) or _name_hint(names)
+            raise RunFileError(f"missing roll_rate column{hint}", self.source)
         self.wanted = wanted
         self.columns = {name: [] for name in wanted}
         self.gaps = {name: _Gaps() for name in wanted}
@@ -291,6 +293,16 @@ class _Reader:
                 gaps.count += int(gap_rows.size)
                 gaps.text = gaps.text or bool(text.any())
             self.columns[column].append(values)
+
+
+def _name_hint(names: list[str]) -> str:
+    """Name the header's column that looks like the roll rate (another case, a unit), or list the header."""
+    near = [name for name in names if re.sub(r"[\s_]*[\[(].*$", "", name).strip().lower() == "roll_rate"]
+    if near:
+        return (f" (the header has {near[0][:60]!r}: the exact name is roll_rate, in rad/s; a layout's [columns] "
+                "maps another name and its [scale] another unit)")
+    shown = ", ".join(repr(name[:30]) for name in names[:8]) + (" ..." if len(names) > 8 else "")
+    return f" (the header has {shown}; a layout's [columns] maps another name)"
 
 
 def _delimiter_hint(names: list[str], delimiter: str | None) -> str:

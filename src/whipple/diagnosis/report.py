@@ -432,8 +432,9 @@ def caveats(diagnosis: Diagnosis, shapes: ShapeComparison, options: DiagnosisOpt
     notes = []
     if shapes_flipped(shapes):
         notes.append(f"the measured {shapes.signals[0]} is {abs(phase_offset(shapes.ratios)):.0f} degrees out of phase "
-                     "with the model's mode shape: its sign is probably opposite to the convention of Meijaard et "
-                     "al. (2007) (check the layout's scale factor); the mode shapes are left out of the evidence")
+                     "with the model's mode shape: its sign (or the roll rate's) is probably opposite to the "
+                     "convention of Meijaard et al. (2007) (check the layout's scale factors); the mode shapes are "
+                     "left out of the evidence")
     elif is_scaled(shapes.ratios):
         notes.append(f"the measured {shapes.signals[0]} per {shapes.signals[1]} in the weave is "
                      f"{scale_text(scale_offset(shapes.ratios))}: check the units and the layout's scale factors; "

@@ -226,7 +226,8 @@ class MeasuredRuns(Sequence[RunMeasurement]):
         name = " (the seed paper's fit)" if self.options.method == "seed-paper" else ""
         sign = ""
         if self.steer_sign == "opposite to the model's":
-            sign = "; the steer signal's sign is opposite to the model's, so the roll rate was fitted alone"
+            sign = ("; the steer signal's sign is opposite to the model's (or the roll rate's is), so the roll rate "
+                    "was fitted alone")
         elif "times the model's" in self.steer_sign:
             sign = f"; the weave's steer per roll rate is {self.steer_sign}, so the roll rate was fitted alone"
         if self.speed_units is not None:

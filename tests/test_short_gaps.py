@@ -110,3 +110,14 @@ def test_a_row_sent_twice_is_dropped_and_a_time_repeated_with_other_values_is_re
     assert main(["fit", str(path)]) == 2
     assert capsys.readouterr().err == (f"whipple fit: error: {path}: time repeats with other values than the row "
                                        "before at data row 501 (t = 5 s)\n")
+
+
+def test_the_cubic_across_two_missing_samples_is_off_a_fast_weave_by_at_most_5e_5_of_its_amplitude():
+    time = np.arange(0.0, 0.1, 0.01)
+    worst = 0.0
+    for phase in np.linspace(0.0, 2 * np.pi, 73):
+        weave = np.sin(10.0 * time + phase)  # 10 rad/s, unit amplitude
+        signals = {"roll_rate": np.where(np.isin(np.arange(time.size), [4, 5]), np.nan, weave)}
+        fill_short_gaps(time, signals)
+        worst = max(worst, float(np.max(np.abs(signals["roll_rate"] - weave))))
+    assert 1e-5 < worst <= 5e-5

@@ -12,12 +12,13 @@ A gap of at most :data:`FILLED_GAP` of missing samples holds nothing the window 
 span that time), so it is filled: a missing row gets the time between its neighbours and every
 signal a value from the cubic through the two samples on each side (a straight line where a
 side has one; a speedometer's pulses always a straight line, since a cubic overshoots a pulse's
-edge). The cubic's error on a weave of angular frequency w across a gap of duration g is of
-order (w g)^4 / 24 of its amplitude: below 1e-4 for a weave of 10 rad/s across 0.03 s, far
-below any sensor's noise. Each filled sample stands for the mean of its neighbours and carries
-less noise than a measured one, so a record with a share p of its samples filled weighs its
-windows' noise and uncertainty as if it held up to about p more samples than it does; the
-run's notes count the filled samples. Longer gaps, and those at a record's ends, stay gaps.
+edge). The cubic's error grows as the fourth power of the weave's angular frequency times the
+gap: for a weave of 10 rad/s and two missing samples at 100 Hz it is at most 5e-5 of the
+weave's amplitude (over every phase), far below any sensor's noise. Each filled sample stands
+for the mean of its neighbours and carries less noise than a measured one, so a record with a
+share p of its samples filled weighs its windows' noise and uncertainty as if it held up to
+about p more samples than it does; the run's notes count the filled samples. Longer gaps, and
+those at a record's ends, stay gaps.
 """
 
 from __future__ import annotations

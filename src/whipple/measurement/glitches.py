@@ -3,8 +3,8 @@
 A logger's bit error or a loose connector leaves a single sample far from its neighbours (a roll
 rate of 1e6 rad/s, or of 50 rad/s in a run whose weave swings by 1 rad/s). Fitted as data, such a
 sample ruins the fit of its window and the noise figure of the run, and through them every
-other window; left out (NaN, a gap), it costs at most the window that holds it, which the window
-finder cuts there.
+other window; left out (NaN, a gap), it is filled from its neighbours when the run is read
+(:mod:`whipple.measurement.short_gaps`) and costs no window.
 
 The rule, for each sample x[i] of one signal:
 

@@ -96,17 +96,14 @@ def _fill(time: NDArray[np.float64], values: NDArray[np.float64], most: int, lin
     if not missing:
         return np.array([], dtype=np.intp)
     finite = np.isfinite(values)
-    targets, nodes = [], []
+    targets = []
     for a, b in missing:
         before = [i for i in (a - 2, a - 1) if i >= 0 and finite[i]]
         after = [i for i in (b, b + 1) if i < values.size and finite[i]]
-        if linear or len(before) < 2 or len(after) < 2:
-            before, after = [a - 1], [b]
+        used = before + after if not linear and len(before) == 2 and len(after) == 2 else [a - 1, b]
         for k in range(a, b):
+            # The polynomial through the nodes, in powers of the time from the missing sample: its
+            # value there is the constant coefficient.
+            values[k] = np.polynomial.polynomial.polyfit(time[used] - time[k], values[used], len(used) - 1)[0]
             targets.append(k)
-            nodes.append(before + after)
-    for k, used in zip(targets, nodes, strict=True):
-        # The polynomial through the nodes, in powers of the time from the missing sample: its
-        # value there is the constant coefficient.
-        values[k] = np.polynomial.polynomial.polyfit(time[used] - time[k], values[used], len(used) - 1)[0]
     return np.array(targets, dtype=np.intp)

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 from whipple.measurement.experiment import WindowMeasurement
 from whipple.model.fleet import Model
 from whipple.model.parameters import Bicycle
-from whipple.stability.nearest_modes import near_oscillation, nearest_oscillations
+from whipple.stability.nearest_modes import nearest_oscillations
 
 #: The factors on the logged speed the diagnosis explains (the ``speed_scale`` cause's bounds).
 SPEED_SCALE_RANGE = (0.5, 2.0)
@@ -72,14 +72,14 @@ def speed_multiples(bicycle: Bicycle, speeds: NDArray[np.float64], eigenvalues: 
     """
     grid = speeds[:, None] * MULTIPLES[None, :]
     targets = np.broadcast_to(eigenvalues[:, None], grid.shape)
-    predicted, _ = nearest_oscillations(bicycle, grid.ravel(), targets.ravel())
-    predicted = predicted.reshape(grid.shape)
+    predicted, near_grid = nearest_oscillations(bicycle, grid.ravel(), targets.ravel())
+    predicted, near_grid = predicted.reshape(grid.shape), near_grid.reshape(grid.shape)
     distance = np.where(np.isfinite(predicted), np.abs(predicted - targets), np.inf)
     best = np.argmin(distance, axis=1)
     rows = np.arange(speeds.size)
-    found = np.isfinite(distance[rows, best])
-    near = found & near_oscillation(predicted[rows, best], eigenvalues)
-    return np.where(found, MULTIPLES[best], np.nan), near, distance[rows, best] / np.abs(eigenvalues)
+    closest = distance[rows, best]
+    found = np.isfinite(closest)
+    return np.where(found, MULTIPLES[best], np.nan), found & near_grid[rows, best], closest / np.abs(eigenvalues)
 
 
 def speed_unit_problem(bicycle: Model, measurements: Sequence[WindowMeasurement]) -> str | None:
@@ -108,8 +108,7 @@ def speed_unit_problem(bicycle: Model, measurements: Sequence[WindowMeasurement]
         return None
     speeds = np.array([speed for speed, _ in pairs], dtype=np.float64)
     eigenvalues = np.array([eigenvalue for _, eigenvalue in pairs], dtype=np.complex128)
-    at_logged, _ = nearest_oscillations(bicycle, speeds, eigenvalues)
-    near_logged = near_oscillation(at_logged, eigenvalues)
+    _, near_logged = nearest_oscillations(bicycle, speeds, eigenvalues)
     if np.mean(near_logged) > 1 - AGREEING:
         return None
     multiples, near, distance = speed_multiples(bicycle, speeds, eigenvalues)

@@ -24,6 +24,7 @@ from numpy.typing import NDArray
 from whipple.errors import RunFileError
 from whipple.input_files import open_binary, text_lines
 from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
+from whipple.measurement.units_row import is_units_row, unit_factors
 from whipple.number_text import may_hold_other_numbers, parse_number
 
 #: Most data rows (samples) of a run file: 27.8 hours at 100 Hz.
@@ -67,7 +68,10 @@ class RunTable:
     signals : dict of str to ndarray
         The wanted columns by run-file name (NaN for gaps), unscaled.
     notes : list of str
-        What was ignored (unknown columns, gaps).
+        What was ignored (unknown columns, gaps) or converted.
+    units : dict of str to float
+        Factors to SI units of run-file columns whose unit a row of units under the header
+        gives in other units (:mod:`whipple.measurement.units_row`); not yet applied.
     """
 
     layout: RunLayout
@@ -76,6 +80,7 @@ class RunTable:
     names: list[str] = field(default_factory=list)
     signals: dict[str, NDArray[np.float64]] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    units: dict[str, float] = field(default_factory=dict)
 
 
 class _Gzip:
@@ -144,6 +149,7 @@ class _Reader:
         self.rows = 0
         self.row_limit = max_samples
         self.header_done = False
+        self.units_row_possible = False
 
     def read(self, blocks: Any) -> RunTable:
         number = 0
@@ -225,8 +231,9 @@ class _Reader:
                 continue
             layout = self.table.layout
             if layout.header:
-                self._set_names([name.strip() for name in stripped.split(layout.delimiter)])
+                self._set_names([_unquoted(name) for name in stripped.split(layout.delimiter)])
                 self.header_done = True
+                self.units_row_possible = True
                 return k + 1
             self._set_names(list(layout.names))
             self.header_done = True
@@ -242,7 +249,7 @@ class _Reader:
         wanted = layout.column_map(names)
         unknown = [n for n in names if n not in wanted and n not in layout.ignore]
         if unknown:
-            table.notes.append(f"ignored unknown column(s): {', '.join(unknown)}")
+            table.notes.append(f"ignored unknown column(s): {', '.join(name or '(unnamed)' for name in unknown)}")
         missing = [n for n in layout.columns if n not in names and not table.native]
         if missing:
             table.notes.append(f"layout column(s) not in the file: {', '.join(missing)}")
@@ -257,6 +264,18 @@ class _Reader:
     def _data(self, numbers: range | list[int], rows: list[str]) -> None:
         """Parse data rows (stripped, with their line numbers) into the wanted columns."""
         assert self.table is not None
+        joined = "".join(rows)
+        if '"' in joined:
+            # Quoted cells (spreadsheet and R exports): numbers never hold a quote.
+            rows = [row.replace('"', "") for row in rows]
+            joined = joined.replace('"', "")
+        if self.units_row_possible:
+            self.units_row_possible = False
+            if self._units_row(numbers[0], rows[0]):
+                numbers, rows = numbers[1:], rows[1:]
+                joined = "".join(rows)
+                if not rows:
+                    return
         self.rows += len(rows)
         if self.rows > self.row_limit:
             raise RunFileError(f"more than {self.row_limit:,} data rows: too long a run (whipple reads at most "
@@ -264,7 +283,7 @@ class _Reader:
         names = self.table.names
         width = len(names)
         cells = _cells(rows, numbers, width, self.table.layout.delimiter, self.source)
-        plain = not may_hold_other_numbers("".join(rows))
+        plain = not may_hold_other_numbers(joined)
         # All cells at once (reading one column's cells from the list would cost more than
         # reading every column), then the wanted columns.
         table = _numbers(cells, plain).reshape(len(rows), width)
@@ -293,6 +312,28 @@ class _Reader:
                 gaps.count += int(gap_rows.size)
                 gaps.text = gaps.text or bool(text.any())
             self.columns[column].append(values)
+
+
+    def _units_row(self, number: int, row: str) -> bool:
+        """Read the row under the header if it is a row of units (no number in it); say whether it was."""
+        assert self.table is not None
+        cells = row.split(self.table.layout.delimiter)
+        if len(cells) != len(self.table.names) or not is_units_row(cells):
+            return False
+        units = {self.wanted[name]: cell for name, cell in zip(self.table.names, cells, strict=True)
+                 if name in self.wanted}
+        factors, notes = unit_factors(units, number, set(self.table.layout.scale), self.source)
+        self.table.units.update(factors)
+        self.table.notes.extend(notes)
+        return True
+
+
+def _unquoted(name: str) -> str:
+    """Return a header cell without surrounding blanks and one pair of quotes around it."""
+    name = name.strip()
+    if len(name) >= 2 and name[0] == name[-1] and name[0] in "\"'":
+        return name[1:-1].strip()
+    return name
 
 
 def _name_hint(names: list[str]) -> str:

@@ -215,7 +215,7 @@ def read_run(
     source = str(path)
     table = read_run_table(path, layout, source)
     active, signals, metadata, warnings = table.layout, table.signals, table.metadata, table.notes
-    for name, factor in active.scale.items():
+    for name, factor in {**table.units, **active.scale}.items():
         if name in signals:
             signals[name] *= factor
     if "time" in signals and np.isnan(signals["time"]).all():

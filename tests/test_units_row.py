@@ -1,0 +1,96 @@
+"""Run files as spreadsheets and loggers export them: a row of units under the header, quoted cells."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from whipple.errors import RunFileError
+from whipple.measurement.runs import read_run
+from whipple.measurement.units_row import is_units_row, unit_factors
+
+N, RATE = 300, 100.0
+
+
+def _signals():
+    t = np.arange(N) / RATE
+    return {"time": t, "roll_rate": 0.1 * np.sin(6 * t), "steer_angle": 0.01 * np.cos(6 * t),
+            "speed": 4.5 - 0.01 * t}
+
+
+def _text(units=None, factors=None, quote=False):
+    signals = _signals()
+    factors = factors or {}
+    names = list(signals)
+    q = (lambda cell: f'"{cell}"') if quote else (lambda cell: cell)
+    lines = [",".join(q(name) for name in names)]
+    if units is not None:
+        lines.append(",".join(q(units.get(name, "")) for name in names))
+    for i in range(N):
+        lines.append(",".join(q(repr(float(signals[name][i] * factors.get(name, 1.0)))) for name in names))
+    return "\n".join(lines) + "\n"
+
+
+def _read(tmp_path, text):
+    path = tmp_path / "run.csv"
+    path.write_text(text)
+    return path, read_run(path)
+
+
+def test_units_row_in_other_units_is_converted_to_si(tmp_path):
+    units = {"time": "ms", "roll_rate": "[deg/s]", "steer_angle": "°", "speed": "km/h"}
+    factors = {"time": 1000.0, "roll_rate": 180 / math.pi, "steer_angle": 180 / math.pi, "speed": 3.6}
+    path, run = _read(tmp_path, _text(units, factors))
+    truth = _signals()
+    np.testing.assert_allclose(run.time, truth["time"], atol=1e-12)
+    np.testing.assert_allclose(run.signals["roll_rate"], truth["roll_rate"], atol=1e-12)
+    np.testing.assert_allclose(run.signals["steer_angle"], truth["steer_angle"], atol=1e-12)
+    np.testing.assert_allclose(run.speed(), truth["speed"], atol=1e-12)
+    (note,) = [w for w in run.warnings if "row of units" in w]
+    assert "line 2" in note and "roll_rate from [deg/s] to rad/s" in note and "speed from km/h to m/s" in note
+    assert path.read_text() == _text(units, factors)
+
+
+def test_units_row_in_si_units_or_blank_is_skipped_without_change(tmp_path):
+    _, plain = _read(tmp_path, _text())
+    for units in ({"time": "s", "roll_rate": "rad s^-1", "steer_angle": "(rad)", "speed": "m/s"},
+                  {"time": "-", "roll_rate": "-"}):
+        _, run = _read(tmp_path, _text(units))
+        assert run.time.size == N
+        np.testing.assert_array_equal(run.signals["roll_rate"], plain.signals["roll_rate"])
+        assert not [w for w in run.warnings if "row of units" in w]
+
+
+def test_unknown_unit_of_a_read_column_is_refused_naming_it(tmp_path):
+    path = tmp_path / "run.csv"
+    path.write_text(_text({"roll_rate": "V"}))
+    with pytest.raises(RunFileError) as caught:
+        read_run(path)
+    message = str(caught.value)
+    assert str(path) in message and "line 2" in message and "'V' for roll_rate" in message
+    assert "\n" not in message
+
+
+def test_quoted_header_and_cells_are_read(tmp_path):
+    _, plain = _read(tmp_path, _text())
+    _, quoted = _read(tmp_path, _text(quote=True))
+    np.testing.assert_array_equal(quoted.signals["roll_rate"], plain.signals["roll_rate"])
+    np.testing.assert_array_equal(quoted.time, plain.time)
+    # R's write.csv: a first column of row names with an empty quoted header.
+    rows = _text().splitlines()
+    r_text = "\n".join(['"",' + ",".join(f'"{n}"' for n in rows[0].split(","))]
+                       + [f'"{i}",{row}' for i, row in enumerate(rows[1:], 1)]) + "\n"
+    _, r_run = _read(tmp_path, r_text)
+    np.testing.assert_array_equal(r_run.signals["roll_rate"], plain.signals["roll_rate"])
+    assert "ignored unknown column(s): (unnamed)" in r_run.warnings
+
+
+def test_units_row_recognition():
+    assert is_units_row(["s", "rad/s", ""])
+    assert not is_units_row(["0.1", "rad/s"])  # a number: a data row
+    assert not is_units_row(["nan", "deg"])  # NaN is a number (a gap)
+    assert not is_units_row(["", " "])
+    factors, notes = unit_factors({"roll_rate": "deg/s", "speed": "mph"}, 7, {"roll_rate"}, "f.csv")
+    assert factors == {"speed": pytest.approx(0.44704)} and "line 7" in notes[0]  # a layout's scale wins

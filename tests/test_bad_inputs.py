@@ -370,8 +370,8 @@ CASES: dict[str, Builder] = {
                                                                                           "1e99999"))},
                                                      ["fit", "{d}/run.csv"], "run.csv",
                                                      "column 'roll_rate': value 1e99999 is too large (infinite)"),
-    "fit semicolons": lambda d, t, r: _check({"run.csv": r.replace(",", ";")}, ["fit", "{d}/run.csv"], "run.csv",
-                                             "missing roll_rate column (the header is one column 'time;roll_rate;"),
+    "fit bars": lambda d, t, r: _check({"run.csv": r.replace(",", "|")}, ["fit", "{d}/run.csv"], "run.csv",
+                                       "missing roll_rate column (the header is one column 'time|roll_rate|"),
     "fit UTF-16 run": lambda d, t, r: _check({"run.csv": r.encode("utf-16")}, ["fit", "{d}/run.csv"], "run.csv",
                                              "not UTF-8 text but UTF-16"),
     "evaluate no usable window": lambda d, t, r: _check(

@@ -94,3 +94,16 @@ def test_units_row_recognition():
     assert not is_units_row(["", " "])
     factors, notes = unit_factors({"roll_rate": "deg/s", "speed": "mph"}, 7, {"roll_rate"}, "f.csv")
     assert factors == {"speed": pytest.approx(0.44704)} and "line 7" in notes[0]  # a layout's scale wins
+
+
+@pytest.mark.parametrize(("delimiter", "decimal", "note"), [(";", ",", "';'"), ("\t", ".", "tabs"), ("\t", ",", "tabs"),
+                                                             (" ", ".", "blanks")])
+def test_native_file_separated_otherwise_is_read(tmp_path, delimiter, decimal, note):
+    _, plain = _read(tmp_path, _text())
+    lines = _text().splitlines()
+    other = "\n".join(line.replace(",", delimiter).replace(".", decimal) for line in lines) + "\n"
+    _, run = _read(tmp_path, other)
+    np.testing.assert_array_equal(run.signals["roll_rate"], plain.signals["roll_rate"])
+    np.testing.assert_array_equal(run.time, plain.time)
+    assert f"columns separated by {note}" in run.warnings
+    assert ("decimal commas read as points" in run.warnings) == (decimal == ",")

@@ -14,7 +14,7 @@ import gzip
 import itertools
 import re
 import zlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import IO, Any
 
 import fastnumbers
@@ -150,6 +150,8 @@ class _Reader:
         self.row_limit = max_samples
         self.header_done = False
         self.units_row_possible = False
+        self.decimal_comma_possible = False
+        self.decimal_comma = False
 
     def read(self, blocks: Any) -> RunTable:
         number = 0
@@ -229,6 +231,8 @@ class _Reader:
                     self.metadata_lines[key] = offset + k + 1
                     self.metadata[key] = value.strip()
                 continue
+            if self.table.native and "," not in stripped:
+                self._sniff_delimiter(stripped)
             layout = self.table.layout
             if layout.header:
                 self._set_names([_unquoted(name) for name in stripped.split(layout.delimiter)])
@@ -239,6 +243,24 @@ class _Reader:
             self.header_done = True
             return k
         return None
+
+    def _sniff_delimiter(self, header: str) -> None:
+        """Take a native header without commas as separated by the tab, ``;`` or blanks it has.
+
+        Spreadsheets in locales with a decimal comma write ``;`` between cells, and many loggers
+        and MATLAB write tabs or spaces; the column names are the spec's all the same. Their
+        cells are then read with a decimal comma too (:meth:`_data`).
+        """
+        assert self.table is not None
+        delimiter = next((d for d in ("\t", ";") if d in header), None)
+        if delimiter is None and len(header.split()) > 1:
+            delimiter = ""
+        if delimiter is None:
+            return
+        self.table.layout = replace(self.table.layout, delimiter=delimiter or None)
+        shown = {"\t": "tabs", ";": "';'", "": "blanks"}[delimiter]
+        self.table.notes.append(f"columns separated by {shown}")
+        self.decimal_comma_possible = True
 
     def _set_names(self, names: list[str]) -> None:
         assert self.table is not None
@@ -269,6 +291,15 @@ class _Reader:
             # Quoted cells (spreadsheet and R exports): numbers never hold a quote.
             rows = [row.replace('"', "") for row in rows]
             joined = joined.replace('"', "")
+        if self.decimal_comma_possible and ("," in joined or "." in joined):
+            self.decimal_comma_possible = False
+            # Commas and no point in cells not separated by commas: a decimal comma.
+            self.decimal_comma = "," in joined and "." not in joined
+            if self.decimal_comma:
+                self.table.notes.append("decimal commas read as points")
+        if self.decimal_comma:
+            rows = [row.replace(",", ".") for row in rows]
+            joined = joined.replace(",", ".")
         if self.units_row_possible:
             self.units_row_possible = False
             if self._units_row(numbers[0], rows[0]):

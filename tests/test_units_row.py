@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from datetime import datetime, timedelta
 
 import numpy as np
 import pytest
@@ -107,3 +108,21 @@ def test_native_file_separated_otherwise_is_read(tmp_path, delimiter, decimal, n
     np.testing.assert_array_equal(run.time, plain.time)
     assert f"columns separated by {note}" in run.warnings
     assert ("decimal commas read as points" in run.warnings) == (decimal == ",")
+
+
+def test_time_column_of_dates_and_times_is_read_as_seconds(tmp_path):
+    _, plain = _read(tmp_path, _text())
+    lines = _text().splitlines()
+    start = datetime(2026, 12, 7, 23, 59, 59, 500000)  # crosses midnight
+    rows = []
+    for line in lines[1:]:
+        time, rest = line.split(",", 1)
+        rows.append(f"{(start + timedelta(seconds=float(time))).isoformat(' ', 'milliseconds')},{rest}")
+    _, run = _read(tmp_path, "\n".join([lines[0], *rows]) + "\n")
+    np.testing.assert_allclose(run.time, plain.time, atol=1e-9)
+    np.testing.assert_array_equal(run.signals["roll_rate"], plain.signals["roll_rate"])
+    assert "time read from dates and times, 0 s at 2026-12-07 23:59:59.500000" in run.warnings
+    path = tmp_path / "run.csv"
+    path.write_text("\n".join([lines[0], *rows[:100], "tea time," + rows[100].split(",", 1)[1], *rows[101:]]) + "\n")
+    with pytest.raises(RunFileError, match="line 102, column 'time': non-numeric value 'tea time'"):
+        read_run(path)

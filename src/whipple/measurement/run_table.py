@@ -15,6 +15,7 @@ import itertools
 import re
 import zlib
 from dataclasses import dataclass, field, replace
+from datetime import datetime
 from typing import IO, Any
 
 import fastnumbers
@@ -24,6 +25,7 @@ from numpy.typing import NDArray
 from whipple.errors import RunFileError
 from whipple.input_files import open_binary, text_lines
 from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
+from whipple.measurement.time_stamps import seconds_since
 from whipple.measurement.units_row import is_units_row, unit_factors
 from whipple.number_text import may_hold_other_numbers, parse_number
 
@@ -152,6 +154,7 @@ class _Reader:
         self.units_row_possible = False
         self.decimal_comma_possible = False
         self.decimal_comma = False
+        self.clock_origin: datetime | None = None
 
     def read(self, blocks: Any) -> RunTable:
         number = 0
@@ -322,6 +325,13 @@ class _Reader:
             j = names.index(column)
             values = table[:, j].copy()
             text = _text_cells(values, cells, j, width)
+            if target == "time" and text.any():
+                stamped = seconds_since(cells[j::width], self.clock_origin)
+                if stamped is not None:
+                    values, text, origin = stamped
+                    if self.clock_origin is None:
+                        self.table.notes.append(f"time read from dates and times, 0 s at {origin.isoformat(' ')}")
+                    self.clock_origin = origin
             if target in NUMERIC and text.any():
                 bad = int(np.argmax(text))
                 raise RunFileError(f"line {numbers[bad]}, column '{column}': non-numeric value "

@@ -10,7 +10,7 @@ import pytest
 from whipple.cli import main
 from whipple.measurement.experiment import measure_run
 from whipple.measurement.runs import read_run
-from whipple.measurement.short_gaps import fill_short_gaps, longest_filled
+from whipple.measurement.short_gaps import fill_short_gaps, fill_speed_gaps, longest_filled
 
 
 def _weave(time: np.ndarray) -> np.ndarray:
@@ -121,3 +121,43 @@ def test_the_cubic_across_two_missing_samples_is_off_a_fast_weave_by_at_most_5e_
         fill_short_gaps(time, signals)
         worst = max(worst, float(np.max(np.abs(signals["roll_rate"] - weave))))
     assert 1e-5 < worst <= 5e-5
+
+
+@pytest.mark.parametrize("speed_rate", [1.0, 10.0])
+def test_a_speed_logged_at_a_lower_rate_is_filled_and_costs_no_window(run_file, tmp_path, speed_rate):
+    clean = [m for m in measure_run(read_run(run_file)) if m.fit is not None]
+    lines = run_file.read_text(encoding="utf-8").splitlines()
+    header = next(k for k, line in enumerate(lines) if not line.startswith("#"))
+    names = lines[header].split(",")
+    speed_column, every = names.index("speed"), int(round(100 / speed_rate))
+    rows = []
+    for k, line in enumerate(lines[header + 1:]):
+        cells = line.split(",")
+        if k % every:
+            cells[speed_column] = ""
+        rows.append(",".join(cells))
+    path = tmp_path / "sparse.csv"
+    path.write_text("\n".join([*lines[:header + 1], *rows]) + "\n", encoding="utf-8")
+    run = read_run(path)
+    assert any("filled by straight lines (a speed logged at a lower rate" in note for note in run.warnings)
+    fitted = [m for m in measure_run(run) if m.fit is not None]
+    assert len(fitted) == len(clean) == 3
+    for a, b in zip(clean, fitted, strict=True):
+        assert abs(a.fit.start - b.fit.start) < 0.1 and abs(a.fit.stop - b.fit.stop) < 0.1
+        # The simulated speed sensor's noise is 0.02 m/s; a speed from one sample in 100 moves by that.
+        assert abs(a.speed.mean - b.speed.mean) < 0.05
+    assert np.isnan(read_run(path, filled_gap=0.0).signals["speed"]).sum() > 0  # asked not to fill
+
+
+def test_speed_gaps_are_filled_by_straight_lines_up_to_two_seconds():
+    time = np.arange(0.0, 10.0, 0.01)
+    speed = 5.0 - 0.05 * time
+    sparse = speed.copy()
+    sparse[101:300] = np.nan  # 2 s between measured speeds: filled
+    sparse[401:702] = np.nan  # 3 s: stays a gap
+    sparse[950:] = np.nan  # at the end: no speed after it
+    notes = fill_speed_gaps(time, sparse)
+    assert np.allclose(sparse[101:300], speed[101:300])
+    assert np.isnan(sparse[401:702]).all() and np.isnan(sparse[950:]).all()
+    assert notes == ["speed: 199 missing sample(s) in gaps of up to 2 s filled by straight lines (a speed logged at "
+                     "a lower rate than the other signals?)"]

@@ -22,7 +22,7 @@ from whipple.measurement.glitches import DEFAULT_RULE, GlitchRule, find_glitches
 from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout
 from whipple.measurement.record_gaps import contiguous
 from whipple.measurement.run_table import read_run_table
-from whipple.measurement.short_gaps import FILLED_GAP, fill_short_gaps
+from whipple.measurement.short_gaps import FILLED_GAP, fill_short_gaps, fill_speed_gaps
 from whipple.measurement.speedometer import speedometer_speed
 from whipple.number_text import parse_number
 from whipple.simulation.run_limits import MAX_SPEED, MIN_DURATION, MIN_SAMPLE_RATE
@@ -239,6 +239,8 @@ def read_run(
         warnings += _leave_out_glitches(signals, time, glitches)
     time, filled = fill_short_gaps(time, signals, filled_gap)
     warnings += filled
+    if "speed" in signals and filled_gap > 0:
+        warnings += fill_speed_gaps(time, signals["speed"])
     speed = signals.get("speed")
     fastest = float(np.nanmax(np.abs(speed), initial=0.0)) if speed is not None else 0.0
     if "speed" in metadata and speed is None:

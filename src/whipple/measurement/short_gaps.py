@@ -19,6 +19,12 @@ for the mean of its neighbours and carries less noise than a measured one, so a 
 share p of its samples filled weighs its windows' noise and uncertainty as if it held up to
 about p more samples than it does; the run's notes count the filled samples. Longer gaps, and
 those at a record's ends, stay gaps.
+
+The forward speed is filled further (:func:`fill_speed_gaps`): loggers that merge a GPS or a
+wheel sensor read at 1-10 Hz into the rows of an inertial sensor read at 100 Hz or more leave
+the speed's cells empty in between, and every window would have a gap. A speed changes slowly
+(a coasting bicycle loses 0.02-0.08 m/s per second, steadily), so a straight line between
+speeds up to :data:`SPEED_GAP` apart follows it to far below a speed sensor's noise.
 """
 
 from __future__ import annotations
@@ -33,6 +39,9 @@ from whipple.measurement.record_gaps import JUMP, contiguous
 FILLED_GAP = 0.02
 #: Signals filled by straight lines only: a speedometer's pulses.
 LINEAR_ONLY = ("speedometer",)
+#: Longest stretch without a forward speed that is filled by a straight line [s]: a speed
+#: logged at 0.5 Hz or faster.
+SPEED_GAP = 2.0
 
 
 def longest_filled(step: float, longest: float = FILLED_GAP) -> int:
@@ -107,3 +116,25 @@ def _fill(time: NDArray[np.float64], values: NDArray[np.float64], most: int, lin
             values[k] = np.polynomial.polynomial.polyfit(time[used] - time[k], values[used], len(used) - 1)[0]
             targets.append(k)
     return np.array(targets, dtype=np.intp)
+
+
+def fill_speed_gaps(time: NDArray[np.float64], speed: NDArray[np.float64], longest: float = SPEED_GAP) -> list[str]:
+    """Fill the gaps of up to `longest` [s] between forward speeds in place, by straight lines; return notes.
+
+    Parameters
+    ----------
+    time : ndarray, shape (n,)
+        Sample times [s], strictly increasing.
+    speed : ndarray, shape (n,)
+        Forward speed [m/s], NaN where a row has none; gaps at the record's ends stay.
+    longest : float
+        Longest gap filled [s] (0 fills none).
+    """
+    steps = np.diff(time)
+    if longest <= 0 or not steps.size or not np.isnan(speed).any():
+        return []
+    filled = _fill(time, speed, longest_filled(float(np.median(steps)), longest), linear=True)
+    if not filled.size:
+        return []
+    return [f"speed: {filled.size} missing sample(s) in gaps of up to {longest:g} s filled by straight lines (a "
+            "speed logged at a lower rate than the other signals?)"]

@@ -229,7 +229,7 @@ def read_run(
         if name in signals and np.isnan(signals[name]).all():
             raise RunFileError(f"column {name} has no values (every cell empty or NaN)", source)
     warnings += _leave_out_beyond_any_bicycle(signals, source)
-    time, sample_rate = _time_base(signals, metadata, active, len(signals["roll_rate"]), source, warnings)
+    time, sample_rate = _time_base(signals, metadata, active, table.names, source, warnings)
     if time[-1] - time[0] < min_duration:
         raise RunFileError(
             f"run too short ({time[-1] - time[0]:.3g} s; at least {min_duration:g} s needed)", source
@@ -324,7 +324,7 @@ def _time_base(
     signals: dict[str, NDArray[np.float64]],
     metadata: dict[str, str],
     layout: RunLayout,
-    n: int,
+    names: list[str],
     source: str,
     warnings: list[str],
 ) -> tuple[NDArray[np.float64], float]:
@@ -359,9 +359,13 @@ def _time_base(
     elif layout.sample_rate is not None:
         rate = layout.sample_rate
     else:
-        raise RunFileError("no time column and no sample_rate", source)
+        near = [name for name in names if re.fullmatch(r"(t|time|times|timestamps?|seconds|elapsed)([\s_]*[\[(].*)?",
+                                                       name.strip().lower())]
+        hint = (f" (the header has {near[0][:40]!r}: the exact name is time, in s; a layout's [columns] maps another "
+                "name)") if near else ""
+        raise RunFileError(f"no time column and no sample_rate{hint}", source)
     _check_sample_rate(rate, "from sample_rate", source)
-    return np.arange(n) / rate, rate
+    return np.arange(len(signals["roll_rate"])) / rate, rate
 
 
 def _repeated_rows(time: NDArray[np.float64], signals: dict[str, NDArray[np.float64]]) -> NDArray[np.bool_]:

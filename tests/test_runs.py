@@ -100,8 +100,8 @@ def test_speed_from_speedometer_and_from_metadata(tmp_path):
         (native_text().replace("4.500000", "fast", 1), "column 'speed': non-numeric value 'fast'"),
         (native_text().replace("4.500000\n", "4.500000,9\n", 1), "line 2 has 5 fields, the header has 4"),
         (native_text(time_column=False), "no time column and no sample_rate"),
-        (native_text().replace("time,", "Time [s],", 1), "no time column and no sample_rate (the header has 'Time [s]': "
-                                                          "the exact name is time"),
+        (native_text().replace("time,", "Time [s],", 1),
+         "no time column and no sample_rate (the header has 'Time [s]': the exact name is time"),
         ("# sample_rate: quick\n" + native_text(time_column=False), "'sample_rate' is not a number"),
         ("# speed: 3\n# sample_rate: 100\nroll_rate,speedometer\n" + "0,1\n" * 300,
          "missing metadata 'wheel_radius'"),

@@ -29,7 +29,7 @@ from whipple.diagnosis.families import cause_pairs, general_forms
 from whipple.diagnosis.fitting import fit_cause, pinned_values
 from whipple.diagnosis.model_terms import is_term
 from whipple.diagnosis.observations import Observation, predicted_weave, speed_groups
-from whipple.diagnosis.offer import offer
+from whipple.diagnosis.offer import group_errors, offer
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.diagnosis.registry import candidate_causes
 from whipple.distributed import map_ordered
@@ -168,10 +168,9 @@ def _predictive_choice(bicycle: Model, training: Sequence[Observation], causes: 
     best: tuple[float, int, Cause, tuple[float, ...]] | None = None
     for cause in causes:
         values = fit_cause(bicycle, cause, training).values
-        errors = [np.abs(measured[group] - predicted_weave(with_cause(bicycle, cause, inner),
-                                                           [training[i] for i in group]))
-                  for group, inner in zip(groups, refits_without(bicycle, cause, training, values, groups),
-                                          strict=True)]
+        refits = refits_without(bicycle, cause, training, values, groups)
+        models = [with_cause(bicycle, cause, inner) for inner in refits]
+        errors = group_errors(models, training, groups)
         score = (rms(np.concatenate(errors)), len(cause.parameters), cause, values)
         if best is None or score[:2] < best[:2]:
             best = score

@@ -52,7 +52,7 @@ from whipple.diagnosis.evaluation import rms
 from whipple.diagnosis.evidence import Diagnosis
 from whipple.diagnosis.fitting import CauseFit
 from whipple.diagnosis.instrument import InstrumentErrors
-from whipple.diagnosis.observations import predicted_weave
+from whipple.diagnosis.observations import Observation, predicted_weave
 from whipple.diagnosis.options import DiagnosisOptions
 from whipple.model.fleet import Model
 
@@ -234,6 +234,12 @@ def held_out_errors(bicycle: Model, cause: Cause | None, fit: CauseFit | None, d
             refits = refits_without(bicycle, cause, observations, fit.values, groups, scales, diagnosis.comparison,
                                     instrument)
         models = [with_cause(bicycle, cause, values) for values in refits]
+    return group_errors(models, observations, groups)
+
+
+def group_errors(models: Sequence[Model], observations: Sequence[Observation], groups: Sequence[Sequence[int]]
+                 ) -> list[NDArray[np.float64]]:
+    """Return ``|measured - predicted|`` weave eigenvalues [1/s] of each group's windows, each by its own model."""
     errors = []
     for group, model in zip(groups, models, strict=True):
         held = [observations[i] for i in group]

@@ -99,6 +99,14 @@ def _column(lines: list[str], column: str, value: str) -> list[str]:
                             for line in lines[h + 1:]]
 
 
+def _drifting_roll_rate(lines: list[str]) -> list[str]:
+    """The run with a roll rate that drifts slowly and never oscillates."""
+    h = _header_index(lines)
+    j = lines[h].split(",").index("roll_rate")
+    return lines[:h + 1] + [",".join(f"{1e-4 * i:.6f}" if k == j else cell for k, cell in enumerate(line.split(",")))
+                            for i, line in enumerate(lines[h + 1:])]
+
+
 DEVICE_COMMANDS = {
     "fit": ["fit", "DEV"],
     "sweep": ["sweep", "DEV", "-o", "{d}/out.csv"],
@@ -374,8 +382,12 @@ CASES: dict[str, Builder] = {
                                        "missing roll_rate column (the header is one column 'time|roll_rate|"),
     "fit UTF-16 run": lambda d, t, r: _check({"run.csv": r.encode("utf-16")}, ["fit", "{d}/run.csv"], "run.csv",
                                              "not UTF-8 text but UTF-16"),
-    "evaluate no usable window": lambda d, t, r: _check(
+    "evaluate roll rate never changes": lambda d, t, r: _check(
         {"run.csv": _runs(r, lambda x: _column(x, "roll_rate", "0"))},
+        ["evaluate", "{d}/run.csv", "--bicycle", "benchmark", "--no-samples"], "run.csv",
+        "roll_rate never changes (a sensor not connected?): nothing to fit"),
+    "evaluate no usable window": lambda d, t, r: _check(
+        {"run.csv": _runs(r, _drifting_roll_rate)},
         ["evaluate", "{d}/run.csv", "--bicycle", "benchmark", "--no-samples"], "run.csv",
         "no usable window with a fitted weave eigenvalue in "),
     "check tiny wheelbase": lambda d, t, r: _check({"b.toml": _set(t, "w", "1e-300")}, ["check", "{d}/b.toml"],

@@ -18,7 +18,9 @@ import pytest
 from whipple.cli import main
 from whipple.measurement.bundled import bundled_runs
 from whipple.measurement.experiment import diagnosis_signals, measure_run
+from whipple.measurement.measure import measure_runs
 from whipple.measurement.runs import read_run
+from whipple.model.parameters import load_bicycle
 
 HEADER = "sil_command,speed,lean_angle,lean_rate,hand_angle,fork_angle,fork_rate,lean_torque,hand_torque," \
          "x_acceleration,y_acceleration,command_fork,command_hand"
@@ -99,7 +101,12 @@ def test_a_gap_in_a_used_column_splits_windows_and_is_reported(lines, original, 
     start, stop, _ = windows[1]
     middle = int(round((start + stop) / 2 * 100))
     gap = range(middle - 20, middle + 20)
-    run = read_run(_write(tmp_path / "gap.log", _blank(lines, column, gap)))
+    path = _write(tmp_path / "gap.log", _blank(lines, column, gap))
+    if column == "speed":
+        # A speed gap of up to 2 s is filled by a straight line (a speed logged at a lower rate):
+        # no gap is left; read without filling, it is a gap as any other.
+        assert not any(m.rejected and m.rejected.startswith("gap") for m in measure_run(read_run(path)))
+    run = read_run(path, filled_gap=0.0)
     measured = measure_run(run)
     for m in measured:
         if m.fit is not None:
@@ -170,3 +177,21 @@ def test_the_diagnosis_fits_the_steer_angle_only_where_it_loses_no_window(lines,
     assert "steer_angle" not in (no_steer := read_run(_write(tmp_path / "no_steer.log", without))).signals
     assert diagnosis_signals([full, no_steer]) == ("roll_rate",)
     assert diagnosis_signals([]) == ("roll_rate",)
+
+
+def test_a_steer_angle_that_never_changes_is_not_fitted(lines, tmp_path, capsys):
+    j = lines[0].split(",").index("fork_angle")
+    stuck = [lines[0]] + [",".join(c if i != j else "0.0123" for i, c in enumerate(line.split(",")))
+                          for line in lines[1:]]
+    path = _write(tmp_path / "stuck.log", stuck)
+    run = read_run(path)
+    full = read_run(_write(tmp_path / "full.log", lines))
+    assert diagnosis_signals([run]) == diagnosis_signals([full, run]) == ("roll_rate",)
+    measured = measure_runs([run], bicycle=load_bicycle("sbw2024"))
+    assert measured.steer_sign == "constant in stuck"
+    assert "the steer angle does not change in stuck (a sensor not connected?), so the roll rate was fitted alone" \
+        in measured.describe()
+    assert any(m.usable for m in measured.windows)
+    # Named, it cannot be fitted: a one-line error, not a fit of a flat line.
+    assert main(["fit", str(path), "--signals", "roll_rate,steer_angle"]) == 2
+    assert "steer_angle never changes (a sensor not connected?): nothing to fit" in capsys.readouterr().err

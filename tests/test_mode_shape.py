@@ -75,6 +75,9 @@ def test_ratio_rejects_mismatched_or_short_windows():
         amplitude_ratio(fit, np.zeros(fit.time.size - 1), "steer_angle")
     with pytest.raises(NoOscillationError, match="half a weave period"):
         amplitude_ratio(fit, np.zeros(fit.time.size), "steer_angle", settle=fit.stop - fit.start)
+    # A steer angle stuck in the window (its weights would be infinite): no ratio, not a NaN.
+    with pytest.raises(NoOscillationError, match="steer_angle does not change in the window"):
+        amplitude_ratio(fit, np.full(fit.time.size, 0.0123), "steer_angle")
 
 
 def test_runs_without_a_steer_signal_have_no_shape():

@@ -20,6 +20,7 @@ from whipple.errors import InputError
 from whipple.measurement import catches
 from whipple.measurement.mode_shape import SETTLE, AmplitudeRatio, amplitude_ratio
 from whipple.measurement.runs import Run
+from whipple.measurement.signal_choice import JOINT_SIGNALS, constant_signal, diagnosis_signals
 from whipple.measurement.speedometer import SpeedRange, speed_regression
 from whipple.measurement.weavefit import BASELINES, NoOscillationError, WeaveFit, fit_window
 from whipple.measurement.windows import Window, WindowSearch, find_windows
@@ -256,39 +257,6 @@ class RunMeasurement(Sequence[WindowMeasurement]):
         return tuple(m for m in self.windows if m.fit is not None)
 
 
-#: The signals a diagnosis fits jointly where the runs measure both (:func:`diagnosis_signals`).
-JOINT_SIGNALS = ("roll_rate", "steer_angle")
-
-
-def diagnosis_signals(runs: Sequence[Run]) -> tuple[str, ...]:
-    """Return the signals a diagnosis fits jointly in every window of `runs`.
-
-    The roll rate and the steer angle (:data:`JOINT_SIGNALS`) when every run measures a steer
-    angle wherever it measures the roll rate; the roll rate alone, as in the seed paper, when
-    any run lacks a steer angle or has gaps in it that the roll rate has not (a joint fit would
-    lose the windows across them). The steer angle's weave sharpens the shared eigenvalue: on
-    the hidden-effect trials it gave more right names and fewer wrong ones (docs/diagnosis.md).
-
-    Parameters
-    ----------
-    runs : sequence of Run
-        The runs to be diagnosed together (their windows share one choice, so that every
-        window is fitted alike).
-
-    Returns
-    -------
-    tuple of str
-        Run-file signal names, the reference of the mode shape first.
-    """
-    return JOINT_SIGNALS if runs and all(_steer_measured_alike(run) for run in runs) else JOINT_SIGNALS[:1]
-
-
-def _steer_measured_alike(run: Run) -> bool:
-    """Whether `run` measures the steer angle at every sample where it measures the roll rate."""
-    steer = run.signals.get("steer_angle")
-    return steer is not None and bool(np.all(np.isfinite(steer) | ~np.isfinite(run.signals["roll_rate"])))
-
-
 def measure_run(run: Run, windows: Sequence[Window] | None = None, options: FitOptions | None = None,
                 **settings: Any) -> RunMeasurement:
     """Fit the weave in each window of a run (found automatically unless given).
@@ -315,6 +283,9 @@ def measure_run(run: Run, windows: Sequence[Window] | None = None, options: FitO
     missing = [name for name in options.signals if name not in run.signals]
     if missing:
         raise InputError(f"no {', '.join(missing)} signal to fit", run.source)
+    constant = [name for name in options.signals if constant_signal(run.signals[name])]
+    if constant:
+        raise InputError(f"{', '.join(constant)} never changes (a sensor not connected?): nothing to fit", run.source)
     speed = run.speed()
     # Windows never span a gap in what a fit reads: the fitted signals and the speed.
     valid = np.isfinite(speed) & np.logical_and.reduce([np.isfinite(run.signals[name]) for name in options.signals])

@@ -3,7 +3,7 @@
 :func:`measure_runs` is the measurement pipeline. For a set of runs it
 
 1. chooses the signals fitted jointly in every window (``signals="auto"``: the roll rate and the
-   steer angle where every run measures both, :func:`~whipple.measurement.experiment.diagnosis_signals`);
+   steer angle where every run measures both, :func:`~whipple.measurement.signal_choice.diagnosis_signals`);
 2. finds the free-coasting windows (or takes those of a windows file) and fits each one
    (:func:`~whipple.measurement.experiment.measure_run`: the weave eigenvalue, its speed, its
    mode shape; a window running past a hand's catch is cut before it);
@@ -36,12 +36,12 @@ from whipple.measurement.experiment import (
     FitOptions,
     RunMeasurement,
     WindowMeasurement,
-    diagnosis_signals,
     measure_run,
     with_short_windows,
 )
 from whipple.measurement.free_motion import set_aside_outlying
 from whipple.measurement.runs import Run, check_distinct_names
+from whipple.measurement.signal_choice import diagnosis_signals, steer_constant
 from whipple.measurement.speed_units import speed_unit_problem
 from whipple.measurement.steer_sign import steer_signal_check
 from whipple.measurement.windows import Window
@@ -177,7 +177,8 @@ class MeasuredRuns(Sequence[RunMeasurement]):
         What the steer signal's check found: ``"as the model's"``, ``"opposite to the model's"``
         or ``"<factor> times the model's (...)"`` (other units; in both the roll rate was then
         fitted alone: :func:`~whipple.measurement.steer_sign.steer_signal_check`), ``"not
-        checked"`` (no bicycle, or the signals were named) or ``"no steer signal"``.
+        checked"`` (no bicycle, or the signals were named), ``"no steer signal"`` or ``"constant in
+        <runs>"`` (a steer angle column whose values never change: the roll rate fitted alone).
     speed_units : str or None
         Given a bicycle, why the windows' speeds seem to be in other units than the model's
         (:func:`~whipple.measurement.speed_units.speed_unit_problem`); None when they do not
@@ -228,6 +229,9 @@ class MeasuredRuns(Sequence[RunMeasurement]):
         if self.steer_sign == "opposite to the model's":
             sign = ("; the steer signal's sign is opposite to the model's (or the roll rate's is), so the roll rate "
                     "was fitted alone")
+        elif self.steer_sign.startswith("constant in "):
+            sign = (f"; the steer angle does not change in {self.steer_sign.removeprefix('constant in ')} (a sensor "
+                    "not connected?), so the roll rate was fitted alone")
         elif "times the model's" in self.steer_sign:
             sign = f"; the weave's steer per roll rate is {self.steer_sign}, so the roll rate was fitted alone"
         if self.speed_units is not None:
@@ -313,7 +317,8 @@ def measure_runs(runs: Sequence[Run], options: MeasurementOptions | None = None,
             signals = signals[:1]
             measured = _measured(runs, windows, options, signals, progress, groups)
     elif auto and len(signals) == 1:
-        steer_sign = "no steer signal"
+        constant = [run.name for run in runs if steer_constant(run)]
+        steer_sign = f"constant in {', '.join(constant)}" if constant else "no steer signal"
     speed_units = speed_unit_problem(bicycle, measured.windows) if bicycle is not None else None
     return replace(measured, steer_sign=steer_sign, speed_units=speed_units)
 

@@ -120,6 +120,8 @@ def amplitude_ratio(fit: WeaveFit, values: ArrayLike, signal: str, noise: str = 
         raise NoOscillationError(f"under half a weave period left for the {signal} amplitude after {settle:g} s")
     tau = fit.time[keep] - fit.start
     measured = np.vstack([fit.measured[0][keep], y[keep]])
+    if not np.all(np.ptp(measured, axis=1) > 0):
+        raise NoOscillationError(f"{signal} does not change in the window")
     # Each signal counts by the inverse of its spread until its residual is known.
     weights = 1.0 / np.maximum(measured.std(axis=1), 1e-300)
 

@@ -25,7 +25,7 @@ from whipple.measurement.run_table import read_run_table
 from whipple.measurement.short_gaps import FILLED_GAP, fill_short_gaps, fill_speed_gaps
 from whipple.measurement.speedometer import speedometer_speed
 from whipple.number_text import parse_number
-from whipple.simulation.run_limits import MAX_SPEED, MIN_DURATION, MIN_SAMPLE_RATE
+from whipple.simulation.run_limits import MAX_RUN_SPEED, MIN_DURATION, MIN_SAMPLE_RATE
 from whipple.simulation.simulator import SimulatedRun
 
 __all__ = ["Readable", "Run", "contiguous", "run_from_simulation", "check_distinct_names", "check_same_bicycle",
@@ -245,9 +245,9 @@ def read_run(
     fastest = float(np.nanmax(np.abs(speed), initial=0.0)) if speed is not None else 0.0
     if "speed" in metadata and speed is None:
         fastest = _metadata_number(metadata, "speed", source)
-    if fastest > MAX_SPEED:
-        raise RunFileError(f"a speed of {fastest:.6g} m/s is beyond {MAX_SPEED:g} m/s, the fastest whipple analyses",
-                           source)
+    if fastest > MAX_RUN_SPEED:
+        raise RunFileError(f"a speed of {fastest:.6g} m/s: no bicycle rides faster than {MAX_RUN_SPEED:g} m/s (a speed "
+                           "in other units? a layout's [scale] converts it)", source)
     if speed is not None and np.nanmin(speed, initial=0.0) < 0:
         warnings.append(f"speed is negative in {int(np.sum(speed < 0))} sample(s): the model's forward speed is "
                         "positive, so no window there is fitted (flip the speed's sign with a layout's [scale] "
@@ -270,7 +270,7 @@ def read_run(
 #: rolls and steers at a few rad/s at most, and even a wrong unit (deg/s, mrad) stays below a
 #: few thousand. Beyond, a sample is a logger's error value or a corrupt cell.
 MAX_SIGNAL = 1e6
-#: Run-file columns whose magnitude is checked against MAX_SIGNAL (speed has MAX_SPEED; the
+#: Run-file columns whose magnitude is checked against MAX_SIGNAL (speed has MAX_RUN_SPEED; the
 #: time, a speedometer's and the battery's volts are no motion).
 _MOTION_COLUMNS = ("roll_rate", "yaw_rate", "steer_angle", "steer_rate", "roll_angle", "steer_torque")
 

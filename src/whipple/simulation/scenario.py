@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from whipple.errors import InputError
 from whipple.simulation.coasting import coasting_distance, coasting_speed, stopping_time
-from whipple.simulation.run_limits import MAX_SPEED, MAX_SPEED_NOISE_SHARE, MIN_DURATION, MIN_SAMPLE_RATE
+from whipple.simulation.run_limits import MAX_RUN_SPEED, MAX_SPEED_NOISE_SHARE, MIN_DURATION, MIN_SAMPLE_RATE
 
 __all__ = ["SIGNALS", "SETTINGS", "PUSH_SIGNS", "MAX_SAMPLES", "MAX_SAMPLES_MEMORY", "ScenarioError", "Push", "Sensor",
            "Sensors", "PERFECT_SENSORS", "MAX_MISALIGNMENT", "MAX_GYRO_SCALE_ERROR", "MAX_STEER_OFFSET",
@@ -349,9 +349,9 @@ class RunScenario:
                                 f"{sensor.bias:.3g} m/s) would write negative speeds: it must stay below "
                                 f"{MAX_SPEED_NOISE_SHARE:g} of the lowest speed ({lowest:.3g} m/s)")
         highest = self.speed + sensor.bias + 10 * sensor.noise
-        if highest > MAX_SPEED:
+        if highest > MAX_RUN_SPEED:
             raise ScenarioError(f"speeds up to {highest:.9g} m/s would be written (with the sensor's noise and bias); "
-                                f"whipple analyses speeds up to {MAX_SPEED:g} m/s")
+                                f"a run is read up to {MAX_RUN_SPEED:g} m/s, faster than any bicycle rides")
 
     def _check_pushes(self, pushes: tuple[Push, ...]) -> None:
         if not pushes:

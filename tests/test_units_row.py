@@ -126,3 +126,19 @@ def test_time_column_of_dates_and_times_is_read_as_seconds(tmp_path):
     path.write_text("\n".join([lines[0], *rows[:100], "tea time," + rows[100].split(",", 1)[1], *rows[101:]]) + "\n")
     with pytest.raises(RunFileError, match="line 102, column 'time': non-numeric value 'tea time'"):
         read_run(path)
+
+
+def test_units_after_the_column_names_are_read_and_converted(tmp_path):
+    _, plain = _read(tmp_path, _text())
+    factors = {"time": 1000.0, "roll_rate": 180 / math.pi, "steer_angle": 180 / math.pi, "speed": 3.6}
+    lines = _text(factors=factors).splitlines()
+    header = "time [ms],roll_rate (deg/s),steer_angle [°],speed (km/h)"
+    path, run = _read(tmp_path, "\n".join([header, *lines[1:]]) + "\n")
+    np.testing.assert_allclose(run.signals["roll_rate"], plain.signals["roll_rate"], atol=1e-12)
+    np.testing.assert_allclose(run.time, plain.time, atol=1e-12)
+    np.testing.assert_allclose(run.speed(), plain.speed(), atol=1e-12)
+    assert "the header (line 1): converted time from ms to s, roll_rate from deg/s to rad/s, steer_angle from ° to " \
+        "rad, speed from km/h to m/s" in run.warnings
+    path.write_text("\n".join([header.replace("deg/s", "V"), *lines[1:]]) + "\n")
+    with pytest.raises(RunFileError, match=r"line 1: the header gives 'V' for roll_rate, a unit whipple does not"):
+        read_run(path)

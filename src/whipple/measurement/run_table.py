@@ -26,7 +26,7 @@ from whipple.errors import RunFileError
 from whipple.input_files import open_binary, text_lines
 from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
 from whipple.measurement.time_stamps import seconds_since
-from whipple.measurement.units_row import is_units_row, unit_factors
+from whipple.measurement.units_row import is_units_row, named_units, unit_factors
 from whipple.number_text import may_hold_other_numbers, parse_number
 
 #: Most data rows (samples) of a run file: 27.8 hours at 100 Hz.
@@ -238,7 +238,7 @@ class _Reader:
                 self._sniff_delimiter(stripped)
             layout = self.table.layout
             if layout.header:
-                self._set_names([_unquoted(name) for name in stripped.split(layout.delimiter)])
+                self._set_names([_unquoted(name) for name in stripped.split(layout.delimiter)], offset + k + 1)
                 self.header_done = True
                 self.units_row_possible = True
                 return k + 1
@@ -265,9 +265,14 @@ class _Reader:
         self.table.notes.append(f"columns separated by {shown}")
         self.decimal_comma_possible = True
 
-    def _set_names(self, names: list[str]) -> None:
+    def _set_names(self, names: list[str], line: int = 0) -> None:
         assert self.table is not None
         table, layout = self.table, self.table.layout
+        if table.native:
+            names, units = named_units(names)
+            factors, notes = unit_factors(units, line, set(), self.source, "the header")
+            table.units.update(factors)
+            table.notes.extend(notes)
         if len(set(names)) != len(names):
             raise RunFileError("duplicate column names in the header", self.source)
         table.names = names

@@ -1,11 +1,13 @@
-"""A row of units under a run file's header, as many data loggers write it.
+"""Units given in a run file: a row of units under the header, or units after the column names.
 
 Loggers and spreadsheet exports often put each column's unit on the line after the column
 names (``s,deg/s,deg,km/h``). Such a row holds no number. Read as data it would stop the file
 at its first cell; skipped unread it would let a roll rate in deg/s pass for rad/s. So the row
 is read: a unit whipple knows is converted to the SI unit the run-file spec asks for (and
 said in the run's notes), an SI unit or an empty cell is taken as it is, and a unit whipple
-does not know, in a column it reads, is refused with the column named.
+does not know, in a column it reads, is refused with the column named. Other loggers write the
+unit after each column's name (``roll_rate (deg/s)``, ``speed [km/h]``): a run-file column so
+named is read as that column, in that unit (:func:`named_units`).
 """
 
 from __future__ import annotations
@@ -41,6 +43,24 @@ def _normalized(text: str) -> str:
     return re.sub(r"/sec$", "/s", unit)
 
 
+def named_units(names: list[str]) -> tuple[list[str], dict[str, str]]:
+    """Return header names without a unit in brackets after a run-file column's name, and those units.
+
+    ``roll_rate (deg/s)`` and ``speed [km/h]`` become ``roll_rate`` and ``speed``, with their units
+    ({"roll_rate": "deg/s", "speed": "km/h"}); other names are kept as they are, as is a name
+    whose bare form the header already holds.
+    """
+    bare, units = [], {}
+    for name in names:
+        match = re.fullmatch(r"(\w+)\s*[\[(]([^\])]*)[\])]", name)
+        if match and match.group(1) in SPEC_COLUMNS and match.group(1) not in names and match.group(1) not in units:
+            bare.append(match.group(1))
+            units[match.group(1)] = match.group(2)
+        else:
+            bare.append(name)
+    return bare, units
+
+
 def is_units_row(cells: list[str]) -> bool:
     """Whether a row's cells (quotes removed) hold no number and some text: a row of units."""
     stated = [cell.strip() for cell in cells if cell.strip()]
@@ -55,7 +75,8 @@ def is_units_row(cells: list[str]) -> bool:
     return True
 
 
-def unit_factors(units: dict[str, str], line: int, scaled: set[str], source: str) -> tuple[dict[str, float], list[str]]:
+def unit_factors(units: dict[str, str], line: int, scaled: set[str], source: str,
+                 where: str = "the row of units under the header") -> tuple[dict[str, float], list[str]]:
     """Return the factors to SI of a units row's columns, and a note that says what was converted.
 
     Parameters
@@ -70,6 +91,9 @@ def unit_factors(units: dict[str, str], line: int, scaled: set[str], source: str
         business, and is left alone.
     source : str
         The file's name, for messages.
+    where : str
+        What gives the units, for messages: the row under the header, or the header's names
+        (``roll_rate (deg/s)``).
 
     Raises
     ------
@@ -88,11 +112,11 @@ def unit_factors(units: dict[str, str], line: int, scaled: set[str], source: str
         factor = _FACTORS[si].get(unit)
         if factor is None:
             known = ", ".join(sorted(_FACTORS[si]))
-            raise RunFileError(f"line {line}: the row of units under the header gives {cell.strip()!r} for {column}, "
+            raise RunFileError(f"line {line}: {where} gives {cell.strip()!r} for {column}, "
                                f"a unit whipple does not convert (it knows {known}; a layout's [scale] converts "
                                "others)", source)
         if factor != 1.0:
             factors[column] = factor
             converted.append(f"{column} from {cell.strip()} to {si}")
-    notes = [f"the row of units under the header (line {line}): converted {', '.join(converted)}"] if converted else []
+    notes = [f"{where} (line {line}): converted {', '.join(converted)}"] if converted else []
     return factors, notes

@@ -142,3 +142,13 @@ def test_units_after_the_column_names_are_read_and_converted(tmp_path):
     path.write_text("\n".join([header.replace("deg/s", "V"), *lines[1:]]) + "\n")
     with pytest.raises(RunFileError, match=r"line 1: the header gives 'V' for roll_rate, a unit whipple does not"):
         read_run(path)
+
+
+def test_time_column_of_times_of_day_is_read_as_seconds(tmp_path):
+    _, plain = _read(tmp_path, _text())
+    lines = _text().splitlines()
+    start = datetime(2026, 12, 7, 10, 0, 0)
+    rows = [f"{(start + timedelta(seconds=float(line.split(',', 1)[0]))).time().isoformat('milliseconds')},"
+            f"{line.split(',', 1)[1]}" for line in lines[1:]]
+    _, run = _read(tmp_path, "\n".join([lines[0], *rows]) + "\n")
+    np.testing.assert_allclose(run.time, plain.time, atol=1e-9)

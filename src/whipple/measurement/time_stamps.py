@@ -1,13 +1,13 @@
 """A time column of dates and times, as phone apps and data loggers write it.
 
-Many loggers stamp each sample with its date and time (``2026-12-07 10:00:00.010``, ISO 8601)
-instead of seconds. Such a column is read as seconds since the file's first stamp, so that
-the run's time starts at 0 as a column of seconds would.
+Many loggers stamp each sample with its date and time (``2026-12-07 10:00:00.010``, ISO 8601),
+or its time of day alone (``10:00:00.010``), instead of seconds. Such a column is read as seconds
+since the file's first stamp, so that the run's time starts at 0 as a column of seconds would.
 """
 
 from __future__ import annotations
 
-from datetime import datetime
+from datetime import date, datetime, time
 
 import numpy as np
 from numpy.typing import NDArray
@@ -29,8 +29,9 @@ def seconds_since(cells: list[str], origin: datetime | None
     -------
     (ndarray, ndarray of bool, datetime) or None
         The times [s] (NaN where a cell is empty or not a stamp), where a non-empty cell is not
-        an ISO 8601 date and time (or has a time zone where the origin has none, or the other
-        way round), and the origin; None when no cell is a stamp.
+        an ISO 8601 date and time or time of day (or has a time zone where the origin has none,
+        or the other way round), and the origin; None when no cell is a stamp. Times of day
+        alone fall on one nominal day: a run across midnight goes back in time there.
     """
     values = np.full(len(cells), np.nan)
     unread = np.zeros(len(cells), dtype=bool)
@@ -39,7 +40,7 @@ def seconds_since(cells: list[str], origin: datetime | None
         if not cell:
             continue
         try:
-            stamp = datetime.fromisoformat(cell)
+            stamp = _stamp(cell)
             values[i] = (stamp - (origin or stamp)).total_seconds()
             origin = origin or stamp
         except (ValueError, TypeError):
@@ -47,3 +48,11 @@ def seconds_since(cells: list[str], origin: datetime | None
     if origin is None:
         return None
     return values, unread, origin
+
+
+def _stamp(cell: str) -> datetime:
+    """Return an ISO 8601 date and time, or a time of day alone (on one nominal day), as a datetime."""
+    try:
+        return datetime.fromisoformat(cell)
+    except ValueError:
+        return datetime.combine(date(2000, 1, 1), time.fromisoformat(cell))

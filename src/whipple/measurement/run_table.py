@@ -37,6 +37,10 @@ MAX_RUN_VALUES = 60_000_000
 #: Most lines of any kind (data, comments, blank lines) of a run file: twice its most rows.
 MAX_RUN_LINES = 2 * MAX_RUN_SAMPLES
 
+#: A number written with a decimal comma, and one with a decimal point.
+_COMMA_NUMBER = re.compile(r"[-+]?\d+,\d+([eE][-+]?\d+)?")
+_POINT_NUMBER = re.compile(r"[-+]?(\d+\.\d*|\.\d+)([eE][-+]?\d+)?")
+
 #: Columns whose cells must be numbers (or empty/NaN, a gap): the ones every analysis reads. A
 #: cell of text in another column (a logger's status word, a controller not yet switched on)
 #: only leaves a gap in that column.
@@ -203,7 +207,8 @@ class _Reader:
             if found is None:
                 return
             start = found
-        rows = list(map(str.strip, block[start:] if start else block))
+        chars = self._blanks()
+        rows = [row.strip(chars) for row in (block[start:] if start else block)]
         comment = self.comment
         numbers: range | list[int] = range(offset + start + 1, offset + len(block) + 1)
         # Nearly every block is rows only: no blank line, no comment, and no loop over its lines.
@@ -238,7 +243,8 @@ class _Reader:
                 self._sniff_delimiter(stripped)
             layout = self.table.layout
             if layout.header:
-                self._set_names([_unquoted(name) for name in stripped.split(layout.delimiter)], offset + k + 1)
+                header = line.strip(self._blanks())
+                self._set_names([_unquoted(name) for name in header.split(layout.delimiter)], offset + k + 1)
                 self.header_done = True
                 self.units_row_possible = True
                 return k + 1
@@ -246,6 +252,17 @@ class _Reader:
             self.header_done = True
             return k
         return None
+
+    def _blanks(self) -> str | None:
+        """Return the characters stripped from a line's ends: blanks, but not a delimiter that is one (a tab).
+
+        A tab-separated row whose first or last cell is empty starts or ends with a tab; stripped
+        of it, the row would lose that cell. None: every blank.
+        """
+        delimiter = self.table.layout.delimiter if self.table is not None else None
+        if delimiter is None or not delimiter.isspace():
+            return None
+        return "".join(c for c in " \t\r\n\x0b\x0c" if c != delimiter)
 
     def _sniff_delimiter(self, header: str) -> None:
         """Take a native header without commas as separated by the tab, ``;`` or blanks it has.
@@ -299,10 +316,15 @@ class _Reader:
             # Quoted cells (spreadsheet and R exports): numbers never hold a quote.
             rows = [row.replace('"', "") for row in rows]
             joined = joined.replace('"', "")
-        if self.decimal_comma_possible and ("," in joined or "." in joined):
-            self.decimal_comma_possible = False
-            # Commas and no point in cells not separated by commas: a decimal comma.
-            self.decimal_comma = "," in joined and "." not in joined
+        if self.decimal_comma_possible:
+            # Numbers with a comma and none with a point, in cells not separated by commas: a
+            # decimal comma (a cell of dates and times may hold a point all the same).
+            cells = [cell.strip() for row in rows[:100] for cell in row.split(self.table.layout.delimiter)]
+            comma = any(_COMMA_NUMBER.fullmatch(cell) for cell in cells)
+            point = any(_POINT_NUMBER.fullmatch(cell) for cell in cells)
+            if comma or point:
+                self.decimal_comma_possible = False
+                self.decimal_comma = comma and not point
             if self.decimal_comma:
                 self.table.notes.append("decimal commas read as points")
         if self.decimal_comma:

@@ -1,4 +1,4 @@
-"""Run files as spreadsheets and loggers export them: a row of units under the header, quoted cells."""
+"""Run files as spreadsheets, loggers and other tools write them: units, separators, quotes, time stamps."""
 
 from __future__ import annotations
 
@@ -8,7 +8,9 @@ from datetime import datetime, timedelta
 import numpy as np
 import pytest
 
+from whipple.cli import main
 from whipple.errors import RunFileError
+from whipple.measurement.experiment import measure_run
 from whipple.measurement.runs import read_run
 from whipple.measurement.units_row import is_units_row, unit_factors
 
@@ -152,3 +154,34 @@ def test_time_column_of_times_of_day_is_read_as_seconds(tmp_path):
             f"{line.split(',', 1)[1]}" for line in lines[1:]]
     _, run = _read(tmp_path, "\n".join([lines[0], *rows]) + "\n")
     np.testing.assert_allclose(run.time, plain.time, atol=1e-9)
+
+
+def test_a_logger_file_of_a_simulated_ground_run_gives_the_windows_of_the_plain_file(tmp_path):
+    """Tabs, decimal commas, a units row with an empty first cell, dates and times: the same fits."""
+    plain = tmp_path / "plain.csv"
+    assert main(["simulate", "--bicycle", "benchmark", "--speed", "5", "--setting", "ground", "--seed", "3",
+                 "--output", str(plain)]) == 0
+    lines = plain.read_text().splitlines()
+    meta = [line for line in lines if line.startswith("#")]
+    header, *rows = [line for line in lines if not line.startswith("#")]
+    names = header.split(",")
+    units = {"roll_rate": "deg/s", "yaw_rate": "deg/s", "steer_angle": "deg", "speed": "km/h"}
+    factors = {"roll_rate": 180 / math.pi, "yaw_rate": 180 / math.pi, "steer_angle": 180 / math.pi, "speed": 3.6}
+    start = datetime(2026, 5, 1, 9, 30)
+    logged = [*meta, "\t".join(names), "\t".join(units.get(name, "") for name in names)]
+    for row in rows:
+        cells = []
+        for name, cell in zip(names, row.split(","), strict=True):
+            if name == "time":
+                cells.append((start + timedelta(seconds=float(cell))).isoformat(" ", "microseconds"))
+            else:
+                cells.append(f"{float(cell) * factors.get(name, 1.0):.12g}".replace(".", ","))
+        logged.append("\t".join(cells))
+    logger = tmp_path / "logger.csv"
+    logger.write_text("\n".join(logged) + "\n")
+    ours = [m for m in measure_run(read_run(plain)) if m.fit is not None]
+    theirs = [m for m in measure_run(read_run(logger)) if m.fit is not None]
+    assert len(ours) == len(theirs) >= 2
+    for a, b in zip(ours, theirs, strict=True):
+        assert (a.window.start_index, a.window.stop_index) == (b.window.start_index, b.window.stop_index)
+        assert abs(a.fit.eigenvalue - b.fit.eigenvalue) < 1e-6 * abs(a.fit.eigenvalue)

@@ -76,8 +76,9 @@ class RunTable:
     notes : list of str
         What was ignored (unknown columns, gaps) or converted.
     units : dict of str to float
-        Factors to SI units of run-file columns whose unit a row of units under the header
-        gives in other units (:mod:`whipple.measurement.units_row`); not yet applied.
+        Factors to SI units of run-file columns whose unit the header (after a column's name) or
+        a row of units under it gives in other units (:mod:`whipple.measurement.units_row`);
+        not yet applied.
     """
 
     layout: RunLayout
@@ -380,7 +381,6 @@ class _Reader:
                 gaps.count += int(gap_rows.size)
                 gaps.text = gaps.text or bool(text.any())
             self.columns[column].append(values)
-
 
     def _units_row(self, number: int, row: str) -> bool:
         """Read the row under the header if it is a row of units (no number in it); say whether it was."""

@@ -143,8 +143,10 @@ def _complex(value: complex | None) -> str:
     return "" if value is None else f"{value.real:+.2f}{value.imag:+.2f}i"
 
 
-def _time(seconds: float) -> str:  # a mistyped window file may hold any number
-    return f"{seconds:7.2f}" if abs(seconds) < 1e6 else f"{seconds:7.2g}"
+def _time(seconds: float) -> str:
+    # Clock times (seconds since 1970: 1.7e9) keep their hundredths; a mistyped window file may
+    # hold any number.
+    return f"{seconds:7.2f}" if abs(seconds) < 1e12 else f"{seconds:7.2g}"
 
 
 def _print_table(measured: MeasuredRuns, modes: Modes) -> None:

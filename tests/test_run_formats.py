@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import json
 import math
 from datetime import datetime, timedelta
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -156,11 +158,8 @@ def test_time_column_of_times_of_day_is_read_as_seconds(tmp_path):
     np.testing.assert_allclose(run.time, plain.time, atol=1e-9)
 
 
-def test_a_logger_file_of_a_simulated_ground_run_gives_the_windows_of_the_plain_file(tmp_path):
-    """Tabs, decimal commas, a units row with an empty first cell, dates and times: the same fits."""
-    plain = tmp_path / "plain.csv"
-    assert main(["simulate", "--bicycle", "benchmark", "--speed", "5", "--setting", "ground", "--seed", "3",
-                 "--output", str(plain)]) == 0
+def _logger_file(plain: Path, target: Path) -> Path:
+    """Write a plain run file as a logger would: tabs, decimal commas, a units row, dates and times."""
     lines = plain.read_text().splitlines()
     meta = [line for line in lines if line.startswith("#")]
     header, *rows = [line for line in lines if not line.startswith("#")]
@@ -177,11 +176,38 @@ def test_a_logger_file_of_a_simulated_ground_run_gives_the_windows_of_the_plain_
             else:
                 cells.append(f"{float(cell) * factors.get(name, 1.0):.12g}".replace(".", ","))
         logged.append("\t".join(cells))
-    logger = tmp_path / "logger.csv"
-    logger.write_text("\n".join(logged) + "\n")
+    target.write_text("\n".join(logged) + "\n")
+    return target
+
+
+def test_a_logger_file_of_a_simulated_ground_run_gives_the_windows_of_the_plain_file(tmp_path):
+    """Tabs, decimal commas, a units row with an empty first cell, dates and times: the same fits."""
+    plain = tmp_path / "plain.csv"
+    assert main(["simulate", "--bicycle", "benchmark", "--speed", "5", "--setting", "ground", "--seed", "3",
+                 "--output", str(plain)]) == 0
+    logger = _logger_file(plain, tmp_path / "logger.csv")
     ours = [m for m in measure_run(read_run(plain)) if m.fit is not None]
     theirs = [m for m in measure_run(read_run(logger)) if m.fit is not None]
     assert len(ours) == len(theirs) >= 2
     for a, b in zip(ours, theirs, strict=True):
         assert (a.window.start_index, a.window.stop_index) == (b.window.start_index, b.window.stop_index)
         assert abs(a.fit.eigenvalue - b.fit.eigenvalue) < 1e-6 * abs(a.fit.eigenvalue)
+
+
+def test_diagnose_says_how_each_run_file_was_read(tmp_path, capsys):
+    runs = []
+    for speed in (4.5, 5.5):
+        plain = tmp_path / f"plain_{speed}.csv"
+        assert main(["simulate", "--bicycle", "benchmark", "--speed", str(speed), "--seed", "1",
+                     "--output", str(plain)]) == 0
+        runs.append(_logger_file(plain, tmp_path / f"logger_{speed}.csv"))
+    capsys.readouterr()
+    report, data = tmp_path / "report", tmp_path / "diagnosis.json"
+    assert main(["diagnose", *map(str, runs), "--bicycle", "benchmark", "--report", str(report),
+                 "--json", str(data)]) == 0
+    printed = capsys.readouterr().out
+    assert "  note (logger_4.5): the row of units under the header (line " in printed
+    notes = json.loads(data.read_text())["measurement"]["run_notes"]
+    assert set(notes) == {"logger_4.5", "logger_5.5"} and "decimal commas read as points" in notes["logger_5.5"]
+    markdown = (report / "report.md").read_text()
+    assert "## How the run files were read" in markdown and "- logger_5.5: columns separated by tabs" in markdown

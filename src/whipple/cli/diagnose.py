@@ -177,6 +177,9 @@ def _print_report(report: DiagnosisReport, data: dict) -> None:
     runs = len({m.run.name for m in report.measurements})
     how = f"; {measured.describe()}" if measured is not None else ""
     print(f"{len(report.used)} windows used of {len(report.measurements)} ({runs} runs{how})")
+    for name, notes in ({} if measured is None else measured.run_notes).items():
+        for note in notes:
+            print(f"  note ({name}): {note}")
     if measured is not None and measured.short:
         print(f"  fewer than {MIN_WINDOWS} windows passed the checks: {measured.short} windows of "
               f"{SHORT_WINDOW_CYCLES:g} to {MIN_CYCLES:g} weave cycles are used, whose eigenvalues are less certain")

@@ -139,6 +139,10 @@ def report_markdown(report: DiagnosisReport, figures: dict[str, str], command: s
     lines += _cause_gains_markdown(report)
     if report.amplitude is not None:
         lines += ["", *amplitude_markdown(report.amplitude)]
+    notes = (data["measurement"] or {}).get("run_notes", {})
+    if notes:
+        lines += ["", "## How the run files were read", ""]
+        lines += [f"- {name}: {note}" for name, run_notes in notes.items() for note in run_notes]
     skipped = data["skipped_windows"]
     if skipped:
         lines += ["", "## Skipped windows", "", "| run | start [s] | stop [s] | reason |", "|---|---|---|---|"]

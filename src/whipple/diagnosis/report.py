@@ -552,7 +552,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "measurement": None if report.measured is None else {
             "signals": list(report.measured.signals), "steer_sign": report.measured.steer_sign,
             "method": report.measured.options.method, "windows": len(report.measurements),
-            "short_windows_used": report.measured.short},
+            "short_windows_used": report.measured.short, "run_notes": dict(report.measured.run_notes)},
     }
     if report.amplitude is not None:
         result["nonlinear_amplitude"] = report.amplitude.to_dict()

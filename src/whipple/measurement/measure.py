@@ -217,6 +217,11 @@ class MeasuredRuns(Sequence[RunMeasurement]):
         return tuple(m for m in self.windows if m.usable)
 
     @property
+    def run_notes(self) -> dict[str, tuple[str, ...]]:
+        """Return what reading each run noted (gaps filled, units converted, ...), by run; runs without any left out."""
+        return {run.run.name: run.run.warnings for run in self.runs if run.run.warnings}
+
+    @property
     def short(self) -> int:
         """Return how many usable windows are used though short (:func:`.experiment.with_short_windows`)."""
         return sum(any(note.startswith(SHORT_WINDOW_NOTE) for note in m.window.notes) for m in self.usable)

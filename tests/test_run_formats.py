@@ -211,3 +211,17 @@ def test_diagnose_says_how_each_run_file_was_read(tmp_path, capsys):
     assert set(notes) == {"logger_4.5", "logger_5.5"} and "decimal commas read as points" in notes["logger_5.5"]
     markdown = (report / "report.md").read_text()
     assert "## How the run files were read" in markdown and "- logger_5.5: columns separated by tabs" in markdown
+
+
+def test_column_names_other_than_the_specs_only_in_case_blanks_or_units_are_read(tmp_path):
+    _, plain = _read(tmp_path, _text())
+    lines = _text(factors={"roll_rate": 180 / math.pi}).splitlines()
+    _, run = _read(tmp_path, "\n".join(["Time,Roll Rate (deg/s),steer-angle,SPEED", *lines[1:]]) + "\n")
+    np.testing.assert_allclose(run.signals["roll_rate"], plain.signals["roll_rate"], atol=1e-12)
+    np.testing.assert_array_equal(run.signals["steer_angle"], plain.signals["steer_angle"])
+    np.testing.assert_array_equal(run.time, plain.time)
+    assert ("column names read as the run-file spec's: 'Time' as time, 'Roll Rate' as roll_rate, 'steer-angle' as "
+            "steer_angle, 'SPEED' as speed") in run.warnings
+    # A name the header already holds exactly keeps its column; the other is an unknown column.
+    _, both = _read(tmp_path, "\n".join(["time,roll_rate,Steer_Angle,speed", *_text().splitlines()[1:]]) + "\n")
+    assert "steer_angle" in both.signals

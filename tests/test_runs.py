@@ -89,8 +89,8 @@ def test_speed_from_speedometer_and_from_metadata(tmp_path):
         ("\n\n", "empty file"),
         ("time,steer_angle,speed\n0,1,2\n", "missing roll_rate column (the header has 'time', 'steer_angle', 'speed'; "
                                              "a layout's [columns] maps another name)"),
-        ("time,Roll_Rate (deg/s),speed\n0,1,2\n", "missing roll_rate column (the header has 'Roll_Rate (deg/s)': the "
-                                                    "exact name is roll_rate, in rad/s"),
+        ("time,gyro_x (deg/s),speed\n0,1,2\n", "missing roll_rate column (the header has 'time', 'gyro_x (deg/s)', "
+                                               "'speed'; a layout's [columns] maps another name)"),
         (native_text().replace("0.020000,", "0.005000,", 1), "not strictly increasing at data row 2"),
         (native_text(n=90), "too short"),
         (native_text(speed=False), "missing speed information"),
@@ -100,8 +100,8 @@ def test_speed_from_speedometer_and_from_metadata(tmp_path):
         (native_text().replace("4.500000", "fast", 1), "column 'speed': non-numeric value 'fast'"),
         (native_text().replace("4.500000\n", "4.500000,9\n", 1), "line 2 has 5 fields, the header has 4"),
         (native_text(time_column=False), "no time column and no sample_rate"),
-        (native_text().replace("time,", "Time [s],", 1),
-         "no time column and no sample_rate (the header has 'Time [s]': the exact name is time"),
+        (native_text().replace("time,", "timestamp,", 1),
+         "no time column and no sample_rate (the header has 'timestamp': the exact name is time"),
         ("# sample_rate: quick\n" + native_text(time_column=False), "'sample_rate' is not a number"),
         ("# speed: 3\n# sample_rate: 100\nroll_rate,speedometer\n" + "0,1\n" * 300,
          "missing metadata 'wheel_radius'"),

@@ -287,7 +287,9 @@ class _Reader:
         assert self.table is not None
         table, layout = self.table, self.table.layout
         if table.native:
-            names, units = named_units(names)
+            names, units, renamed = named_units(names)
+            if renamed:
+                table.notes.append(f"column names read as the run-file spec's: {', '.join(renamed)}")
             factors, notes = unit_factors(units, line, set(), self.source, "the header")
             table.units.update(factors)
             table.notes.extend(notes)

@@ -43,22 +43,40 @@ def _normalized(text: str) -> str:
     return re.sub(r"/sec$", "/s", unit)
 
 
-def named_units(names: list[str]) -> tuple[list[str], dict[str, str]]:
-    """Return header names without a unit in brackets after a run-file column's name, and those units.
+def named_units(names: list[str]) -> tuple[list[str], dict[str, str], list[str]]:
+    """Return header names read as run-file columns, the units given after them, and what was renamed.
 
-    ``roll_rate (deg/s)`` and ``speed [km/h]`` become ``roll_rate`` and ``speed``, with their units
-    ({"roll_rate": "deg/s", "speed": "km/h"}); other names are kept as they are, as is a name
-    whose bare form the header already holds.
+    A name that is a run-file column's but for case, blanks or hyphens for underscores, or a
+    unit in brackets after it (``Roll Rate (deg/s)``, ``speed [km/h]``), becomes that column
+    (``roll_rate``, ``speed``), with its unit ({"roll_rate": "deg/s", "speed": "km/h"}). Other
+    names are kept as they are, as is one whose column the header already names exactly (or
+    names twice).
+
+    Returns
+    -------
+    names : list of str
+        The header's names, renamed where they are a run-file column's.
+    units : dict of str to str
+        Run-file column -> the unit after its name.
+    renamed : list of str
+        The names renamed other than by their unit alone (``'Roll Rate' as roll_rate``), for the
+        run's notes.
     """
-    bare, units = [], {}
+    bare, units, renamed, taken = [], {}, [], set(names)
     for name in names:
-        match = re.fullmatch(r"(\w+)\s*[\[(]([^\])]*)[\])]", name)
-        if match and match.group(1) in SPEC_COLUMNS and match.group(1) not in names and match.group(1) not in units:
-            bare.append(match.group(1))
-            units[match.group(1)] = match.group(2)
-        else:
+        match = re.fullmatch(r"(.*?)\s*[\[(]([^\])]*)[\])]", name)
+        base, unit = (match.group(1), match.group(2)) if match else (name, None)
+        column = re.sub(r"[\s-]+", "_", base.strip().lower())
+        if name in SPEC_COLUMNS or column not in SPEC_COLUMNS or column in taken:
             bare.append(name)
-    return bare, units
+            continue
+        taken.add(column)
+        bare.append(column)
+        if unit is not None:
+            units[column] = unit
+        if base != column:
+            renamed.append(f"{base!r} as {column}")
+    return bare, units, renamed
 
 
 def is_units_row(cells: list[str]) -> bool:

@@ -225,3 +225,22 @@ def test_column_names_other_than_the_specs_only_in_case_blanks_or_units_are_read
     # A name the header already holds exactly keeps its column; the other is an unknown column.
     _, both = _read(tmp_path, "\n".join(["time,roll_rate,Steer_Angle,speed", *_text().splitlines()[1:]]) + "\n")
     assert "steer_angle" in both.signals
+
+
+def test_a_clock_restarted_for_each_trial_is_read_as_parts_with_a_gap(tmp_path):
+    signals = _signals()
+    lines = _text().splitlines()
+    rows = []
+    for k, line in enumerate(lines[1:]):
+        time, rest = line.split(",", 1)
+        rows.append(f"{float(time) - (1.5 if k >= 150 else 0.0)!r},{rest}")  # restarts at 0 after 1.5 s
+    _, run = _read(tmp_path, "\n".join([lines[0], *rows]) + "\n")
+    assert run.time.size == N and np.all(np.diff(run.time) > 0)
+    np.testing.assert_allclose(run.time[150] - run.time[149], 1.0, atol=1e-9)  # a pause of 1 s
+    np.testing.assert_array_equal(run.signals["roll_rate"], signals["roll_rate"])
+    assert any(note.startswith("time goes back at data row(s) 150 (a clock restarted?)") for note in run.warnings)
+    # A time that goes back by less than a second is disorder, not a restart: an error.
+    path = tmp_path / "run.csv"
+    path.write_text(_text().replace("\n0.5,", "\n0.3,", 1))
+    with pytest.raises(RunFileError, match="time is not strictly increasing at data row 50"):
+        read_run(path)

@@ -342,6 +342,19 @@ def _time_base(
         if time.size < 2:  # no step to take a sample rate from
             raise RunFileError(f"run too short (one sample; at least {MIN_DURATION:g} s needed)", source)
         steps = np.diff(time)
+        restarts = np.flatnonzero(steps <= -MIN_DURATION)
+        if restarts.size:
+            # A logger that appends trials to one file, its clock restarted for each: each part
+            # follows the one before after a pause that no window spans.
+            shift = np.zeros(time.size)
+            for k in restarts.tolist():
+                shift[k + 1:] += time[k] - time[k + 1] + CLOCK_RESTART_PAUSE
+            time = time + shift
+            steps = np.diff(time)
+            shown = ", ".join(str(int(rows[k + 1])) for k in restarts[:3].tolist())
+            shown += " ..." if restarts.size > 3 else ""
+            warnings.append(f"time goes back at data row(s) {shown} (a clock restarted?): each part read after the one "
+                            f"before it, {CLOCK_RESTART_PAUSE:g} s later (a gap no window spans)")
         if steps.size and not (steps > 0).all():
             bad = int(np.argmin(steps > 0)) + 1
             how = ("repeats with other values than the row before" if steps[bad - 1] == 0
@@ -366,6 +379,11 @@ def _time_base(
         raise RunFileError(f"no time column and no sample_rate{hint}", source)
     _check_sample_rate(rate, "from sample_rate", source)
     return np.arange(len(signals["roll_rate"])) / rate, rate
+
+
+#: Pause [s] put between the parts of a run whose clock restarts (time goes back by a second or
+#: more): a jump in time, a gap no window spans (far longer than a short gap that is filled).
+CLOCK_RESTART_PAUSE = 1.0
 
 
 def _repeated_rows(time: NDArray[np.float64], signals: dict[str, NDArray[np.float64]]) -> NDArray[np.bool_]:

@@ -194,7 +194,7 @@ def test_a_logger_file_of_a_simulated_ground_run_gives_the_windows_of_the_plain_
         assert abs(a.fit.eigenvalue - b.fit.eigenvalue) < 1e-6 * abs(a.fit.eigenvalue)
 
 
-def test_diagnose_says_how_each_run_file_was_read(tmp_path, capsys):
+def test_diagnose_and_evaluate_say_how_each_run_file_was_read(tmp_path, capsys):
     runs = []
     for speed in (4.5, 5.5):
         plain = tmp_path / f"plain_{speed}.csv"
@@ -211,6 +211,8 @@ def test_diagnose_says_how_each_run_file_was_read(tmp_path, capsys):
     assert set(notes) == {"logger_4.5", "logger_5.5"} and "decimal commas read as points" in notes["logger_5.5"]
     markdown = (report / "report.md").read_text()
     assert "## How the run files were read" in markdown and "- logger_5.5: columns separated by tabs" in markdown
+    assert main(["evaluate", *map(str, runs), "--bicycle", "benchmark", "--no-samples"]) == 0
+    assert "  note (logger_5.5): decimal commas read as points" in capsys.readouterr().out
 
 
 def test_column_names_other_than_the_specs_only_in_case_blanks_or_units_are_read(tmp_path):

@@ -115,6 +115,9 @@ def _evaluate_runs(args: argparse.Namespace, options: MeasurementOptions) -> Eva
         measured = measure_runs(runs, options, windows=windows, bicycle=next(iter(models.values())),
                                 progress=progress)
     print(f"{len(runs)} runs; {measured.describe()}; measured against {args.bicycle[0]}")
+    for name, notes in measured.run_notes.items():
+        for note in notes:
+            print(f"  note ({name}): {note}")
     return evaluate(measured, models, samples=not args.no_samples)
 
 

@@ -13,6 +13,7 @@ import pytest
 from whipple.cli import main
 from whipple.errors import RunFileError
 from whipple.measurement.experiment import measure_run
+from whipple.measurement.reference_windows import read_windows
 from whipple.measurement.runs import read_run
 from whipple.measurement.units_row import is_units_row, unit_factors
 
@@ -246,3 +247,13 @@ def test_a_clock_restarted_for_each_trial_is_read_as_parts_with_a_gap(tmp_path):
     path.write_text(_text().replace("\n0.5,", "\n0.3,", 1))
     with pytest.raises(RunFileError, match="time is not strictly increasing at data row 50"):
         read_run(path)
+
+
+@pytest.mark.parametrize("text", ["run,start,stop\nrun,0.5,2.5\n", "run;start;stop\nrun;0,5;2,5\n",
+                                  "run\tstart\tstop\nrun\t0.5\t2.5\n", '"run","start","stop"\n"run",0.5,2.5\n'])
+def test_windows_files_separated_otherwise_are_read(tmp_path, text):
+    _, run = _read(tmp_path, _text())
+    windows = tmp_path / "windows.csv"
+    windows.write_text(text)
+    (window,) = read_windows(windows, [run])
+    assert (window.start, window.stop) == (0.5, 2.5)

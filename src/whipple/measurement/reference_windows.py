@@ -61,8 +61,14 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
         raise RunFileError(f"cannot read windows file ({error})", source) from None
     except UnicodeDecodeError:
         raise RunFileError("not a UTF-8 text file", source) from None
+    lines = [line for line in text.splitlines() if not line.startswith("#")]
+    header = next((line for line in lines if line.strip()), "")
+    # As run files: a header without commas may be separated by tabs or ';' (and then the
+    # times may have a decimal comma).
+    delimiter = next((d for d in ("\t", ";") if "," not in header and d in header), ",")
+    decimal = (lambda cell: cell.replace(",", ".")) if delimiter != "," else (lambda cell: cell)
     try:
-        reader = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+        reader = csv.DictReader(lines, delimiter=delimiter)
         fields = set(reader.fieldnames or ())
         if len(fields) < len(reader.fieldnames or ()):  # which of two start columns is meant?
             raise RunFileError("duplicate column names in the header", source)
@@ -85,7 +91,7 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
             if by_rows:
                 first, last = _row_number(row["start_row"]), _row_number(row["stop_row"])
             else:
-                begin, finish = parse_number(row["start"] or ""), parse_number(row["stop"] or "")
+                begin, finish = parse_number(decimal(row["start"] or "")), parse_number(decimal(row["stop"] or ""))
         except ValueError:
             raise RunFileError(f"line {number}: bad start/stop value", source) from None
         if by_rows:

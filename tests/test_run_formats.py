@@ -257,3 +257,14 @@ def test_windows_files_separated_otherwise_are_read(tmp_path, text):
     windows.write_text(text)
     (window,) = read_windows(windows, [run])
     assert (window.start, window.stop) == (0.5, 2.5)
+
+
+def test_a_last_line_cut_short_is_left_out_and_one_inside_the_file_is_refused(tmp_path):
+    text = _text()
+    path, run = _read(tmp_path, text + "2.99,0.01\n")  # a logger that lost power mid-line
+    assert run.time.size == N
+    assert f"the last line ({N + 2}) has 2 of the header's 4 fields (a file cut short?): left out" in run.warnings
+    lines = text.splitlines()
+    path.write_text("\n".join([*lines[:10], "0.095,0.01", *lines[10:]]) + "\n")
+    with pytest.raises(RunFileError, match="line 11 has 2 fields, the header has 4"):
+        read_run(path)

@@ -160,6 +160,8 @@ class _Reader:
         self.decimal_comma_possible = False
         self.decimal_comma = False
         self.clock_origin: datetime | None = None
+        # The last row read, if it had too few fields: left out if no row follows it.
+        self.cut_short: tuple[int, int] | None = None
 
     def read(self, blocks: Any) -> RunTable:
         number = 0
@@ -172,6 +174,10 @@ class _Reader:
             raise RunFileError("empty file", self.source)
         if not self.header_done and self.table.layout.header:
             raise RunFileError("no header line", self.source)
+        if self.cut_short is not None:
+            number, fields = self.cut_short
+            self.table.notes.append(f"the last line ({number}) has {fields} of the header's {len(self.table.names)} "
+                                    "fields (a file cut short?): left out")
         if self.rows == 0:
             raise RunFileError("no data rows", self.source)
         table = self.table
@@ -340,6 +346,18 @@ class _Reader:
                 joined = "".join(rows)
                 if not rows:
                     return
+        if self.cut_short is not None:
+            # Rows follow it: not the file's last line, so a row with the wrong number of fields.
+            number, fields = self.cut_short
+            width = len(self.table.names)
+            raise RunFileError(f"line {number} has {fields} fields, the header has {width}", self.source)
+        last = rows[-1].split(self.table.layout.delimiter)
+        if len(last) < len(self.table.names):
+            # A logger that stopped mid-line (power lost) leaves its last line short.
+            self.cut_short = (int(numbers[-1]), len(last))
+            numbers, rows = numbers[:-1], rows[:-1]
+            if not rows:
+                return
         self.rows += len(rows)
         if self.rows > self.row_limit:
             raise RunFileError(f"more than {self.row_limit:,} data rows: too long a run (whipple reads at most "

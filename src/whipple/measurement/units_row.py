@@ -23,7 +23,8 @@ _DEGREE = math.pi / 180.0
 #: Factors to SI of the units each kind of spec column may be logged in (normalized spelling,
 #: see :func:`_normalized`).
 _FACTORS = {
-    "s": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6},
+    "s": {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6,
+          "μs": 1e-6},
     "rad/s": {"rad/s": 1.0, "deg/s": _DEGREE, "dps": _DEGREE},
     "rad": {"rad": 1.0, "deg": _DEGREE},
     "m/s": {"m/s": 1.0, "km/h": 1 / 3.6, "kmh": 1 / 3.6, "kph": 1 / 3.6, "mph": 0.44704},

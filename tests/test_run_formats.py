@@ -268,3 +268,14 @@ def test_a_last_line_cut_short_is_left_out_and_one_inside_the_file_is_refused(tm
     path.write_text("\n".join([*lines[:10], "0.095,0.01", *lines[10:]]) + "\n")
     with pytest.raises(RunFileError, match="line 11 has 2 fields, the header has 4"):
         read_run(path)
+
+
+def test_numbers_in_a_time_column_are_never_read_as_times_of_day(tmp_path):
+    """'1000' would be 10:00 and '20261207' a date as ISO 8601: a column with numbers is numbers."""
+    lines = _text().splitlines()
+    rows = [f"{1000 + 10 * k},{line.split(',', 1)[1]}" for k, line in enumerate(lines[1:])]
+    rows[5] = "---," + rows[5].split(",", 1)[1]
+    path = tmp_path / "run.csv"
+    path.write_text("\n".join([lines[0], *rows]) + "\n")
+    with pytest.raises(RunFileError, match="line 7, column 'time': non-numeric value '---'"):
+        read_run(path)

@@ -373,7 +373,8 @@ class _Reader:
             j = names.index(column)
             values = table[:, j].copy()
             text = _text_cells(values, cells, j, width)
-            if target == "time" and text.any():
+            if target == "time" and text.any() and not np.isfinite(values).any():
+                # A column of text only: dates and times (a number among them is no stamp).
                 stamped = seconds_since(cells[j::width], self.clock_origin)
                 if stamped is not None:
                     values, text, origin = stamped

@@ -279,3 +279,13 @@ def test_numbers_in_a_time_column_are_never_read_as_times_of_day(tmp_path):
     path.write_text("\n".join([lines[0], *rows]) + "\n")
     with pytest.raises(RunFileError, match="line 7, column 'time': non-numeric value '---'"):
         read_run(path)
+
+
+def test_metadata_values_may_carry_their_unit(tmp_path):
+    _, plain = _read(tmp_path, _text())
+    _, run = _read(tmp_path, "# sample_rate: 100 Hz\n# speed: 4.5 m/s\n" + _text())
+    np.testing.assert_array_equal(run.time, plain.time)
+    path = tmp_path / "run.csv"
+    path.write_text("# sample_rate: 100 kHz\n" + _text())
+    with pytest.raises(RunFileError, match=r"metadata 'sample_rate' is not a number \(in Hz\): '100 kHz'"):
+        read_run(path)

@@ -437,13 +437,22 @@ def _check_speed_source(
     )
 
 
+#: The unit a metadata value may carry after its number (``# sample_rate: 100 Hz``).
+_METADATA_UNITS = {"sample_rate": "Hz", "wheel_radius": "m", "speed": "m/s"}
+
+
 def _metadata_number(metadata: dict[str, str], key: str, source: str) -> float:
     if key not in metadata:
         raise RunFileError(f"missing metadata '{key}'", source)
+    text = metadata[key].strip()
+    unit = _METADATA_UNITS.get(key)
+    if unit is not None and text.lower().endswith(unit.lower()):
+        text = text[:-len(unit)].strip()
     try:
-        value = parse_number(metadata[key])
+        value = parse_number(text)
     except ValueError:
-        raise RunFileError(f"metadata '{key}' is not a number: '{metadata[key]}'", source) from None
+        known = f" (in {unit})" if unit else ""
+        raise RunFileError(f"metadata '{key}' is not a number{known}: '{metadata[key]}'", source) from None
     if not np.isfinite(value) or value <= 0:
         raise RunFileError(f"metadata '{key}' must be positive, got {metadata[key]}", source)
     return value

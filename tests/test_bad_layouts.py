@@ -266,7 +266,7 @@ def test_unicode_digits_in_a_run_file(tmp_path, run_text, capsys):
     # In metadata.
     path = write(tmp_path, "meta.csv", without_time(run_text, "").replace("# sample_rate: 100", "# sample_rate: ١٠٠"))
     line = cli_error(capsys, ["fit", path])
-    assert line == f"whipple fit: error: {path}: metadata 'sample_rate' is not a number: '١٠٠'"
+    assert line == f"whipple fit: error: {path}: metadata 'sample_rate' is not a number (in Hz): '١٠٠'"
 
 
 def test_unicode_digits_in_a_layout_and_a_windows_file(tmp_path, run_text, capsys):

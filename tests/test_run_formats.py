@@ -13,6 +13,7 @@ import pytest
 from whipple.cli import main
 from whipple.errors import RunFileError
 from whipple.measurement.experiment import measure_run
+from whipple.measurement.measure import measure_runs
 from whipple.measurement.reference_windows import read_windows
 from whipple.measurement.runs import read_run
 from whipple.measurement.units_row import is_units_row, unit_factors
@@ -289,3 +290,22 @@ def test_metadata_values_may_carry_their_unit(tmp_path):
     path.write_text("# sample_rate: 100 kHz\n" + _text())
     with pytest.raises(RunFileError, match=r"metadata 'sample_rate' is not a number \(in Hz\): '100 kHz'"):
         read_run(path)
+
+
+def test_a_roll_rate_in_degrees_per_second_without_a_steer_angle_is_named(tmp_path):
+    plain = tmp_path / "plain.csv"
+    assert main(["simulate", "--bicycle", "benchmark", "--speed", "5", "--seed", "2", "--no-steer-angle",
+                 "--output", str(plain)]) == 0
+    lines = plain.read_text().splitlines()
+    header = next(k for k, line in enumerate(lines) if not line.startswith("#"))
+    j = lines[header].split(",").index("roll_rate")
+    degrees = [*lines[:header + 1]]
+    for line in lines[header + 1:]:
+        cells = line.split(",")
+        cells[j] = repr(float(cells[j]) * 180 / math.pi)
+        degrees.append(",".join(cells))
+    path = tmp_path / "degrees.csv"
+    path.write_text("\n".join(degrees) + "\n")
+    assert measure_runs([read_run(plain)]).roll_units is None
+    measured = measure_runs([read_run(path)])
+    assert measured.roll_units is not None and "is the roll rate in deg/s?" in measured.describe()

@@ -40,6 +40,7 @@ from whipple.measurement.experiment import (
     with_short_windows,
 )
 from whipple.measurement.free_motion import set_aside_outlying
+from whipple.measurement.roll_units import roll_unit_problem
 from whipple.measurement.runs import Run, check_distinct_names
 from whipple.measurement.signal_choice import diagnosis_signals, steer_constant
 from whipple.measurement.speed_units import speed_unit_problem
@@ -183,6 +184,9 @@ class MeasuredRuns(Sequence[RunMeasurement]):
         Given a bicycle, why the windows' speeds seem to be in other units than the model's
         (:func:`~whipple.measurement.speed_units.speed_unit_problem`); None when they do not
         (or no bicycle was given).
+    roll_units : str or None
+        Why the roll rate seems to be in other units than rad/s: its weave implies leans beyond
+        lying flat (:func:`~whipple.measurement.roll_units.roll_unit_problem`); None when not.
     """
 
     runs: tuple[RunMeasurement, ...]
@@ -190,6 +194,7 @@ class MeasuredRuns(Sequence[RunMeasurement]):
     options: MeasurementOptions
     steer_sign: str = "not checked"
     speed_units: str | None = None
+    roll_units: str | None = None
 
     @overload
     def __getitem__(self, index: int) -> RunMeasurement: ...
@@ -241,6 +246,8 @@ class MeasuredRuns(Sequence[RunMeasurement]):
             sign = f"; the weave's steer per roll rate is {self.steer_sign}, so the roll rate was fitted alone"
         if self.speed_units is not None:
             sign += f"; {self.speed_units}"
+        if self.roll_units is not None:
+            sign += f"; {self.roll_units}"
         return f"fitted {signals}, baseline {self.options.baseline}{name}{sign}"
 
 
@@ -325,7 +332,8 @@ def measure_runs(runs: Sequence[Run], options: MeasurementOptions | None = None,
         constant = [run.name for run in runs if steer_constant(run)]
         steer_sign = f"constant in {', '.join(constant)}" if constant else "no steer signal"
     speed_units = speed_unit_problem(bicycle, measured.windows) if bicycle is not None else None
-    return replace(measured, steer_sign=steer_sign, speed_units=speed_units)
+    return replace(measured, steer_sign=steer_sign, speed_units=speed_units,
+                   roll_units=roll_unit_problem(measured.windows))
 
 
 def _measured(runs: Sequence[Run], windows: Sequence[Window] | None, options: MeasurementOptions,

@@ -20,7 +20,12 @@ from pathlib import Path
 
 from whipple.atomic import write_text_atomic
 from whipple.cli.arguments import add_rider_argument, bicycle_inputs, integer, number
-from whipple.cli.measurement_arguments import add_bundled_argument, add_measurement_arguments, measurement_options
+from whipple.cli.measurement_arguments import (
+    add_bundled_argument,
+    add_measurement_arguments,
+    measurement_options,
+    print_run_notes,
+)
 from whipple.cli.outputs import check_outputs, save_figure
 from whipple.cli.progress import ProgressBars
 from whipple.diagnosis.estimate_text import estimate_text
@@ -177,9 +182,8 @@ def _print_report(report: DiagnosisReport, data: dict) -> None:
     runs = len({m.run.name for m in report.measurements})
     how = f"; {measured.describe()}" if measured is not None else ""
     print(f"{len(report.used)} windows used of {len(report.measurements)} ({runs} runs{how})")
-    for name, notes in ({} if measured is None else measured.run_notes).items():
-        for note in notes:
-            print(f"  note ({name}): {note}")
+    if measured is not None:
+        print_run_notes(measured)
     if measured is not None and measured.short:
         print(f"  fewer than {MIN_WINDOWS} windows passed the checks: {measured.short} windows of "
               f"{SHORT_WINDOW_CYCLES:g} to {MIN_CYCLES:g} weave cycles are used, whose eigenvalues are less certain")

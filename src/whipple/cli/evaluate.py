@@ -23,7 +23,12 @@ import json
 from pathlib import Path
 
 from whipple.atomic import write_text_atomic
-from whipple.cli.measurement_arguments import add_bundled_argument, add_measurement_arguments, measurement_options
+from whipple.cli.measurement_arguments import (
+    add_bundled_argument,
+    add_measurement_arguments,
+    measurement_options,
+    print_run_notes,
+)
 from whipple.cli.outputs import check_outputs
 from whipple.cli.progress import ProgressBars
 from whipple.diagnosis.evaluation import Evaluation, evaluate, evaluate_experiment
@@ -115,9 +120,7 @@ def _evaluate_runs(args: argparse.Namespace, options: MeasurementOptions) -> Eva
         measured = measure_runs(runs, options, windows=windows, bicycle=next(iter(models.values())),
                                 progress=progress)
     print(f"{len(runs)} runs; {measured.describe()}; measured against {args.bicycle[0]}")
-    for name, notes in measured.run_notes.items():
-        for note in notes:
-            print(f"  note ({name}): {note}")
+    print_run_notes(measured)
     return evaluate(measured, models, samples=not args.no_samples)
 
 

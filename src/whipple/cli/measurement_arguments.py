@@ -13,7 +13,7 @@ from whipple.cli.arguments import number
 from whipple.errors import InputError
 from whipple.measurement.bundled import BUNDLED_EXPERIMENTS, DEFAULT_EXPERIMENT
 from whipple.measurement.experiment import MIN_CYCLES_ABOVE_NOISE
-from whipple.measurement.measure import METHODS, MeasurementOptions
+from whipple.measurement.measure import METHODS, MeasuredRuns, MeasurementOptions
 
 
 def add_measurement_arguments(parser: argparse.ArgumentParser) -> None:
@@ -80,3 +80,10 @@ def measurement_options(args: argparse.Namespace) -> MeasurementOptions:
     return MeasurementOptions(signals=signals, baseline=args.baseline or "auto", noise=args.noise,
                               settle=args.settle, min_cycles_above_noise=args.min_cycles_above_noise,
                               set_aside=not args.keep_outliers)
+
+
+def print_run_notes(measured: MeasuredRuns) -> None:
+    """Print what reading each run noted (gaps filled, units converted, ...), one ``note (run):`` line each."""
+    for name, notes in measured.run_notes.items():
+        for note in notes:
+            print(f"  note ({name}): {note}")

@@ -280,7 +280,7 @@ def _check(forced: ForcedBicycle, measurement: WindowMeasurement, speed: float, 
     if "roll_rate" not in fit.signal_names:
         return replace(check, note="no roll rate fitted")
     cosine, sine = fit.coefficients[fit.signal_names.index("roll_rate"), -2:]
-    check = replace(check, amplitude=float(np.hypot(cosine, sine)))
+    check = replace(check, amplitude=fit.amplitude("roll_rate"))
     shape = measurement.shape
     if shape is not None and (shape.signal, shape.reference) == ("steer_angle", "roll_rate"):
         check = replace(check, measured_steer_amplitude=float(abs(shape.ratio)) * check.amplitude)

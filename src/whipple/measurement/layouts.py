@@ -154,6 +154,17 @@ class RunLayout:
         return wanted
 
 
+def other_delimiter(header: str) -> str | None:
+    """Return the tab or ``;`` that separates a header line without commas, if it holds one.
+
+    Spreadsheets in locales with a decimal comma write ``;`` between cells, and many loggers tabs;
+    run files and windows files with the spec's column names are read so without a layout.
+    """
+    if "," in header:
+        return None
+    return next((delimiter for delimiter in ("\t", ";") if delimiter in header), None)
+
+
 def builtin_layouts() -> tuple[str, ...]:
     """Names of the layouts shipped with whipple."""
     folder = resources.files("whipple.data").joinpath("layouts")

@@ -18,6 +18,7 @@ import numpy as np
 from whipple.atomic import write_text_atomic
 from whipple.errors import RunFileError
 from whipple.input_files import read_small_file
+from whipple.measurement.layouts import other_delimiter
 from whipple.measurement.runs import Readable, Run, run_name
 from whipple.measurement.windows import Window
 from whipple.number_text import parse_integer, parse_number
@@ -65,7 +66,7 @@ def read_windows(path: str | Path | Readable, runs: Sequence[Run] | None = None)
     header = next((line for line in lines if line.strip()), "")
     # As run files: a header without commas may be separated by tabs or ';' (and then the
     # times may have a decimal comma).
-    delimiter = next((d for d in ("\t", ";") if "," not in header and d in header), ",")
+    delimiter = other_delimiter(header) or ","
     decimal = (lambda cell: cell.replace(",", ".")) if delimiter != "," else (lambda cell: cell)
     try:
         reader = csv.DictReader(lines, delimiter=delimiter)

@@ -41,8 +41,7 @@ def roll_unit_problem(measurements: Sequence[WindowMeasurement]) -> str | None:
     leans = []
     for m in measurements:
         if m.usable and m.fit is not None and "roll_rate" in m.fit.signal_names and abs(m.fit.eigenvalue) > 0:
-            cosine, sine = m.fit.coefficients[m.fit.signal_names.index("roll_rate"), -2:]
-            leans.append(float(np.hypot(cosine, sine)) / abs(m.fit.eigenvalue))
+            leans.append(m.fit.amplitude("roll_rate") / abs(m.fit.eigenvalue))
     if not leans or np.median(leans) <= FLAT:
         return None
     lean = float(np.median(leans))

@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from whipple.errors import RunFileError
 from whipple.input_files import open_binary, text_lines
-from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout
+from whipple.measurement.layouts import SPEC_COLUMNS, RunLayout, detect_layout, load_layout, other_delimiter
 from whipple.measurement.time_stamps import seconds_since
 from whipple.measurement.units_row import is_units_row, named_units, unit_factors
 from whipple.number_text import may_hold_other_numbers, parse_number
@@ -279,7 +279,7 @@ class _Reader:
         cells are then read with a decimal comma too (:meth:`_data`).
         """
         assert self.table is not None
-        delimiter = next((d for d in ("\t", ";") if d in header), None)
+        delimiter = other_delimiter(header)
         if delimiter is None and len(header.split()) > 1:
             delimiter = ""
         if delimiter is None:
@@ -296,9 +296,7 @@ class _Reader:
             names, units, renamed = named_units(names)
             if renamed:
                 table.notes.append(f"column names read as the run-file spec's: {', '.join(renamed)}")
-            factors, notes = unit_factors(units, line, set(), self.source, "the header")
-            table.units.update(factors)
-            table.notes.extend(notes)
+            self._take_units(units, line, set(), "the header")
         if len(set(names)) != len(names):
             raise RunFileError("duplicate column names in the header", self.source)
         table.names = names
@@ -411,10 +409,15 @@ class _Reader:
             return False
         units = {self.wanted[name]: cell for name, cell in zip(self.table.names, cells, strict=True)
                  if name in self.wanted}
-        factors, notes = unit_factors(units, number, set(self.table.layout.scale), self.source)
+        self._take_units(units, number, set(self.table.layout.scale), "the row of units under the header")
+        return True
+
+    def _take_units(self, units: dict[str, str], line: int, scaled: set[str], where: str) -> None:
+        """Keep the factors to SI of the units `where` gives on `line` (:func:`~.units_row.unit_factors`), noted."""
+        assert self.table is not None
+        factors, notes = unit_factors(units, line, scaled, self.source, where)
         self.table.units.update(factors)
         self.table.notes.extend(notes)
-        return True
 
 
 def _unquoted(name: str) -> str:

@@ -128,6 +128,11 @@ class WeaveFit:
         """Number of oscillation periods in the window."""
         return self.frequency * (self.stop - self.start) / (2 * np.pi)
 
+    def amplitude(self, signal: str) -> float:
+        """Return the amplitude of `signal`'s oscillation at the window's start (signal units): ``hypot(c2, c3)``."""
+        cosine, sine = self.coefficients[self.signal_names.index(signal), -2:]
+        return float(np.hypot(cosine, sine))
+
     @property
     def cycles_above_noise(self) -> float:
         """Oscillation periods while the fitted envelope of the first signal exceeds its residual's RMS.
@@ -137,7 +142,7 @@ class WeaveFit:
         (docs/diagnosis.md, "The controller's causes on three controlled bicycles").
         """
         length = self.stop - self.start
-        amplitude, noise = float(np.hypot(*self.coefficients[0, -2:])), float(self.rms_residual[0])
+        amplitude, noise = self.amplitude(self.signal_names[0]), float(self.rms_residual[0])
         if self.damping < 0.0 and noise > 0.0:
             length = min(length, float(np.log(max(amplitude / noise, 1.0))) / -self.damping)
         return self.frequency * length / (2 * np.pi)

@@ -473,6 +473,7 @@ class FieldConditions:
 
     ``treadmill``: the constant belt speed of today's trials (nothing drawn). ``ground``: every
     run coasts on the ground, its deceleration at its start drawn in ``deceleration`` [m/s^2]
+    (``downhill``: negative, the bicycle speeding up down a slope)
     (a share drawn in ``drag_share`` of it from air drag, growing with v^2, the rest rolling
     resistance). With ``faults``, the trial's instrument is also drawn: an IMU misalignment up to
     ``misalignment`` [rad] either way, a gyro scale error of ``gyro_scale`` (relative, either
@@ -506,7 +507,9 @@ class FieldConditions:
 
 #: The named field conditions :func:`trial_runs` takes.
 CONDITIONS = {"treadmill": FieldConditions(), "ground": FieldConditions("ground"),
-              "ground+faults": FieldConditions("ground", faults=True)}
+              "ground+faults": FieldConditions("ground", faults=True),
+              "downhill": FieldConditions("ground", deceleration=(-0.08, -0.02)),
+              "downhill+faults": FieldConditions("ground", deceleration=(-0.08, -0.02), faults=True)}
 
 
 def field_conditions(conditions: str | FieldConditions) -> FieldConditions:
@@ -536,7 +539,10 @@ def draw_field(conditions: FieldConditions, rng: np.random.Generator, speeds) ->
     changes = []
     for speed in speeds:
         slowing, share = rng.uniform(*conditions.deceleration), rng.uniform(*conditions.drag_share)
-        run = {"setting": "ground", "deceleration": slowing * (1.0 - share), "drag": slowing * share / speed**2}
+        # Down a slope (a negative draw) the drag still slows: gravity's pull exceeds it by |slowing|.
+        drag = abs(slowing) * share / speed**2
+        rolling = slowing * (1.0 - share) if slowing >= 0 else slowing - drag * speed**2
+        run = {"setting": "ground", "deceleration": rolling, "drag": drag}
         if conditions.faults:
             faults = SensorFaults(**instrument, bias_drift=rng.uniform(-1.0, 1.0) * conditions.bias_drift,
                                   bias_walk=rng.uniform(0.0, conditions.bias_walk))

@@ -84,7 +84,8 @@ def test_default_trial_runs_are_todays(tmp_path, key):
 
 # --- coasting ---------------------------------------------------------------------------------
 
-@pytest.mark.parametrize(("a", "k"), [(0.05, 0.0), (0.0, 0.004), (0.03, 0.003), (0.08, 1e-9), (0.5, 0.05)])
+@pytest.mark.parametrize(("a", "k"), [(0.05, 0.0), (0.0, 0.004), (0.03, 0.003), (0.08, 1e-9), (0.5, 0.05),
+                                      (-0.05, 0.0), (-0.2, 0.003), (-0.08, 1e-9), (-0.5, 0.05)])
 def test_coasting_speed_and_distance_solve_the_drag_law(a, k):
     v0, end = 6.0, min(20.0, 0.9 * stopping_time(6.0, a, k))
     t = np.linspace(0.0, end, 201)
@@ -103,6 +104,16 @@ def test_coasting_limits_and_stopping_time():
     assert stopping_time(5.0, 0.0, 0.01) == np.inf
 
 
+def test_downhill_coasting_speeds_up_towards_the_drag_limit():
+    # Down a slope the speed rises, and with drag it tends to sqrt(-a / k) from either side.
+    assert stopping_time(5.0, -0.1, 0.004) == np.inf
+    np.testing.assert_array_equal(coasting_speed(5.0, -0.05, 0.0, np.array([0.0, 10.0])), [5.0, 5.5])
+    limit = np.sqrt(0.1 / 0.004)
+    for start in (2.0, 8.0):
+        late = coasting_speed(start, -0.1, 0.004, np.array([0.0, 1000.0]))
+        assert late[0] == start and abs(late[1] - limit) < 1e-9
+
+
 def test_ground_speed_with_drag_in_both_simulators(bike):
     scenario = RunScenario(speed=5.0, n_pushes=1, duration=4.0, setting="ground", deceleration=0.03, drag=0.004,
                            sensors=PERFECT_SENSORS)
@@ -113,6 +124,17 @@ def test_ground_speed_with_drag_in_both_simulators(bike):
     # Drag slows the bicycle by 0.03 + 0.004 v^2 m/s^2: 0.13 at the start, 0.116 after 4 s.
     assert 5.0 - 4 * 0.13 < float(expected[-1]) < 5.0 - 4 * 0.116
     assert linear.metadata["drag"] == "0.004" and nonlinear.metadata["drag"] == "0.004"
+
+
+def test_downhill_ground_run_speeds_up_in_both_simulators(bike):
+    scenario = RunScenario(speed=4.0, n_pushes=1, duration=4.0, setting="ground", deceleration=-0.1, drag=0.002,
+                           sensors=PERFECT_SENSORS)
+    linear, nonlinear = simulate_run(bike, scenario), simulate_nonlinear_run(bike, scenario)
+    expected = coasting_speed(4.0, -0.1, 0.002, linear.time)
+    np.testing.assert_array_equal(linear.speed, expected)
+    np.testing.assert_allclose(nonlinear.speed, expected, atol=1e-8)
+    # Gravity's pull of 0.1 m/s^2 less the drag of 0.002 v^2 (0.032 at 4 m/s, 0.037 at 4.3 m/s).
+    assert 4.0 + 4 * (0.1 - 0.037) < float(expected[-1]) < 4.0 + 4 * (0.1 - 0.032)
 
 
 def test_a_ground_run_without_deceleration_is_the_treadmill_run(bike):
@@ -295,6 +317,10 @@ def test_drag_on_a_treadmill_and_a_speed_that_stops_are_refused():
         RunScenario(drag=0.001)
     with pytest.raises(ScenarioError, match="reaches 0"):
         RunScenario(speed=3.0, setting="ground", deceleration=0.05, drag=0.2)
+    # Down a slope the speed at the run's end is the one checked against the reader's limit.
+    RunScenario(speed=95.0, setting="ground", deceleration=-0.1, duration=10.0)
+    with pytest.raises(ScenarioError, match="speeds up to 1"):
+        RunScenario(speed=95.0, setting="ground", deceleration=-1.0, duration=10.0)
 
 
 # --- the command line -------------------------------------------------------------------------

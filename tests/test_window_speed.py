@@ -121,13 +121,17 @@ def test_bundled_treadmill_windows_keep_a_constant_speed():
     assert comparison.speeds.tolist() == [o.speed for o in found]
 
 
-def test_ground_windows_carry_their_measured_acceleration():
-    _, _, runs = trial_runs("none", 0, "benchmark", speeds=(5.0,), conditions="ground")
+@pytest.mark.parametrize("conditions", ["ground", "downhill"])
+def test_ground_windows_carry_their_measured_acceleration(conditions):
+    # Slowing on level ground, speeding up down a slope (a negative deceleration).
+    _, _, runs = trial_runs("none", 0, "benchmark", speeds=(5.0,), conditions=conditions)
     found = observations(measure_run(runs[0]).windows)
     assert found
-    deceleration = float(runs[0].metadata["deceleration"])
+    metadata = runs[0].metadata
+    acceleration = -(float(metadata["deceleration"]) + float(metadata["drag"]) * 5.0**2)
+    assert (acceleration > 0) == (conditions == "downhill")
     for o in found:
-        assert -2.5 * deceleration < o.acceleration < -0.3 * deceleration
+        assert 0.3 * abs(acceleration) < o.acceleration * np.sign(acceleration) < 2.5 * abs(acceleration)
 
 
 def _sampled_window(bicycle, speed, acceleration, duration, noise, seed=0):
@@ -143,14 +147,15 @@ def _sampled_window(bicycle, speed, acceleration, duration, noise, seed=0):
                                              noise=np.asarray(noise, dtype=float)))
 
 
-@pytest.mark.parametrize("name", ["benchmark", "kooijman2008"])
-def test_sample_comparison_follows_the_speed_profile(name):
+@pytest.mark.parametrize(("name", "acceleration"), [("benchmark", -0.08), ("kooijman2008", -0.08),
+                                                   ("benchmark", 0.08)])
+def test_sample_comparison_follows_the_speed_profile(name, acceleration):
     # The true model compared with a ground window's samples leaves only the noise when its
     # response follows the window's speed profile; frozen at one speed (the speed the weave fit
     # reads, with v' Ka q) it leaves the drift of the weave along v(t) on top.
     bicycle = load_bicycle(name)
     noise = (0.002, 0.0005)  # rad/s, rad: a 0.2 rad/s weave 100 times its noise
-    window = _sampled_window(bicycle, 5.0, -0.08, 4.0, noise)
+    window = _sampled_window(bicycle, 5.0, acceleration, 4.0, noise)
     comparison = SampleComparison.of([window])
     assert comparison is not None and comparison.profiles is not None
     followed = comparison.chi2_per_sample(bicycle)

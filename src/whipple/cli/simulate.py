@@ -6,8 +6,9 @@ bicycle's linear model (with its extensions and controller), or with --nonlinear
 Whipple model (with its controller and steer damping; the rear wheel driven along the speed
 profile); the signals carry sensor noise and bias, and on request sensor faults (an IMU
 misalignment, a gyro scale error, a drifting roll-rate bias, a steer offset, no steer angle).
-On the ground the bicycle coasts and its speed falls by rolling resistance and air drag. Each
-file lists its true free-coasting windows in the ``# true_windows:`` line. One file is written per speed: into DIR as
+On the ground the bicycle coasts and its speed falls by rolling resistance and air drag (or
+rises down a slope: a negative --deceleration). Each file lists its true free-coasting
+windows in the ``# true_windows:`` line. One file is written per speed: into DIR as
 ``<bicycle>_<setting>_<speed>ms.csv``, or to FILE (ending in .csv) for a single speed.
 """
 
@@ -63,10 +64,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sample-rate", type=number, default=100.0, metavar="HZ",
                         help="sample rate, Hz (default 100)")
     parser.add_argument("--setting", choices=("treadmill", "ground"), default="treadmill",
-                        help="constant belt speed, or a speed decaying while coasting "
+                        help="constant belt speed, or a speed changing while coasting "
                              "(default treadmill)")
     parser.add_argument("--deceleration", type=number, default=None, metavar="A",
-                        help="rolling resistance on the ground, m/s^2 (default 0.05)")
+                        help="rolling resistance on the ground, m/s^2 (default 0.05); negative down a "
+                             "slope that speeds the bicycle up")
     parser.add_argument("--drag", type=number, default=None, metavar="K",
                         help="air drag on the ground: the speed falls by (A + K v^2) m/s^2, K in 1/m "
                              "(default 0)")

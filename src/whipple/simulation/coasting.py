@@ -9,6 +9,10 @@ While it coasts, the speed obeys ``v' = -(a + k v^2)``: ``a`` [m/s^2] the rollin
 is ``v0 - a t`` without drag and ``v0 / (1 + v0 k t)`` without rolling resistance; the distance
 rolled, ``x(t) = ln(cos(r t) + v0 sqrt(k / a) sin(r t)) / k``, is written with ``log1p`` and
 ``sinc`` so that it tends to ``v0 t - a t^2 / 2`` as k tends to 0 without cancellation.
+
+Down a slope steeper than the rolling resistance, ``a`` is negative (gravity's pull along the
+road exceeds it) and the bicycle speeds up: ``r`` is then imaginary, and the same forms hold with
+``tanh`` and ``sinh`` for ``tan`` and ``sin``; with drag the speed tends to ``sqrt(-a / k)``.
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ def stopping_time(speed: float, deceleration: float, drag: float) -> float:
     speed : float
         Speed at t = 0 [m/s], positive.
     deceleration : float
-        Rolling resistance ``a`` [m/s^2], >= 0.
+        Rolling resistance ``a`` [m/s^2] (negative down a slope that speeds the bicycle up).
     drag : float
         Air drag coefficient ``k`` [1/m], >= 0.
     """
@@ -47,8 +51,7 @@ def coasting_speed(speed: float, deceleration: float, drag: float, t: ArrayLike)
     t = np.asarray(t, dtype=float)
     if drag == 0:
         return speed - deceleration * t
-    rt = math.sqrt(deceleration * drag) * t
-    ratio = _tan_ratio(rt)
+    ratio = _tan_ratio(deceleration * drag, t)
     return (speed - deceleration * t * ratio) / (1.0 + speed * drag * t * ratio)
 
 
@@ -57,9 +60,9 @@ def coasting_distance(speed: float, deceleration: float, drag: float, t: ArrayLi
     t = np.asarray(t, dtype=float)
     if drag == 0:
         return speed * t - 0.5 * deceleration * t**2
-    rt = math.sqrt(deceleration * drag) * t
     # cos(rt) - 1 + v0 sqrt(k/a) sin(rt), divided by k, written without 0/0 at a = 0 or k -> 0.
-    inner = speed * t * np.sinc(rt / np.pi) - 0.5 * deceleration * t**2 * np.sinc(rt / (2 * np.pi))**2
+    inner = speed * t * _sin_ratio(deceleration * drag, t) - 0.5 * deceleration * t**2 * _sin_ratio(
+        deceleration * drag, t / 2)**2
     return np.log1p(drag * inner) / drag
 
 
@@ -68,8 +71,18 @@ def coasting_deceleration(speed: float, deceleration: float, drag: float, t: Arr
     return deceleration + drag * coasting_speed(speed, deceleration, drag, t) ** 2
 
 
-def _tan_ratio(x: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``tan(x) / x``, 1 at x = 0."""
-    x = np.asarray(x, dtype=float)
+def _tan_ratio(rate_squared: float, t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``tan(r t) / (r t)`` with ``r**2 = rate_squared`` [1/s^2] (``tanh`` for a negative one), 1 at r t = 0."""
+    x = math.sqrt(abs(rate_squared)) * np.asarray(t, dtype=float)
     safe = np.where(x == 0, 1.0, x)
-    return np.where(x == 0, 1.0, np.tan(safe) / safe)
+    tangent = np.tan(safe) if rate_squared >= 0 else np.tanh(safe)
+    return np.where(x == 0, 1.0, tangent / safe)
+
+
+def _sin_ratio(rate_squared: float, t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``sin(r t) / (r t)`` with ``r**2 = rate_squared`` [1/s^2] (``sinh`` for a negative one), 1 at r t = 0."""
+    x = math.sqrt(abs(rate_squared)) * np.asarray(t, dtype=float)
+    if rate_squared >= 0:
+        return np.sinc(x / np.pi)
+    safe = np.where(x == 0, 1.0, x)
+    return np.where(x == 0, 1.0, np.sinh(safe) / safe)

@@ -193,12 +193,14 @@ class RunScenario:
     duration : float or None
         Length of the record [s]; None: just long enough for the pushes and their coasting.
     setting : {"treadmill", "ground"}
-        Treadmill: constant belt speed. Ground: the bicycle coasts and its speed falls,
-        ``v' = -(deceleration + drag v^2)`` (:mod:`whipple.simulation.coasting`; without drag
+        Treadmill: constant belt speed. Ground: the bicycle coasts and its speed falls (or,
+        down a slope, rises), ``v' = -(deceleration + drag v^2)`` (:mod:`whipple.simulation.coasting`; without drag
         ``speed - deceleration * t``), throughout the run.
     deceleration : float
         Rolling resistance [m/s^2], ground setting only (0.05: a rolling resistance
-        coefficient of ~0.004 plus the drag of a riderless bicycle at ~5 m/s).
+        coefficient of ~0.004 plus the drag of a riderless bicycle at ~5 m/s), less gravity's
+        pull along a downhill road (``g`` times its grade): negative down a slope steeper than
+        the rolling resistance, where the bicycle speeds up.
     drag : float
         Air drag coefficient ``rho CdA / (2 m)`` [1/m], ground setting only (0 by default; a
         riderless bicycle of 25 kg with CdA ~ 0.1 m^2: ~0.0024 1/m, 0.06 m/s^2 at 5 m/s).
@@ -283,8 +285,10 @@ class RunScenario:
                     "roll_limit", "roll_rate_limit")
         for name in positive:
             _check(name, getattr(self, name), lambda x: x > 0, "positive")
-        for name in ("deceleration", "drag", "push_roll_rate", "release", "settle", "hold_std"):
+        for name in ("drag", "push_roll_rate", "release", "settle", "hold_std"):
             _check(name, getattr(self, name), lambda x: x >= 0, ">= 0")
+        # Negative down a slope steeper than the rolling resistance: the bicycle speeds up.
+        _check("deceleration", self.deceleration, lambda x: True, "in m/s^2")
         if self.duration is not None:
             _check("duration", self.duration, lambda x: x > 0, "positive")
         if self.push_signs not in PUSH_SIGNS:
@@ -343,12 +347,12 @@ class RunScenario:
         sensor = self.sensors.speed if "speed" in self.columns else Sensor()
         final = (float(coasting_speed(self.speed, self.deceleration, self.drag, end)) if self.setting == "ground"
                  else self.speed)
-        lowest = final + sensor.bias
+        lowest = min(final, self.speed) + sensor.bias
         if not (lowest > 0 and sensor.noise <= MAX_SPEED_NOISE_SHARE * lowest):
             raise ScenarioError(f"the speed sensor's noise ({sensor.noise:.3g} m/s standard deviation, bias "
                                 f"{sensor.bias:.3g} m/s) would write negative speeds: it must stay below "
                                 f"{MAX_SPEED_NOISE_SHARE:g} of the lowest speed ({lowest:.3g} m/s)")
-        highest = self.speed + sensor.bias + 10 * sensor.noise
+        highest = max(final, self.speed) + sensor.bias + 10 * sensor.noise
         if highest > MAX_RUN_SPEED:
             raise ScenarioError(f"speeds up to {highest:.9g} m/s would be written (with the sensor's noise and bias); "
                                 f"a run is read up to {MAX_RUN_SPEED:g} m/s, faster than any bicycle rides")

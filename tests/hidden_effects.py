@@ -482,7 +482,10 @@ class FieldConditions:
     roll-rate bias drift up to ``bias_drift`` [rad/s^2] either way and a random walk of density
     up to ``bias_walk`` [rad/s/sqrt(s)]. ``sample_rate`` [Hz]: every run's, in any setting (None:
     the simulator's default, 100 Hz). ``noise_scale``: a factor on every sensor's noise per
-    sample, in any setting (1: the simulator's default sensors).
+    sample, in any setting (1: the simulator's default sensors). ``disturbance``: the range [N m]
+    of the root-mean-square random roll torque drawn per trial, in any setting (a road's or a
+    belt's roughness, wind: ``RunScenario.disturbance``), with a steer torque of
+    :data:`DISTURBANCE_STEER_SHARE` of it; (0, 0): none.
     """
 
     setting: str = "treadmill"
@@ -497,6 +500,7 @@ class FieldConditions:
     bias_walk: float = 1e-3
     sample_rate: float | None = None
     noise_scale: float = 1.0
+    disturbance: tuple[float, float] = (0.0, 0.0)
 
     def __post_init__(self) -> None:
         if self.setting not in ("treadmill", "ground"):
@@ -509,7 +513,13 @@ class FieldConditions:
 CONDITIONS = {"treadmill": FieldConditions(), "ground": FieldConditions("ground"),
               "ground+faults": FieldConditions("ground", faults=True),
               "downhill": FieldConditions("ground", deceleration=(-0.08, -0.02)),
-              "downhill+faults": FieldConditions("ground", deceleration=(-0.08, -0.02), faults=True)}
+              "downhill+faults": FieldConditions("ground", deceleration=(-0.08, -0.02), faults=True),
+              "treadmill+disturbance": FieldConditions(disturbance=(1.0, 5.0)),
+              "ground+faults+disturbance": FieldConditions("ground", faults=True, disturbance=(1.0, 5.0))}
+#: The random steer torque's root-mean-square as a share of the roll torque's (a lateral force at
+#: the front contact acts on the steer through the trail, a few centimetres, and on roll through
+#: the height of the centre of mass, about a metre).
+DISTURBANCE_STEER_SHARE = 0.05
 
 
 def field_conditions(conditions: str | FieldConditions) -> FieldConditions:
@@ -574,6 +584,10 @@ def trial_runs(cause: str, seed: int, base_name: str = "benchmark", speeds=None,
         changes = [{**change, "sample_rate": field.sample_rate} for change in changes]
     if field.noise_scale != 1.0:
         changes = [{**change, "sensors": Sensors().scaled(field.noise_scale)} for change in changes]
+    if field.disturbance[1] > 0:
+        # From a child generator of its own, after the field's: the rest of the trial unchanged.
+        roll = float(rng.spawn(1)[0].uniform(*field.disturbance))
+        changes = [{**change, "disturbance": (roll, DISTURBANCE_STEER_SHARE * roll)} for change in changes]
     runs = []
     for k, speed in enumerate(speeds):
         scenario = RunScenario(speed=speed, seed=int(rng.integers(1 << 31)) + k, n_pushes=PUSHES, **changes[k])
@@ -663,6 +677,7 @@ def _supports(names: tuple[str, ...]) -> bool:
 
 
 __all__ = ["BICYCLES", "CAUSES", "CONDITIONS", "CONTROLLED", "CONTROLLED_BICYCLES", "CONTROLLED_VARIANTS", "CONTROLLER",
+           "DISTURBANCE_STEER_SHARE",
            "EXPECTED", "PHYSICAL", "TWO", "FieldConditions", "Trial", "box",
            "cause_by_name", "cause_of_truth", "draw_field", "families", "field_conditions", "given_data",
            "hidden_bicycle", "hidden_causes", "measurement_options", "noise_free_twin", "run_trial", "trial_bicycle",

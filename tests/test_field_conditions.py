@@ -27,13 +27,20 @@ from whipple.model.assembly import linear_model, model_matrices
 from whipple.model.parameters import Payload, load_bicycle
 from whipple.model.speed_change import acceleration_stiffness
 from whipple.simulation.coasting import coasting_distance, coasting_speed, stopping_time
+from whipple.simulation.disturbance import disturbance_torque
 from whipple.simulation.nonlinear_run import simulate_nonlinear_run
 from whipple.simulation.scenario import PERFECT_SENSORS, RunScenario, ScenarioError, SensorFaults
 from whipple.simulation.sensor_faults import BIAS_WALK_STREAM
 from whipple.simulation.simulator import simulate_run, write_run_csv
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from hidden_effects import CONDITIONS, FieldConditions, trial_bicycle, trial_runs  # noqa: E402
+from hidden_effects import (  # noqa: E402
+    CONDITIONS,
+    DISTURBANCE_STEER_SHARE,
+    FieldConditions,
+    trial_bicycle,
+    trial_runs,
+)
 
 GYROS = ("roll_rate", "yaw_rate")
 
@@ -344,6 +351,14 @@ def test_cli_writes_ground_runs_with_faults(tmp_path, capsys):
     assert np.abs(run.signals["speed"] - expected).mean() < 0.03
 
 
+def test_cli_disturbance_needs_two_torques(tmp_path, capsys):
+    with pytest.raises(SystemExit) as raised:
+        main(["simulate", "--bicycle", "benchmark", "--speed", "5", "--disturbance", "2", "--output",
+              str(tmp_path / "out")])
+    error = capsys.readouterr().err
+    assert raised.value.code == 2 and "expected two torques like 2,0.1" in error.splitlines()[-1]
+
+
 @pytest.mark.parametrize(("arguments", "message"), [
     (["--deceleration", "0.05"], "--deceleration applies to --setting ground"),
     (["--drag", "0.001"], "--drag applies to --setting ground"),
@@ -354,6 +369,9 @@ def test_cli_writes_ground_runs_with_faults(tmp_path, capsys):
     (["--bias-walk", "-0.1"], "--bias-walk must be between 0 and"),
     (["--steer-offset", "12"], "--steer-offset must be within +/-10 degrees"),
     (["--steer-offset", "nan"], "--steer-offset must be within"),
+    (["--disturbance", "2,-1"], "steer disturbance must be"),
+    (["--disturbance", "2,0.1", "--disturbance-band", "50"], "below half the sample rate"),
+    (["--disturbance", "2,0.1", "--nonlinear"], "on the linear model only"),
 ])
 def test_cli_bad_field_options_exit_2_with_one_line(tmp_path, capsys, arguments, message):
     code = main(["simulate", "--bicycle", "benchmark", "--speed", "5", *arguments, "--output", str(tmp_path / "out")])
@@ -424,6 +442,48 @@ def test_trials_with_noisier_sensors_keep_the_draws():
     ratio = float(second_difference_noise(noisy_runs[0].signals["steer_angle"])[0]
                   / second_difference_noise(runs[0].signals["steer_angle"])[0])
     assert ratio == pytest.approx(3.0, rel=0.1)
+
+
+def test_trials_with_disturbances_keep_the_draws():
+    """Random torques drawn per trial leave the effect, the field's draws and the runs' seeds as they were."""
+    for conditions, disturbed in (("ground+faults", "ground+faults+disturbance"),
+                                  ("treadmill", "treadmill+disturbance")):
+        _, truth, runs = trial_runs("rack", 3, "benchmark", speeds=(4.0, 5.0), conditions=conditions)
+        _, disturbed_truth, disturbed_runs = trial_runs("rack", 3, "benchmark", speeds=(4.0, 5.0),
+                                                        conditions=disturbed)
+        assert disturbed_truth == truth
+        levels = set()
+        for run, disturbed_run in zip(runs, disturbed_runs, strict=True):
+            for key in ("seed", "deceleration", "imu_misalignment", "gyro_scale", "steer_offset"):
+                assert disturbed_run.metadata.get(key) == run.metadata.get(key)
+            levels.add(disturbed_run.metadata["disturbance"])
+        roll, steer = (float(x) for x in levels.pop().split(","))
+        assert not levels and 1.0 <= roll <= 5.0 and steer == pytest.approx(DISTURBANCE_STEER_SHARE * roll, rel=1e-5)
+
+
+def test_disturbance_torques_are_the_filtered_noise_asked_for():
+    torque = disturbance_torque((3.0, 0.2), 2.0, 100.0, 200_000, seed=5)
+    np.testing.assert_allclose(torque.std(axis=0), [3.0, 0.2], rtol=0.03)
+    memory = np.exp(-2 * np.pi * 2.0 / 100.0)
+    lag = [np.corrcoef(torque[:-1, k], torque[1:, k])[0, 1] for k in range(2)]
+    np.testing.assert_allclose(lag, memory, atol=0.005)
+    assert abs(np.corrcoef(torque[:, 0], torque[:, 1])[0, 1]) < 0.02
+    assert not disturbance_torque((0.0, 0.0), 2.0, 100.0, 10, seed=5).any()
+
+
+def test_a_disturbed_run_keeps_the_noise_and_pushes_of_the_undisturbed_one(bike):
+    calm = simulate_run(bike, RunScenario(speed=5.0, n_pushes=1, duration=4.0, seed=3))
+    disturbed = simulate_run(bike, RunScenario(speed=5.0, n_pushes=1, duration=4.0, seed=3,
+                                               disturbance=(3.0, 0.15)))
+    assert disturbed.segments == calm.segments and disturbed.pushes == calm.pushes
+    # The sensors' noise is the same draw: the difference of the measured and the true roll rate.
+    np.testing.assert_allclose(disturbed.signals["roll_rate"] - disturbed.truth["roll_rate"],
+                               calm.signals["roll_rate"] - calm.truth["roll_rate"], rtol=0, atol=1e-12)
+    # The motion differs: the torques move the bicycle by more than the noise.
+    coast = slice(int(1.2 * 100), int(3.9 * 100))
+    moved = disturbed.truth["roll_rate"][coast] - calm.truth["roll_rate"][coast]
+    assert np.sqrt(np.mean(moved**2)) > 0.02
+    assert disturbed.metadata["disturbance"] == "3,0.15" and "disturbance" not in calm.metadata
 
 
 def test_field_conditions_are_checked():

@@ -26,6 +26,7 @@ from whipple.cli.progress import Progress
 from whipple.errors import InputError
 from whipple.model.assembly import linear_model
 from whipple.model.parameters import load_bicycle
+from whipple.number_text import parse_number
 from whipple.simulation.nonlinear_run import simulate_nonlinear_run
 from whipple.simulation.scenario import (
     MAX_BIAS_DRIFT,
@@ -90,6 +91,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     faults.add_argument("--bias-walk", type=number, default=0.0, metavar="DENSITY",
                         help="roll-rate bias as a random walk, rad/s per sqrt(s) "
                              f"(0 <= DENSITY <= {MAX_BIAS_WALK:g})")
+    parser.add_argument("--disturbance", type=_torque_pair, default=(0.0, 0.0), metavar="ROLL,STEER",
+                        help="random roll and steer torques throughout the run (a road's roughness, wind), "
+                             "root-mean-square N m, e.g. 2,0.1 (default: none)")
+    parser.add_argument("--disturbance-band", type=number, default=2.0, metavar="HZ",
+                        help="corner frequency of the random torques' low-pass filter, Hz (default 2)")
     parser.add_argument("--seed", type=integer, default=0, metavar="N",
                         help="random seed of the first run; the k-th speed uses N + k "
                              "(default 0)")
@@ -97,6 +103,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="integrate the nonlinear model (constraint drift and energy balance reported)")
     parser.add_argument("--output", required=True, metavar="DIR-or-FILE",
                         help="folder for the run files, or a .csv file for a single speed ('-': standard output)")
+
+
+def _torque_pair(text: str) -> tuple[float, float]:
+    """``ROLL,STEER`` in N m."""
+    try:
+        roll, steer = (parse_number(item) for item in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected two torques like 2,0.1 (N m), got {text!r}") from None
+    return roll, steer
 
 
 def _file_name(bicycle: str, setting: str, speed: float) -> str:
@@ -132,7 +147,8 @@ def run(args: argparse.Namespace) -> int:
     scenarios = [
         RunScenario(speed=speed, sample_rate=args.sample_rate, duration=args.duration,
                     setting=args.setting, **ground, n_pushes=args.pushes, sensors=sensors,
-                    faults=faults, columns=tuple(columns), seed=args.seed + k)
+                    faults=faults, columns=tuple(columns), seed=args.seed + k, disturbance=args.disturbance,
+                    disturbance_band=args.disturbance_band)
         for k, speed in enumerate(speeds)
     ]  # all validated before anything is written
     total = sum(s.end_time() * s.sample_rate for s in scenarios)

@@ -54,6 +54,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.candidate_fits import fit_all, refit_through_bias, refit_to_samples, singles_from_pairs
 from whipple.diagnosis.causes import Cause
 from whipple.diagnosis.consistency import SpeedDependence, jackknife_std, lead_of_one_speed, speed_dependence
+from whipple.diagnosis.correlated_residuals import correlated
 from whipple.diagnosis.families import COMBINATION, components, describe_family
 from whipple.diagnosis.fit_bias import debiased, fitting_bias
 from whipple.diagnosis.fitting import CauseFit, Whitening, fit_cause, robust_chi2, window_whitening
@@ -86,7 +87,11 @@ class Diagnosis:
     best : CauseFit or None
         Its fit (values from its estimate form, std including the jackknife).
     scale, shape_scale : float
-        Dispersion (reduced chi2 >= 1) of the best model's eigenvalue and mode-shape residuals.
+        Dispersion (reduced chi2 >= 1) of the best model's eigenvalue and mode-shape residuals,
+        the samples' times ``correlation``: every chi-square was divided by them.
+    correlation : float
+        How many times the noise the best model's residual is in the directions a changed model
+        moves the windows (:mod:`~whipple.diagnosis.correlated_residuals`; 1 without the samples).
     chosen : Cause or None
         The form of the leading cause whose values ``best`` holds (to extend the model).
     rivals : tuple of str
@@ -121,6 +126,7 @@ class Diagnosis:
     scale: float
     observations: tuple[Observation, ...]
     shape_scale: float = 1.0
+    correlation: float = 1.0
     n_shapes: int = 0
     chosen: Cause | None = None
     rivals: tuple[str, ...] = ()
@@ -245,7 +251,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         if any(np.any(b != 0) for b in [base_bias, *own]):
             base, fits, biases = biased_base, biased_fits, [base_bias, *own]
         # else no window's samples known (observations from a table): the direct fits stand
-    scales = _dispersions([base, *fits], counts)
+    scales, correlation = correlated(_dispersions([base, *fits], counts), [base, *fits], whitening, observations)
     single_scales = typical_dispersion(fits, whitening)
     pairs: list[Cause] = []
     leader = max(_scored(causes, base, fits, n, options), key=lambda fit: fit.evidence,
@@ -287,7 +293,8 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
                                                            start=options.fixed_point_start)
             biases += pair_biases
         causes, fits = causes + pairs, fits + pair_fits
-        scales = _dispersions([base, *fits], counts)
+        scales, correlation = correlated(_dispersions([base, *fits], counts), [base, *fits], whitening,
+                                         observations)
     if scales != (1.0, 1.0) and quick:
         # The fits' values kept, their residuals rescaled: no refit (the held-out gain's folds).
         whitening = replace(whitening, scales=scales)
@@ -338,7 +345,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         if dependence is not None and dependence.evidence > rules.speed_dependence:
             verdict, reasons = "ambiguous", (_speed_dependence_reason(best, dependence),)
     return Diagnosis(verdict, name, best if verdict != "none" else None, base, tuple(scored), scales[0],
-                     observations, shape_scale=scales[1], n_shapes=len(whitening.shape_index),
+                     observations, shape_scale=scales[1], correlation=correlation, n_shapes=len(whitening.shape_index),
                      chosen=chosen if verdict != "none" else None, rivals=rivals,
                      family=describe_family([name, *rivals], options.causes) if verdict == "ambiguous" else "",
                      reasons=reasons, combinations=tuple(pair.name for pair in pairs),

@@ -20,6 +20,17 @@ where it stays within the noise started it small (on a simulated trial, one wind
 8 m/s, where the mode grows at 1.35 1/s), and is fitted without its amplitudes. A model whose
 growing mode no window shows (a tyre at the edge of its range where every measured weave
 decays) is no model of the windows where it grows.
+
+The windows are compared in bins (:data:`~whipple.diagnosis.window_bins.BIN_DURATION`), which
+cannot show an oscillation faster than half their rate (:func:`resolved`): averaged over bins
+of 0.04 s, a mode of 153 rad/s (24 Hz) is a faint oscillation of about 4 rad/s, at the weave's
+own frequency, which fitted freely in each window soaks up whatever the windows hold there. A
+stiff tyre's relaxation mode is that fast; where it grows, the tyre model took up, with those
+free amplitudes, the response to random road torques of a bicycle with no effect at all
+(simulated, the benchmark at 3-7 m/s), and was named with an evidence of 778. No window shows
+such a mode: a model whose growing mode the bins cannot resolve holds no window where it grows.
+The soft tyres whose shimmy the runs show grow at 34 rad/s at most (trial tyres on the
+benchmark, the Kooijman bicycle and the Browser, 2-8 m/s).
 """
 
 from __future__ import annotations
@@ -57,6 +68,19 @@ def fitted_modes(values: NDArray[np.complex128], growing: NDArray[np.int_] | Non
     kept = np.concatenate([slowest, dropped[..., :extra]], axis=-1)
     real = np.concatenate([np.ones(slowest.shape, dtype=bool), np.arange(extra) < growing[..., None]], axis=-1)
     return kept, real
+
+
+def resolved(values: NDArray[np.complex128], steps: NDArray[np.float64] | None,
+             bins: NDArray[np.int_] | None) -> NDArray[np.bool_]:
+    """Return where (..., W, m) a window's bins resolve a mode's oscillation: below half their rate.
+
+    ``values`` (..., W, m): eigenvalues [1/s]; ``steps`` (W,): each window's sampling interval
+    [s] and ``bins`` (W,) its samples per bin (None: every mode resolved; one sample a bin).
+    """
+    if steps is None:
+        return np.ones(values.shape, dtype=bool)
+    interval = steps * (1 if bins is None else bins)
+    return np.asarray(np.abs(values.imag) * interval[:, None] < np.pi, dtype=bool)
 
 
 def orthonormal_columns(matrix: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

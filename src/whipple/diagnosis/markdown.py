@@ -33,10 +33,13 @@ _COMPARISON = {"samples": "Each model was compared with the windows' samples: it
 
 def _dispersions(diagnosis: Diagnosis, typical: bool) -> str:
     """Return the dispersions in words: of the typical window of the best single cause, or the best model's."""
-    first, second = diagnosis.single_scales if typical else (diagnosis.scale, diagnosis.shape_scale)
+    first, second = diagnosis.single_scales if typical else (diagnosis.scale / diagnosis.correlation,
+                                                             diagnosis.shape_scale)
     digits = 1 if typical else 2
     if diagnosis.comparison == "samples":
-        return f"{first:.{digits}f} for the samples"
+        correlated = "" if typical or diagnosis.correlation == 1.0 else (
+            f", times {diagnosis.correlation:.2f} for the residual's correlation in time")
+        return f"{first:.{digits}f} for the samples{correlated}"
     shapes = "" if typical else f" ({diagnosis.n_shapes} windows with a shape)"
     return f"{first:.{digits}f} for eigenvalues, {second:.{digits}f} for mode shapes{shapes}"
 

@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 from whipple.diagnosis.admissible import Offer
 from whipple.diagnosis.amplitude import AmplitudeReport, check_amplitudes
 from whipple.diagnosis.causes import Cause, with_cause
+from whipple.diagnosis.correlated_residuals import correlation_notes
 from whipple.diagnosis.estimate_text import estimates
 from whipple.diagnosis.evidence import Diagnosis, diagnose_observations
 from whipple.diagnosis.fitting import EIGENVALUE_FLOOR, ROBUST_SCALE, CauseFit, fit_cause
@@ -58,7 +59,8 @@ _CHI2_OF = {
                 f"states than the bicycle's {FITTED_MODES} fits its {FITTED_MODES} slowest modes' amplitudes, as "
                 "many as every model, and leaves a window where another of its modes grows "
                 f"{OVERFLOW_MISFIT:g} noise standard deviations off on every sample), divided by s^2 >= 1, the "
-                "best model's reduced chi2; n the windows' eigenvalue and mode-shape residuals"),
+                "best model's reduced chi2, times its residual's excess where a changed eigenvalue moves windows; "
+                "n the windows' eigenvalue and mode-shape residuals"),
     "eigenvalues": ("the weave eigenvalue (its covariance with a floor of "
                     f"{100 * EIGENVALUE_FLOOR:g}% of |eigenvalue| for the fitting function's bias) and, where a steer "
                     "signal was measured, of the weave mode shape (steer per roll rate), each kind divided by its own "
@@ -439,12 +441,13 @@ def caveats(diagnosis: Diagnosis, shapes: ShapeComparison, options: DiagnosisOpt
         notes.append(f"the measured {shapes.signals[0]} per {shapes.signals[1]} in the weave is "
                      f"{scale_text(scale_offset(shapes.ratios))}: check the units and the layout's scale factors; "
                      "the mode shapes are left out of the evidence")
-    if diagnosis.scale > DISPERSION_WARNING:
+    if (level := diagnosis.scale / diagnosis.correlation) > DISPERSION_WARNING:
         what = ("sample residuals", "the samples' noise") if diagnosis.comparison == "samples" else (
             "eigenvalue residuals", "the stated uncertainties")
-        notes.append(f"even the best-fitting model leaves {what[0]} {np.sqrt(diagnosis.scale):.1f} times "
-                     f"{what[1]} (reduced chi2 {diagnosis.scale:.1f}): the verdict ranks the "
+        notes.append(f"even the best-fitting model leaves {what[0]} {np.sqrt(level):.1f} times "
+                     f"{what[1]} (reduced chi2 {level:.1f}): the verdict ranks the "
                      "candidates, but none explains all of the disagreement")
+    notes += correlation_notes(diagnosis.correlation)
     if diagnosis.shape_scale > DISPERSION_WARNING:
         notes.append(f"the best-fitting model leaves mode-shape residuals {np.sqrt(diagnosis.shape_scale):.1f} "
                      f"times their stated uncertainties (reduced chi2 {diagnosis.shape_scale:.1f}); they count "
@@ -529,7 +532,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "summary": list(report.residual_summary),
         "caveats": list(report.caveats),
         "evidence_definition": evidence_definition(diagnosis.comparison, report.options),
-        "dispersion": diagnosis.scale,
+        "dispersion": diagnosis.scale / diagnosis.correlation, "residual_correlation": diagnosis.correlation,
         "dispersion_mode_shape": diagnosis.shape_scale,
         "median_dispersion": list(diagnosis.typical_scales),
         "median_dispersion_best_single_cause": list(diagnosis.single_scales),

@@ -40,7 +40,7 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
-from whipple.diagnosis.growing_modes import fitted_modes, orthonormal_columns, shown_growth
+from whipple.diagnosis.growing_modes import fitted_modes, orthonormal_columns, resolved, shown_growth
 from whipple.diagnosis.instrument import InstrumentErrors, profiled_residuals, yaw_gains, yaw_row
 from whipple.diagnosis.observations import Observation, friction_gains, noise_free
 from whipple.diagnosis.window_bins import BIN_DURATION, binned_window
@@ -291,6 +291,8 @@ class SampleComparison:
                 kept, real = fitted_modes(values)
                 growing = np.any(real[:, FITTED_MODES:], axis=-1)  # a growing mode's column is real
                 values, rows = np.take_along_axis(values, kept, -1), np.take_along_axis(rows, kept[:, None], -1)
+                # A growing mode the bins cannot resolve: no window shows it (its column is 0).
+                real[:, FITTED_MODES:] &= resolved(values[:, FITTED_MODES:], repeated.steps, repeated.bins)
                 design = repeated._modal_design(values, rows) * real[:, None, None, :]
             result[states] = (members, design.reshape(len(members), *self.mask.shape[:1], *design.shape[1:]),
                               growing.reshape(len(members), -1))
@@ -411,6 +413,8 @@ class SampleComparison:
             first, shapes = values[:, :, 0], vectors[:, :, 0]
             columns = np.where(lower_members(first)[..., None, :], shapes.imag, shapes.real)
             kept, real = fitted_modes(first, growing)
+            real[..., FITTED_MODES:] &= resolved(np.take_along_axis(first, kept, -1)[..., FITTED_MODES:],
+                                                 self.steps, self.bins)
             basis = np.take_along_axis(columns, kept[..., None, :], axis=-1) * real[..., None, :]
             modal = modal @ basis[:, :, None]
         factors = self._bin_factors(np.moveaxis(values, 1, 0).reshape(windows, -1))

@@ -93,6 +93,8 @@ def simulate_nonlinear_run(bicycle: Bicycle, scenario: RunScenario, name: str = 
         The integration fails (e.g. the bicycle falls over with the catch's limits raised).
     """
     forced = ForcedBicycle(bicycle, speed_control)
+    if any(scenario.disturbance):
+        raise ScenarioError("random disturbances are simulated on the linear model only (not with --nonlinear)")
     if speed_control == "free" and scenario.setting == "ground" and (scenario.deceleration != 0 or scenario.drag > 0):
         raise ScenarioError("a free rear wheel cannot follow the ground's deceleration: set it and the drag to 0 "
                             "or drive the wheel")

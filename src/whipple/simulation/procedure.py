@@ -19,6 +19,7 @@ from scipy.linalg import expm
 
 from whipple.model.linear import LinearModel
 from whipple.model.parameters import Bicycle
+from whipple.simulation.disturbance import disturbance_metadata
 from whipple.simulation.run_writer import format_true_windows
 from whipple.simulation.scenario import SIGNALS, Push, RunScenario, ScenarioError
 from whipple.simulation.sensor_faults import fault_metadata, faulty_signals
@@ -340,6 +341,7 @@ def run_metadata(
         "deceleration": f"{scenario.deceleration if scenario.setting == 'ground' else 0.0:g}",
         **({"drag": f"{scenario.drag:g}"} if scenario.drag else {}),
         **fault_metadata(scenario.faults),
+        **disturbance_metadata(scenario.disturbance, scenario.disturbance_band),
         "true_windows": format_true_windows(segments),
         "seed": str(scenario.seed),
     })

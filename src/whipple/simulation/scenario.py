@@ -245,6 +245,13 @@ class RunScenario:
     faults : SensorFaults
         IMU misalignment, gyro scale error, roll-rate bias drift, steer offset (none by
         default). A run without a steer angle leaves ``steer_angle`` out of ``columns``.
+    disturbance : tuple of float
+        Root-mean-square roll and steer torques [N m] of random disturbances acting throughout
+        the run, coasts included: a road's or a belt's roughness, gusts of wind
+        (:mod:`whipple.simulation.disturbance`); (0, 0), the default: none.
+    disturbance_band : float
+        Corner frequency [Hz] of the disturbances (first-order low-pass filtered white noise),
+        below half the sample rate.
     columns : tuple of str
         Measured signals to output (``roll_rate`` is required; see ``SIGNALS``). A
         ``speedometer`` column is a raw magnet-ring signal instead of a speed.
@@ -276,6 +283,8 @@ class RunScenario:
     coast_spread: float = 0.0
     sensors: Sensors = Sensors()
     faults: SensorFaults = NO_FAULTS
+    disturbance: tuple[float, float] = (0.0, 0.0)
+    disturbance_band: float = 2.0
     columns: tuple[str, ...] = ("roll_rate", "yaw_rate", "steer_angle", "speed")
     pulses_per_revolution: int = 20
     seed: int = 0
@@ -295,6 +304,7 @@ class RunScenario:
             raise ScenarioError(f"push_signs must be one of {', '.join(PUSH_SIGNS)}, got {self.push_signs!r}")
         for name in ("push_spread", "coast_spread"):
             _check(name, getattr(self, name), lambda x: 0 <= x < 1, "in [0, 1)")
+        self._check_disturbance()
         if self.setting not in SETTINGS:
             raise ScenarioError(f"setting must be one of {', '.join(SETTINGS)}, "
                                 f"got {self.setting!r}")
@@ -336,6 +346,15 @@ class RunScenario:
                                 f"{self.deceleration:g} m/s^2{drag} reaches 0 before the end "
                                 f"of the run ({end:.3g} s)")
         self._check_readable(end)
+
+    def _check_disturbance(self) -> None:
+        if not isinstance(self.disturbance, tuple | list) or len(self.disturbance) != 2:
+            raise ScenarioError(f"disturbance must be two torques (roll, steer) [N m], got {self.disturbance!r}")
+        object.__setattr__(self, "disturbance", tuple(self.disturbance))
+        for name, value in zip(("roll disturbance", "steer disturbance"), self.disturbance, strict=True):
+            _check(name, value, lambda x: x >= 0, ">= 0")
+        _check("disturbance_band", self.disturbance_band, lambda x: 0 < x < self.sample_rate / 2,
+               "positive and below half the sample rate")
 
     def _check_readable(self, end: float) -> None:
         """Refuse a run that whipple's reader would refuse (:mod:`whipple.simulation.run_limits`)."""

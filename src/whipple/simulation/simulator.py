@@ -41,6 +41,7 @@ from whipple.model.speed_change import acceleration_stiffness
 from whipple.model.steer_friction import SMOOTHING_RATE, friction_torque
 from whipple.simulation.coasting import coasting_deceleration
 from whipple.simulation.discretization import zero_order_hold
+from whipple.simulation.disturbance import disturbance_torque
 from whipple.simulation.procedure import (
     SimulatedRun,
     check_aliasing,
@@ -113,6 +114,7 @@ def simulate_run(
     wobble = hand_wobble(scenario, time.size, rng)
     pushes = size_pushes(scenario, model)
     torque = _push_torque(pushes, time, model.B.shape[-1])
+    torque += disturbance_torque(scenario.disturbance, scenario.disturbance_band, fs, torque.shape[0], scenario.seed)
     speed_change = None
     if acceleration_terms and scenario.setting == "ground":
         slowing = coasting_deceleration(scenario.speed, scenario.deceleration, scenario.drag, mid_time)

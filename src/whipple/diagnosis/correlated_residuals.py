@@ -29,7 +29,6 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.stats import chi2
 
-from whipple.diagnosis.fitting import CauseFit, Whitening
 from whipple.diagnosis.observations import Observation
 from whipple.diagnosis.samples import OVERFLOW_MISFIT, SampleComparison
 
@@ -93,18 +92,17 @@ def correlation_factor(samples: SampleComparison, residuals: NDArray[np.float64]
     return max(1.0, projected / level / float(chi2.ppf(CONFIDENCE, freedom)))
 
 
-def correlated(scales: tuple[float, float], fits: Sequence[CauseFit], whitening: Whitening,
+def correlated(scales: tuple[float, float], residuals: NDArray[np.float64], samples: SampleComparison | None,
                observations: Sequence[Observation]) -> tuple[tuple[float, float], float]:
-    """Return the dispersions with the samples' times the best fit's correlation factor, and that factor.
+    """Return the dispersions with the samples' times the correlation factor of ``residuals``, and that factor.
 
-    ``scales``: the dispersions of the eigenvalue (or samples) and mode-shape residuals; the best
-    of ``fits`` is the one of least reduced chi-square. Without the samples (the eigenvalue
-    comparisons) the dispersions stand and the factor is 1.
+    ``scales``: the dispersions of the eigenvalue (or samples) and mode-shape residuals;
+    ``residuals``: the best model's (:func:`correlation_factor`). Without the samples (the
+    eigenvalue comparisons) the dispersions stand and the factor is 1.
     """
-    if whitening.samples is None:
+    if samples is None:
         return scales, 1.0
-    best = min(fits, key=lambda fit: fit.block_chi2[0] / max(whitening.counts[0] - len(fit.parameters), 1))
-    factor = correlation_factor(whitening.samples, best.residuals, observations)
+    factor = correlation_factor(samples, residuals, observations)
     return (scales[0] * factor, scales[1]), factor
 
 

@@ -87,11 +87,10 @@ class Diagnosis:
     best : CauseFit or None
         Its fit (values from its estimate form, std including the jackknife).
     scale, shape_scale : float
-        Dispersion (reduced chi2 >= 1) of the best model's eigenvalue and mode-shape residuals,
-        the samples' times ``correlation``: every chi-square was divided by them.
+        Dispersion (reduced chi2 >= 1) of the best model's eigenvalue and mode-shape residuals.
     correlation : float
-        How many times the noise the best model's residual is in the directions a changed model
-        moves the windows (:mod:`~whipple.diagnosis.correlated_residuals`; 1 without the samples).
+        The best model's residual where a changed model moves the windows, in times the noise's
+        (:mod:`~whipple.diagnosis.correlated_residuals`; 1 without samples): in ``scale`` too.
     chosen : Cause or None
         The form of the leading cause whose values ``best`` holds (to extend the model).
     rivals : tuple of str
@@ -138,6 +137,11 @@ class Diagnosis:
     speed_dependence: SpeedDependence | None = None
     comparison: str = "eigenvalues"
 
+    @property
+    def dispersion(self) -> float:
+        """The best model's reduced chi-square on the eigenvalues or samples (``scale`` without ``correlation``)."""
+        return self.scale / self.correlation
+
     def ranking(self) -> list[tuple[str, float]]:
         """Causes by decreasing evidence, with ``none`` at 0."""
         entries = [(fit.cause, fit.evidence) for fit in self.fits] + [("none", 0.0)]
@@ -151,15 +155,22 @@ def _dispersions(fits: Sequence[CauseFit], counts: tuple[int, int]) -> tuple[flo
     and mode-shape residuals are scaled separately, so that one kind of data that no model
     explains (a miscalibrated steer sensor, say) cannot outweigh the other.
     """
-    total = max(sum(counts), 1)
-    scales = []
-    for block, count in enumerate(counts):
-        if count == 0:
-            scales.append(1.0)
-            continue
-        reduced = [fit.block_chi2[block] / max(count - len(fit.parameters) * count / total, 1.0) for fit in fits]
-        scales.append(max(1.0, min(reduced)))
-    return scales[0], scales[1]
+    first, second = (max(1.0, min(_reduced(fit, block, counts) for fit in fits)) if count else 1.0
+                     for block, count in enumerate(counts))
+    return first, second
+
+
+def _reduced(fit: CauseFit, block: int, counts: tuple[int, int]) -> float:
+    """Return a fit's reduced chi-square on one kind of residual (its values shared among the kinds)."""
+    count = counts[block]
+    return fit.block_chi2[block] / max(count - len(fit.parameters) * count / max(sum(counts), 1), 1.0)
+
+
+def _sample_dispersions(fits: Sequence[CauseFit], counts: tuple[int, int], whitening: Whitening,
+                        observations: Sequence[Observation]) -> tuple[tuple[float, float], float]:
+    """Return the dispersions, the samples' times the least dispersed fit's correlation in time, and that factor."""
+    best = min(fits, key=lambda fit: _reduced(fit, 0, counts))
+    return correlated(_dispersions(fits, counts), best.residuals, whitening.samples, observations)
 
 
 def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
@@ -251,7 +262,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
         if any(np.any(b != 0) for b in [base_bias, *own]):
             base, fits, biases = biased_base, biased_fits, [base_bias, *own]
         # else no window's samples known (observations from a table): the direct fits stand
-    scales, correlation = correlated(_dispersions([base, *fits], counts), [base, *fits], whitening, observations)
+    scales, correlation = _sample_dispersions([base, *fits], counts, whitening, observations)
     single_scales = typical_dispersion(fits, whitening)
     pairs: list[Cause] = []
     leader = max(_scored(causes, base, fits, n, options), key=lambda fit: fit.evidence,
@@ -293,8 +304,7 @@ def diagnose_observations(bicycle: Model, observations: Sequence[Observation],
                                                            start=options.fixed_point_start)
             biases += pair_biases
         causes, fits = causes + pairs, fits + pair_fits
-        scales, correlation = correlated(_dispersions([base, *fits], counts), [base, *fits], whitening,
-                                         observations)
+        scales, correlation = _sample_dispersions([base, *fits], counts, whitening, observations)
     if scales != (1.0, 1.0) and quick:
         # The fits' values kept, their residuals rescaled: no refit (the held-out gain's folds).
         whitening = replace(whitening, scales=scales)

@@ -33,8 +33,7 @@ _COMPARISON = {"samples": "Each model was compared with the windows' samples: it
 
 def _dispersions(diagnosis: Diagnosis, typical: bool) -> str:
     """Return the dispersions in words: of the typical window of the best single cause, or the best model's."""
-    first, second = diagnosis.single_scales if typical else (diagnosis.scale / diagnosis.correlation,
-                                                             diagnosis.shape_scale)
+    first, second = diagnosis.single_scales if typical else (diagnosis.dispersion, diagnosis.shape_scale)
     digits = 1 if typical else 2
     if diagnosis.comparison == "samples":
         correlated = "" if typical or diagnosis.correlation == 1.0 else (

@@ -441,7 +441,7 @@ def caveats(diagnosis: Diagnosis, shapes: ShapeComparison, options: DiagnosisOpt
         notes.append(f"the measured {shapes.signals[0]} per {shapes.signals[1]} in the weave is "
                      f"{scale_text(scale_offset(shapes.ratios))}: check the units and the layout's scale factors; "
                      "the mode shapes are left out of the evidence")
-    if (level := diagnosis.scale / diagnosis.correlation) > DISPERSION_WARNING:
+    if (level := diagnosis.dispersion) > DISPERSION_WARNING:
         what = ("sample residuals", "the samples' noise") if diagnosis.comparison == "samples" else (
             "eigenvalue residuals", "the stated uncertainties")
         notes.append(f"even the best-fitting model leaves {what[0]} {np.sqrt(level):.1f} times "
@@ -532,7 +532,7 @@ def report_json(report: DiagnosisReport) -> dict[str, Any]:
         "summary": list(report.residual_summary),
         "caveats": list(report.caveats),
         "evidence_definition": evidence_definition(diagnosis.comparison, report.options),
-        "dispersion": diagnosis.scale / diagnosis.correlation, "residual_correlation": diagnosis.correlation,
+        "dispersion": diagnosis.dispersion, "residual_correlation": diagnosis.correlation,
         "dispersion_mode_shape": diagnosis.shape_scale,
         "median_dispersion": list(diagnosis.typical_scales),
         "median_dispersion_best_single_cause": list(diagnosis.single_scales),
